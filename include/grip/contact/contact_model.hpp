@@ -1,0 +1,169 @@
+#pragma once
+/// \file
+/// Contact models as policy types: FrictionlessPoint, HardFinger, SoftFinger.
+///
+/// A model fixes what a contact can transmit. Each policy provides, for a Contact c:
+/// - `dim`: unknowns per contact (1, 3 or 4), in design.md's order;
+/// - `basis(c)`: the 6 x dim block G_i of the grasp matrix (eq. 3 for HardFinger);
+/// - `target(c)`: the dim-vector t_i that F2 pulls x_i towards (eq. 7);
+/// - `wrench(c, x)`: G_i x, the wrench the contact applies on the object;
+/// - `wrench_transpose(c, l)`: G_i^T l, for a 6-vector l;
+/// - `accumulate(acc, c, k)`: adds k G_i G_i^T to a GramAccumulator (closed forms).
+
+#include "grip/contact/contact.hpp"
+#include "grip/core/types.hpp"
+
+namespace grip {
+
+/// Sums from which `sum_i k_i G_i G_i^T` (6x6) is assembled, so that each contact costs
+/// a handful of flops (hard finger: ~20) instead of a 6x6 outer product.
+///
+/// For G_i = [I; [r]x] the block is [[I, -[r]x], [[r]x, |r|^2 I - r r^T]]; so
+/// sum k G G^T = [[k0 I, -[s1]x], [[s1]x, S2]] + extra, with k0 = sum k, s1 = sum k r,
+/// S2 = sum k (|r|^2 I - r r^T). `extra` holds terms that are not of this form.
+template <class Scalar>
+struct GramAccumulator {
+  Scalar k0{0};
+  Vector3<Scalar> s1{Vector3<Scalar>::Zero()};
+  Matrix3<Scalar> s2{Matrix3<Scalar>::Zero()};
+  Matrix6<Scalar> extra{Matrix6<Scalar>::Zero()};
+
+  /// The assembled symmetric 6x6 matrix.
+  Matrix6<Scalar> matrix() const {
+    Matrix6<Scalar> m = extra;
+    const Matrix3<Scalar> s = skew(s1);
+    m.template topLeftCorner<3, 3>().diagonal().array() += k0;
+    m.template topRightCorner<3, 3>() -= s;
+    m.template bottomLeftCorner<3, 3>() += s;
+    m.template bottomRightCorner<3, 3>() += s2;
+    return m;
+  }
+
+  /// Adds k [I; [r]x][I; [r]x]^T: the hard-finger block in closed form.
+  void add_point_force(Scalar k, const Vector3<Scalar>& r) {
+    k0 += k;
+    s1 += k * r;
+    const Vector3<Scalar> kr = k * r;
+    const Scalar kr2 = kr.dot(r);
+    // |r|^2 I - r r^T, lower triangle then mirrored at assembly time is not worth it: 6 + 3 flops.
+    s2(0, 0) += kr2 - kr.x() * r.x();
+    s2(1, 1) += kr2 - kr.y() * r.y();
+    s2(2, 2) += kr2 - kr.z() * r.z();
+    const Scalar xy = kr.x() * r.y(), xz = kr.x() * r.z(), yz = kr.y() * r.z();
+    s2(0, 1) -= xy;
+    s2(1, 0) -= xy;
+    s2(0, 2) -= xz;
+    s2(2, 0) -= xz;
+    s2(1, 2) -= yz;
+    s2(2, 1) -= yz;
+  }
+};
+
+/// Point contact without friction: transmits only a compressive force along the normal.
+/// Unknown: the normal magnitude x (N); f = x a. G_i = [a; r x a] (6x1). Target t_i = s_i.
+struct FrictionlessPoint {
+  static constexpr int dim = 1;
+  template <class Scalar>
+  using Vector = Eigen::Matrix<Scalar, dim, 1>;
+
+  template <class Scalar>
+  static Eigen::Matrix<Scalar, 6, dim> basis(const Contact<Scalar>& c) {
+    Eigen::Matrix<Scalar, 6, dim> g;
+    g << c.normal, c.position.cross(c.normal);
+    return g;
+  }
+  template <class Scalar>
+  static Vector<Scalar> target(const Contact<Scalar>& c) {
+    return Vector<Scalar>::Constant(c.squeeze);
+  }
+  template <class Scalar>
+  static Wrench<Scalar> wrench(const Contact<Scalar>& c, const Vector<Scalar>& x) {
+    return basis(c) * x;
+  }
+  template <class Scalar>
+  static Vector<Scalar> wrench_transpose(const Contact<Scalar>& c, const Wrench<Scalar>& l) {
+    return basis(c).transpose() * l;
+  }
+  template <class Scalar>
+  static void accumulate(GramAccumulator<Scalar>& acc, const Contact<Scalar>& c, Scalar k) {
+    const Eigen::Matrix<Scalar, 6, 1> g = basis(c);
+    acc.extra.noalias() += (k * g) * g.transpose();
+  }
+};
+
+/// Hard finger, the paper's model: point contact with Coulomb friction, transmits a force.
+/// Unknown: f_i (N, 3). G_i = [I3; R_i], R_i = [r_i]x (eq. 3). Target t_i = s_i a_i.
+struct HardFinger {
+  static constexpr int dim = 3;
+  template <class Scalar>
+  using Vector = Eigen::Matrix<Scalar, dim, 1>;
+
+  template <class Scalar>
+  static Eigen::Matrix<Scalar, 6, dim> basis(const Contact<Scalar>& c) {
+    Eigen::Matrix<Scalar, 6, dim> g;
+    g << Matrix3<Scalar>::Identity(), skew(c.position);
+    return g;
+  }
+  template <class Scalar>
+  static Vector<Scalar> target(const Contact<Scalar>& c) {
+    return c.squeeze * c.normal;
+  }
+  template <class Scalar>
+  static Wrench<Scalar> wrench(const Contact<Scalar>& c, const Vector<Scalar>& f) {
+    Wrench<Scalar> w;
+    w << f, c.position.cross(f);
+    return w;
+  }
+  template <class Scalar>
+  static Vector<Scalar> wrench_transpose(const Contact<Scalar>& c, const Wrench<Scalar>& l) {
+    // [I, R^T] l = l_f - r x l_m
+    return l.template head<3>() - c.position.cross(l.template tail<3>());
+  }
+  template <class Scalar>
+  static void accumulate(GramAccumulator<Scalar>& acc, const Contact<Scalar>& c, Scalar k) {
+    acc.add_point_force(k, c.position);
+  }
+};
+
+/// Soft finger: a hard finger that also transmits a moment about the normal.
+/// Unknowns: f_i (N, 3) then the torsional moment m_i (N m). G_i = [[I3, 0], [R_i, a_i]] (6x4).
+/// Target t_i = (s_i a_i, 0): no torsion is asked for.
+struct SoftFinger {
+  static constexpr int dim = 4;
+  template <class Scalar>
+  using Vector = Eigen::Matrix<Scalar, dim, 1>;
+
+  template <class Scalar>
+  static Eigen::Matrix<Scalar, 6, dim> basis(const Contact<Scalar>& c) {
+    Eigen::Matrix<Scalar, 6, dim> g;
+    g << Matrix3<Scalar>::Identity(), Vector3<Scalar>::Zero(), skew(c.position), c.normal;
+    return g;
+  }
+  template <class Scalar>
+  static Vector<Scalar> target(const Contact<Scalar>& c) {
+    Vector<Scalar> t;
+    t << c.squeeze * c.normal, Scalar(0);
+    return t;
+  }
+  template <class Scalar>
+  static Wrench<Scalar> wrench(const Contact<Scalar>& c, const Vector<Scalar>& x) {
+    Wrench<Scalar> w;
+    const Vector3<Scalar> f = x.template head<3>();
+    w << f, c.position.cross(f) + x(3) * c.normal;
+    return w;
+  }
+  template <class Scalar>
+  static Vector<Scalar> wrench_transpose(const Contact<Scalar>& c, const Wrench<Scalar>& l) {
+    Vector<Scalar> x;
+    x << l.template head<3>() - c.position.cross(l.template tail<3>()),
+        c.normal.dot(l.template tail<3>());
+    return x;
+  }
+  template <class Scalar>
+  static void accumulate(GramAccumulator<Scalar>& acc, const Contact<Scalar>& c, Scalar k) {
+    acc.add_point_force(k, c.position);
+    acc.extra.template bottomRightCorner<3, 3>().noalias() += (k * c.normal) * c.normal.transpose();
+  }
+};
+
+}  // namespace grip

@@ -1,0 +1,37 @@
+#pragma once
+/// \file
+/// Tolerances and limits, specialised per scalar type (float vs double).
+
+namespace grip {
+
+/// Numerical tolerances of grip for one scalar type. Specialised for float and double;
+/// a user type may specialise it too.
+template <class Scalar>
+struct ScalarTraits;
+
+/// Tolerances for double.
+template <>
+struct ScalarTraits<double> {
+  /// Largest accepted |normal| - 1 (a normal must be unit length within this).
+  static constexpr double normal_tolerance = 1e-6;
+  /// Relative pivot below which a (Jacobi-scaled) matrix is treated as rank deficient.
+  static constexpr double rank_tolerance = 1e-10;
+  /// Largest accepted magnitude of any input coordinate (m, N, N m, weight).
+  static constexpr double max_magnitude = 1e15;
+  /// Smallest accepted objective weight (weights are divided by).
+  static constexpr double min_weight = 1e-12;
+  /// Default relative tolerance for comparisons in tests and iterative solvers.
+  static constexpr double default_tolerance = 1e-9;
+};
+
+/// Tolerances for float.
+template <>
+struct ScalarTraits<float> {
+  static constexpr float normal_tolerance = 1e-4f;
+  static constexpr float rank_tolerance = 1e-5f;
+  static constexpr float max_magnitude = 1e9f;
+  static constexpr float min_weight = 1e-6f;
+  static constexpr float default_tolerance = 1e-4f;
+};
+
+}  // namespace grip

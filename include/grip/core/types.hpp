@@ -1,0 +1,49 @@
+#pragma once
+/// \file
+/// Basic vocabulary types of grip: sizes, vectors, wrenches.
+
+#include <Eigen/Core>
+
+namespace grip {
+
+/// Marks a size that is known only at run time (bounded by a compile-time maximum).
+/// Equal to Eigen::Dynamic so the two can be mixed freely.
+constexpr int Dynamic = Eigen::Dynamic;
+
+/// A 3-vector in the common world-aligned frame (metres or newtons).
+template <class Scalar>
+using Vector3 = Eigen::Matrix<Scalar, 3, 1>;
+
+/// A 3x3 matrix in the common frame.
+template <class Scalar>
+using Matrix3 = Eigen::Matrix<Scalar, 3, 3>;
+
+/// A 6x6 matrix acting on wrenches ([force; moment] rows).
+template <class Scalar>
+using Matrix6 = Eigen::Matrix<Scalar, 6, 6>;
+
+/// A wrench `[force (N); moment (N m)]`, moment about the object's reference point.
+template <class Scalar>
+using Wrench = Eigen::Matrix<Scalar, 6, 1>;
+
+/// `count * per_item` at compile time, or Dynamic if count is Dynamic.
+constexpr int times_or_dynamic(int count, int per_item) {
+  return count == Dynamic ? Dynamic : count * per_item;
+}
+
+/// `offset + count` at compile time, or Dynamic if count is Dynamic.
+constexpr int plus_or_dynamic(int offset, int count) {
+  return count == Dynamic ? Dynamic : offset + count;
+}
+
+/// The skew-symmetric matrix `[r]x` with `[r]x v = r x v` (the paper's R_i, eq. 3).
+template <class Scalar>
+Matrix3<Scalar> skew(const Vector3<Scalar>& r) {
+  Matrix3<Scalar> m;
+  m << Scalar(0), -r.z(), r.y(),  //
+      r.z(), Scalar(0), -r.x(),   //
+      -r.y(), r.x(), Scalar(0);
+  return m;
+}
+
+}  // namespace grip

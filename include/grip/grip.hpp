@@ -1,0 +1,20 @@
+#pragma once
+/// \file
+/// Everything in grip. Each header also compiles on its own.
+
+#include "grip/core/scalar_traits.hpp"
+#include "grip/core/status.hpp"
+#include "grip/core/types.hpp"
+
+#include "grip/contact/contact.hpp"
+#include "grip/contact/contact_model.hpp"
+
+#include "grip/grasp/grasp.hpp"
+#include "grip/grasp/objective.hpp"
+
+#include "grip/solve/solution.hpp"
+#include "grip/solve/symmetric_solve.hpp"
+#include "grip/solve/solve_range_space.hpp"
+#include "grip/solve/solve_kkt.hpp"
+
+#include "grip/hand/squeeze.hpp"

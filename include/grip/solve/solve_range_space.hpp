@@ -1,0 +1,96 @@
+#pragma once
+/// \file
+/// The structure-exploiting O(n) solver of min F2 s.t. G x + w_ext = 0.
+
+#include <cmath>
+
+#include "grip/contact/contact.hpp"
+#include "grip/grasp/grasp.hpp"
+#include "grip/solve/solution.hpp"
+#include "grip/solve/symmetric_solve.hpp"
+
+namespace grip {
+
+namespace detail {
+
+/// Ok if the grasp is complete and w_ext valid; otherwise fills `sol` for InvalidInput.
+template <class GraspT>
+bool check_inputs(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
+                  Solution<GraspT>& sol) {
+  sol.forces.setZero(grasp.unknowns());
+  sol.multipliers.setZero();
+  sol.iterations = 0;
+  sol.residual = std::numeric_limits<typename GraspT::ScalarType>::max();
+  if (!grasp.complete() || validate(w_ext) != Status::Ok) {
+    sol.status = Status::InvalidInput;
+    return false;
+  }
+  return true;
+}
+
+/// Given multipliers lambda, writes x_i = t_i + W_i^-1 G_i^T lambda (the stationarity rows of
+/// eq. 9) into `sol`, with the residual |G x + w_ext|. One pass over the contacts.
+template <class GraspT>
+void forces_from_multipliers(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
+                             const Wrench<typename GraspT::ScalarType>& lambda, Solution<GraspT>& sol) {
+  using S = typename GraspT::ScalarType;
+  using M = typename GraspT::ModelType;
+  constexpr int d = GraspT::dim;
+  Wrench<S> sum = w_ext;
+  for (int i = 0; i < grasp.size(); ++i) {
+    const auto& c = grasp.contact(i);
+    const typename GraspT::ContactVector x =
+        M::target(c) + (S(1) / c.weight) * M::wrench_transpose(c, lambda);
+    sol.forces.template segment<d>(i * d) = x;
+    sum += M::wrench(c, x);
+  }
+  sol.multipliers = lambda;
+  sol.residual = sum.norm();
+}
+
+}  // namespace detail
+
+/// The 6x6 matrix G W^-1 G^T of a grasp, accumulated contact by contact in closed form
+/// (hard finger: from sum w_i^-1, sum w_i^-1 r_i, sum w_i^-1 (|r_i|^2 I - r_i r_i^T)).
+template <class GraspT>
+Matrix6<typename GraspT::ScalarType> weighted_gram(const GraspT& grasp) {
+  using S = typename GraspT::ScalarType;
+  GramAccumulator<S> acc;
+  for (int i = 0; i < grasp.size(); ++i) {
+    const auto& c = grasp.contact(i);
+    GraspT::ModelType::accumulate(acc, c, S(1) / c.weight);
+  }
+  return acc.matrix();
+}
+
+/// Solves min F2 = 1/2 sum w_i |x_i - t_i|^2 subject to G x + w_ext = 0 (the paper's
+/// section 5 problem) by eliminating x: x = t + W^-1 G^T lambda with
+/// (G W^-1 G^T) lambda = -(w_ext + G t). Cost O(n): one pass to accumulate the 6x6 matrix
+/// and G t, one 6x6 Cholesky, one pass to recover the forces. No heap.
+///
+/// Statuses:
+/// - Ok: the unique optimum; `residual` at round-off.
+/// - Singular: G has rank < 6 (fewer than 3 hard fingers, all contacts on a line, ...).
+///   `forces` are the least-squares forces: |G x + w_ext| is as small as possible, and among
+///   such x, F2 is smallest (lambda = M^+ r, minimum norm). `residual` tells what is left.
+/// - InvalidInput: incomplete grasp or non-finite/out-of-range w_ext; zeros.
+template <class GraspT>
+Solution<GraspT> solve_range_space(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext) {
+  using S = typename GraspT::ScalarType;
+  using M = typename GraspT::ModelType;
+  Solution<GraspT> sol;
+  if (!detail::check_inputs(grasp, w_ext, sol)) return sol;
+  GramAccumulator<S> acc;
+  Wrench<S> rhs = -w_ext;
+  for (int i = 0; i < grasp.size(); ++i) {
+    const auto& c = grasp.contact(i);
+    M::accumulate(acc, c, S(1) / c.weight);
+    rhs -= M::wrench(c, M::target(c));
+  }
+  Wrench<S> lambda;
+  sol.status = solve_symmetric_6x6(acc.matrix(), rhs, lambda);
+  detail::forces_from_multipliers(grasp, w_ext, lambda, sol);
+  return sol;
+}
+
+}  // namespace grip

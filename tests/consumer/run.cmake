@@ -1,0 +1,20 @@
+# Builds tests/consumer/project against grip: MODE=find_package (after installing grip to a
+# scratch prefix) or MODE=add_subdirectory. Fails the test on any error.
+set(build ${WORK}/${MODE})
+file(REMOVE_RECURSE ${build})
+function(run)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "failed: ${ARGN}\n${out}")
+  endif()
+endfunction()
+set(args -DCMAKE_CXX_COMPILER=${CXX} -DGRIP_CONSUMER_MODE=${MODE} -DGRIP_SOURCE=${GRIP_SOURCE})
+if(MODE STREQUAL "find_package")
+  run(${CMAKE_COMMAND} -S ${GRIP_SOURCE} -B ${build}/grip -DCMAKE_CXX_COMPILER=${CXX} -DGRIP_BUILD_TESTS=OFF
+      -DGRIP_BUILD_BENCH=OFF -DGRIP_BUILD_EXAMPLES=OFF -DCMAKE_INSTALL_PREFIX=${build}/prefix)
+  run(${CMAKE_COMMAND} --install ${build}/grip)
+  list(APPEND args -DCMAKE_PREFIX_PATH=${build}/prefix)
+endif()
+run(${CMAKE_COMMAND} -S ${GRIP_SOURCE}/tests/consumer/project -B ${build}/consumer ${args})
+run(${CMAKE_COMMAND} --build ${build}/consumer)
+run(${build}/consumer/consumer)

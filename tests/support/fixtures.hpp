@@ -1,0 +1,64 @@
+#pragma once
+// Shared test fixtures: seeded random contacts and grasps, tolerances per scalar type.
+#include <cmath>
+#include <random>
+
+#include <grip/grip.hpp>
+
+namespace grip_test {
+
+/// Tolerance for "equal at round-off" comparisons of O(1) quantities, per scalar type.
+template <class S>
+constexpr S tight() {
+  return std::is_same<S, float>::value ? S(2e-3) : S(1e-9);
+}
+
+/// A contact on a sphere of `radius` centred at the origin, at polar angle `theta` and
+/// azimuth `phi`, pushing inwards.
+template <class S>
+grip::Contact<S> sphere_contact(double theta, double phi, double radius, double mu = 0.5,
+                                double squeeze = 1.0) {
+  grip::Contact<S> c;
+  const grip::Vector3<double> u(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+  c.position = (radius * u).cast<S>();
+  c.normal = (-u).cast<S>();
+  c.friction = S(mu);
+  c.torsional_friction = S(0.01);
+  c.squeeze = S(squeeze);
+  return c;
+}
+
+/// A random contact on a sphere of radius 2-6 cm, random squeeze and weight.
+template <class S>
+grip::Contact<S> random_contact(std::mt19937& rng, bool random_weight = true) {
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  const double theta = std::acos(1.0 - 2.0 * u01(rng)), phi = 6.283185307179586 * u01(rng);
+  grip::Contact<S> c = sphere_contact<S>(theta, phi, 0.02 + 0.04 * u01(rng), 0.2 + u01(rng), 3.0 * u01(rng));
+  c.weight = random_weight ? S(0.5 + 1.5 * u01(rng)) : S(1);
+  return c;
+}
+
+/// Fills every slot of a fixed grasp, or adds `n` contacts to a Dynamic one.
+template <class GraspT>
+GraspT random_grasp(std::mt19937& rng, int n, bool random_weight = true) {
+  using S = typename GraspT::ScalarType;
+  GraspT g;
+  if constexpr (GraspT::fixed_size == grip::Dynamic) {
+    for (int i = 0; i < n; ++i) (void)g.add(random_contact<S>(rng, random_weight));
+  } else {
+    for (int i = 0; i < g.size(); ++i) (void)g.set(i, random_contact<S>(rng, random_weight));
+  }
+  return g;
+}
+
+/// A random external wrench of a few newtons and tenths of N m.
+template <class S>
+grip::Wrench<S> random_wrench(std::mt19937& rng) {
+  std::normal_distribution<double> n01(0.0, 1.0);
+  grip::Wrench<S> w;
+  for (int i = 0; i < 3; ++i) w(i) = S(5.0 * n01(rng));
+  for (int i = 3; i < 6; ++i) w(i) = S(0.1 * n01(rng));
+  return w;
+}
+
+}  // namespace grip_test
