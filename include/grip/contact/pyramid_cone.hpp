@@ -1,0 +1,155 @@
+#pragma once
+/// \file
+/// The K-sided pyramid that linearises the Coulomb cone (inscribed or circumscribed).
+
+#include <array>
+#include <cmath>
+
+#include "grip/contact/cone_support.hpp"
+#include "grip/contact/contact.hpp"
+#include "grip/core/types.hpp"
+
+namespace grip {
+
+/// How a PyramidCone sits against the exact Coulomb cone of the same mu.
+enum class PyramidFit {
+  Inscribed,      ///< edges on the exact cone: the pyramid lies inside it (conservative)
+  Circumscribed,  ///< faces tangent to the exact cone: the pyramid contains it
+};
+
+/// A K-sided pyramid approximating the Coulomb cone {|f_t| <= mu f_n} about the unit inward
+/// normal a (K >= 3). The tangent plane uses the deterministic TangentBasis (t1, t2) of a;
+/// the pyramid's edges point along a + R (cos th_j t1 + sin th_j t2),
+/// th_j = (2 j + h) pi / K, j = 0..K-1, with h = half_step() in {0, 1} (h = 1 turns the
+/// pyramid by half a side; duals need it). Its faces are f_t . u_j <= r f_n with outward
+/// tangential unit directions u_j at angles (2 j + 1 + h) pi / K.
+///
+/// Radii (tangential, per newton of normal force) and worst-case error against the exact cone:
+/// - Inscribed: circumradius R = mu, inradius r = mu cos(pi/K). Every force of the pyramid is in
+///   the exact cone; a force on the exact cone's boundary can lie outside the pyramid by up to
+///   mu (1 - cos(pi/K)) f_n of tangential load (29.3% of mu f_n for K = 4, 7.6% for K = 8).
+/// - Circumscribed: inradius r = mu, circumradius R = mu / cos(pi/K). The pyramid contains the
+///   exact cone and reaches up to |f_t| = mu f_n / cos(pi/K) at its edges: up to
+///   mu (1/cos(pi/K) - 1) f_n too much (41.4% for K = 4, 8.2% for K = 8).
+///
+/// Margin (N): r f_n - max_j f_t . u_j, i.e. the tangential load that can still be added
+/// towards the nearest face; for f_n < 0 the pull correction min(., f_n). Invalid input
+/// follows cone_support.hpp. Preconditions: |a| = 1, mu >= 0 finite.
+template <int K, class Scalar, PyramidFit Fit = PyramidFit::Inscribed>
+class PyramidCone {
+  static_assert(K >= 3, "a pyramid needs at least 3 sides");
+
+ public:
+  using ScalarType = Scalar;
+  static constexpr int dim = 3;                ///< size of the contact unknown
+  static constexpr int sides = K;              ///< number of faces (and edges)
+  static constexpr PyramidFit fit = Fit;       ///< inscribed or circumscribed
+  using Vector = Eigen::Matrix<Scalar, 3, 1>;  ///< a contact force f (N)
+  /// The type of dual(): the other fit.
+  using DualType =
+      PyramidCone<K, Scalar, Fit == PyramidFit::Inscribed ? PyramidFit::Circumscribed : PyramidFit::Inscribed>;
+
+  /// The pyramid about the z axis with mu = 0 (a ray).
+  PyramidCone() : PyramidCone(Vector3<Scalar>::UnitZ(), Scalar(0), 0) {}
+
+  /// The pyramid about unit normal a for friction coefficient mu, turned by half_step (0 or 1,
+  /// other values taken modulo 2) half sides.
+  PyramidCone(const Vector3<Scalar>& a, Scalar mu, int half_step = 0)
+      : normal_(a), basis_(TangentBasis<Scalar>::from_normal(a)), mu_(mu), half_(((half_step % 2) + 2) % 2) {
+    const Scalar pi = Scalar(3.14159265358979323846264338327950288L);
+    const Scalar c = std::cos(pi / Scalar(K));
+    r_ = Fit == PyramidFit::Inscribed ? mu * c : mu;
+    big_r_ = Fit == PyramidFit::Inscribed ? mu : mu / c;
+    for (int j = 0; j < K; ++j) {
+      const auto k = static_cast<std::size_t>(j);
+      const Scalar face = Scalar(2 * j + 1 + half_) * pi / Scalar(K);
+      const Scalar edge = Scalar(2 * j + half_) * pi / Scalar(K);
+      face_cos_[k] = std::cos(face);
+      face_sin_[k] = std::sin(face);
+      edge_cos_[k] = std::cos(edge);
+      edge_sin_[k] = std::sin(edge);
+    }
+  }
+
+  /// The inscribed/circumscribed (per Fit) pyramid of contact c: a = c.normal, mu = c.friction.
+  static PyramidCone from_contact(const Contact<Scalar>& c) { return PyramidCone(c.normal, c.friction, 0); }
+
+  const Vector3<Scalar>& normal() const { return normal_; }   ///< a
+  Scalar mu() const { return mu_; }                           ///< the nominal friction coefficient
+  int half_step() const { return half_; }                     ///< 0 or 1
+  const TangentBasis<Scalar>& basis() const { return basis_; }  ///< (t1, t2)
+  Scalar inner_radius() const { return r_; }                  ///< r (see class comment)
+  Scalar outer_radius() const { return big_r_; }              ///< R (see class comment)
+
+  /// f_n = f.a (N).
+  Scalar normal_part(const Vector& f) const { return f.dot(normal_); }
+  /// f_t = f - (f.a) a (N).
+  Vector3<Scalar> tangential_part(const Vector& f) const { return f - normal_part(f) * normal_; }
+  /// |f_t| (N).
+  Scalar tangential_norm(const Vector& f) const { return tangential_part(f).norm(); }
+  /// The largest tangential load against a face, max_j f_t . u_j (N), >= |f_t| cos(pi/K).
+  Scalar face_load(const Vector& f) const {
+    const Scalar u = f.dot(basis_.t1), v = f.dot(basis_.t2);
+    Scalar m = u * face_cos_[0] + v * face_sin_[0];
+    for (std::size_t j = 1; j < static_cast<std::size_t>(K); ++j) {
+      const Scalar l = u * face_cos_[j] + v * face_sin_[j];
+      if (l > m) m = l;
+    }
+    return m;
+  }
+
+  /// True iff f satisfies every face inequality. False for invalid f.
+  bool is_inside(const Vector& f) const { return margin(f) >= Scalar(0); }
+
+  /// Signed margin (N): r f_n - face_load(f), pull-corrected for f_n < 0.
+  Scalar margin(const Vector& f) const {
+    if (!detail::cone_input_valid(f)) return cone_margin_floor<Scalar>();
+    const Scalar fn = normal_part(f);
+    return detail::pull_corrected(r_ * fn - face_load(f), fn);
+  }
+
+  /// Relative margin 1 - face_load / (r f_n), with CoulombCone's conventions (1 for no
+  /// tangential load with f_n > 0, 0 for f = 0, cone_margin_floor() for f_n <= 0 otherwise).
+  Scalar relative_margin(const Vector& f) const {
+    if (!detail::cone_input_valid(f)) return cone_margin_floor<Scalar>();
+    const Scalar fn = normal_part(f);
+    const Scalar load = face_load(f);
+    if (fn <= Scalar(0))
+      return (fn == Scalar(0) && tangential_norm(f) == Scalar(0)) ? Scalar(0) : cone_margin_floor<Scalar>();
+    return load <= Scalar(0) ? Scalar(1) : detail::relative_from(load, r_ * fn);
+  }
+
+  /// Euclidean projection onto the pyramid: f if inside; else the nearest of the finitely many
+  /// face candidates (apex, K edge rays, K faces), O(K) closed form. mu = 0: max(f_n, 0) a.
+  /// Invalid f gives 0.
+  Vector project(const Vector& f) const {
+    if (!detail::cone_input_valid(f)) return Vector::Zero();
+    if (is_inside(f)) return f;
+    if (!(mu_ > Scalar(0))) {
+      const Scalar fn = normal_part(f);
+      return fn > Scalar(0) ? Vector(fn * normal_) : Vector(Vector::Zero());
+    }
+    std::array<Vector3<Scalar>, static_cast<std::size_t>(K)> e;
+    const Scalar scale = Scalar(1) / std::sqrt(Scalar(1) + big_r_ * big_r_);
+    for (std::size_t j = 0; j < static_cast<std::size_t>(K); ++j)
+      e[j] = scale * normal_ + (scale * big_r_) * (edge_cos_[j] * basis_.t1 + edge_sin_[j] * basis_.t2);
+    return detail::project_onto_edge_cone(f, e);
+  }
+
+  /// The dual cone {y : y.x >= 0 for all x in the pyramid}: the pyramid with faces normal to
+  /// this one's edges, i.e. the other fit for 1/mu, turned by K + 1 half sides (mu = 0 maps to
+  /// cone_half_space_mu() and back, as for CoulombCone). Dual of Inscribed(mu) is
+  /// Circumscribed(1/mu) and vice versa.
+  DualType dual() const { return DualType(normal_, detail::dual_coefficient(mu_), (half_ + K + 1) % 2); }
+
+ private:
+  Vector3<Scalar> normal_;
+  TangentBasis<Scalar> basis_;
+  Scalar mu_;
+  int half_;
+  Scalar r_{0};
+  Scalar big_r_{0};
+  std::array<Scalar, static_cast<std::size_t>(K)> face_cos_{}, face_sin_{}, edge_cos_{}, edge_sin_{};
+};
+
+}  // namespace grip
