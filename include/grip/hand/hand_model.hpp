@@ -1,0 +1,163 @@
+#pragma once
+/// \file
+/// The virtual hand's topology and dimensions (paper section 3): five digits, 14 phalanges,
+/// 14 measured joints, and anthropometric defaults scaled by hand length.
+///
+/// Hand frame (right hand; the wrist pose of the tracker maps it to the world):
+/// - origin at the wrist (centre of the distal wrist crease);
+/// - +x distal, along the long finger's metacarpal; +y radial (towards the thumb);
+///   +z dorsal (the back of the hand), so the palm faces -z.
+///
+/// Phalanx (and joint) order, the same for both: index k in [0, 14)
+///   0 thumb proximal, 1 thumb distal,
+///   2 index proximal, 3 index middle, 4 index distal,
+///   5 long  proximal, 6 long  middle, 7 long  distal,
+///   8 ring  proximal, 9 ring  middle, 10 ring  distal,
+///   11 little proximal, 12 little middle, 13 little distal.
+/// Joint k is the flexion joint at the proximal end of phalanx k: for a finger MCP, PIP, DIP;
+/// for the thumb MCP, IP (the glove's 14 joints; the thumb's CMC is a fixed posture).
+/// The thumb has no Phalanx::Middle.
+
+#include <array>
+#include <cmath>
+
+#include <Eigen/Geometry>
+
+#include "grip/core/status.hpp"
+#include "grip/core/types.hpp"
+#include "grip/hand/squeeze.hpp"
+
+namespace grip {
+
+/// Number of phalanges of the hand model (and of measured joints).
+constexpr int hand_phalanx_count = 14;
+/// Number of measured joint angles (three per finger, two for the thumb).
+constexpr int hand_joint_count = 14;
+
+/// Index in [0, 14) of a finger's phalanx in the order of this file, or -1 for the thumb's
+/// (absent) middle phalanx.
+constexpr int phalanx_index(Finger f, Phalanx p) {
+  const int fi = static_cast<int>(f);
+  const int pi = static_cast<int>(p);
+  if (fi == 0) return pi == 0 ? 0 : (pi == 2 ? 1 : -1);
+  return 2 + 3 * (fi - 1) + pi;
+}
+
+/// The finger of phalanx index k in [0, 14).
+constexpr Finger phalanx_finger(int k) {
+  return k < 2 ? Finger::Thumb : static_cast<Finger>(1 + (k - 2) / 3);
+}
+
+/// The phalanx kind of phalanx index k in [0, 14).
+constexpr Phalanx phalanx_kind(int k) {
+  return k < 2 ? (k == 0 ? Phalanx::Proximal : Phalanx::Distal) : static_cast<Phalanx>((k - 2) % 3);
+}
+
+/// The 14 joint flexion angles (rad) in the order of this file. Positive flexes (closes the
+/// hand); all zero is the rest pose (fingers straight in the palm plane).
+template <class Scalar>
+using JointAngles = Eigen::Matrix<Scalar, hand_joint_count, 1>;
+
+/// Segment lengths as fractions of hand length, from Buchholz, Armstrong and Goldstein
+/// (1992), "Anthropometric data for describing the kinematics of the human hand",
+/// Ergonomics 35(3), segment-length coefficients (joint centre to joint centre; distal:
+/// joint centre to fingertip). Rows thumb..little; columns metacarpal, proximal, middle,
+/// distal (the thumb has no middle: 0).
+template <class Scalar>
+constexpr std::array<std::array<Scalar, 4>, 5> buchholz_segment_fractions() {
+  return {{{Scalar(0.251), Scalar(0.196), Scalar(0), Scalar(0.158)},
+           {Scalar(0.374), Scalar(0.265), Scalar(0.143), Scalar(0.097)},
+           {Scalar(0.373), Scalar(0.277), Scalar(0.170), Scalar(0.108)},
+           {Scalar(0.336), Scalar(0.259), Scalar(0.165), Scalar(0.107)},
+           {Scalar(0.295), Scalar(0.206), Scalar(0.117), Scalar(0.093)}}};
+}
+
+/// Dimensions and joint layout of the hand model, in the hand frame (m, rad).
+///
+/// standard(L) fills it from hand length L:
+/// - segment lengths: buchholz_segment_fractions() times L;
+/// - finger MCP joints at x = (metacarpal fraction) L, z = 0, y = +0.105 L (index), 0 (long),
+///   -0.10 L (ring), -0.20 L (little): a model choice (about one finger breadth apart);
+/// - radii (a phalanx is a capsule): proximal 0.045 L, middle 0.040 L, distal 0.036 L;
+///   thumb proximal 0.050 L, distal 0.045 L (model choices, about half a segment breadth);
+/// - fingers at rest point along +x and flex about +y (towards the palm, -z);
+/// - the thumb's CMC joint sits at (0.05 L, 0.22 L, 0); its metacarpal (0.251 L, rigid, not a
+///   collision body) points palmar-distally along (sin 25 deg, 0, -cos 25 deg), which is also
+///   the rest direction of its phalanges; the thumb flexes about -y (towards +x, wrapping
+///   under an object held against the fingers).
+/// - joint limits: finger MCP 90 deg, PIP 110 deg, DIP 90 deg; thumb MCP 80, IP 90 deg
+///   (upper limits; lower limits 0), used by helpers that close the hand, not enforced by
+///   forward kinematics.
+template <class Scalar>
+struct HandDimensions {
+  using Angles = JointAngles<Scalar>;                               ///< The 14 joint angles.
+  using Transform = Eigen::Transform<Scalar, 3, Eigen::Isometry>;  ///< A rigid pose (hand -> world).
+
+  Scalar hand_length{Scalar(0.19)};                          ///< L (m), wrist crease to long fingertip.
+  std::array<Scalar, hand_phalanx_count> length{};           ///< Segment length of phalanx k (m).
+  std::array<Scalar, hand_phalanx_count> radius{};           ///< Capsule radius of phalanx k (m).
+  std::array<Vector3<Scalar>, 5> base{};                     ///< First joint of each digit (finger MCP, thumb MCP), hand frame.
+  std::array<Vector3<Scalar>, 5> rest_direction{};           ///< Unit direction of each digit's phalanges at rest.
+  std::array<Vector3<Scalar>, 5> flexion_axis{};             ///< Unit axis about which a positive angle flexes.
+  std::array<Scalar, hand_joint_count> joint_upper_limit{};  ///< Largest flexion (rad) for closing helpers.
+  Vector3<Scalar> thumb_cmc{Vector3<Scalar>::Zero()};        ///< Thumb CMC joint (fixed), hand frame.
+
+  /// The anthropometric defaults described above for hand length L (m). A non-finite or
+  /// non-positive L gives dimensions that validate() rejects.
+  static HandDimensions standard(Scalar L = Scalar(0.19)) {
+    HandDimensions d;
+    d.hand_length = L;
+    const auto frac = buchholz_segment_fractions<Scalar>();
+    const Scalar deg = Scalar(3.14159265358979323846) / Scalar(180);
+    const Scalar y_mcp[5] = {Scalar(0), Scalar(0.105), Scalar(0), Scalar(-0.10), Scalar(-0.20)};
+    const Scalar r_finger[3] = {Scalar(0.045), Scalar(0.040), Scalar(0.036)};
+    for (int f = 1; f < 5; ++f) {
+      d.base[f] = Vector3<Scalar>(frac[f][0] * L, y_mcp[f] * L, Scalar(0));
+      d.rest_direction[f] = Vector3<Scalar>::UnitX();
+      d.flexion_axis[f] = Vector3<Scalar>::UnitY();
+      for (int p = 0; p < 3; ++p) {
+        const int k = phalanx_index(static_cast<Finger>(f), static_cast<Phalanx>(p));
+        d.length[k] = frac[f][1 + p] * L;
+        d.radius[k] = r_finger[p] * L;
+        d.joint_upper_limit[k] = (p == 1 ? Scalar(110) : Scalar(90)) * deg;
+      }
+    }
+    const Scalar beta = Scalar(25) * deg;
+    d.thumb_cmc = Vector3<Scalar>(Scalar(0.05) * L, Scalar(0.22) * L, Scalar(0));
+    d.rest_direction[0] = Vector3<Scalar>(std::sin(beta), Scalar(0), -std::cos(beta));
+    d.flexion_axis[0] = -Vector3<Scalar>::UnitY();
+    d.base[0] = d.thumb_cmc + frac[0][0] * L * d.rest_direction[0];
+    d.length[0] = frac[0][1] * L;
+    d.length[1] = frac[0][3] * L;
+    d.radius[0] = Scalar(0.050) * L;
+    d.radius[1] = Scalar(0.045) * L;
+    d.joint_upper_limit[0] = Scalar(80) * deg;
+    d.joint_upper_limit[1] = Scalar(90) * deg;
+    return d;
+  }
+};
+
+/// Ok if every number is finite, lengths and radii are positive, and the directions and axes
+/// are unit (within 1e-3) and perpendicular (|dot| <= 1e-3); InvalidInput otherwise.
+template <class Scalar>
+Status validate(const HandDimensions<Scalar>& d) {
+  const Scalar tol = Scalar(1e-3);
+  if (!std::isfinite(d.hand_length) || !(d.hand_length > Scalar(0))) return Status::InvalidInput;
+  for (int k = 0; k < hand_phalanx_count; ++k) {
+    if (!std::isfinite(d.length[k]) || !(d.length[k] > Scalar(0))) return Status::InvalidInput;
+    if (!std::isfinite(d.radius[k]) || !(d.radius[k] > Scalar(0))) return Status::InvalidInput;
+    if (!std::isfinite(d.joint_upper_limit[k])) return Status::InvalidInput;
+  }
+  if (!d.thumb_cmc.allFinite()) return Status::InvalidInput;
+  for (int f = 0; f < 5; ++f) {
+    if (!d.base[f].allFinite() || !d.rest_direction[f].allFinite() || !d.flexion_axis[f].allFinite())
+      return Status::InvalidInput;
+    if (!(std::abs(d.rest_direction[f].norm() - Scalar(1)) <= tol) ||
+        !(std::abs(d.flexion_axis[f].norm() - Scalar(1)) <= tol) ||
+        !(std::abs(d.rest_direction[f].dot(d.flexion_axis[f])) <= tol))
+      return Status::InvalidInput;
+  }
+  return Status::Ok;
+}
+
+}  // namespace grip
