@@ -1,0 +1,120 @@
+#pragma once
+/// \file
+/// The hand's collision model (paper section 3): a hierarchy of bounding spheres, hand ->
+/// digit -> phalanx -> sphere tree of each phalanx, built per frame from the posed hand
+/// (hand/hand_kinematics.hpp) without heap.
+///
+/// Phalanx sphere tree. Phalanx k (a capsule of radius r around [base, tip]) is sampled by
+/// Samples points x_j = base + j / (Samples - 1) (tip - base), j = 0 .. Samples - 1; leaf j
+/// is the sphere (x_j, r), the capsule's own cross-section there, so the capsule is the
+/// union of the leaves swept along the axis: depths between samples are those of the
+/// samples (exact for planar surfaces; for a surface of radius R the sampling misses at most
+/// (L / (Samples - 1))^2 / (8 (R + r)) of depth for a phalanx of length L lying tangent).
+/// The tree is a complete binary tree in the implicit layout: node i has children 2 i + 1
+/// and 2 i + 2, parent (i - 1) / 2; nodes Samples - 1 .. 2 Samples - 2 are the leaves,
+/// sample j being node Samples - 1 + j. Each inner node bounds its two children.
+
+#include <array>
+#include <cmath>
+
+#include "grip/core/status.hpp"
+#include "grip/core/types.hpp"
+#include "grip/hand/hand_kinematics.hpp"
+#include "grip/hand/hand_model.hpp"
+
+namespace grip {
+
+/// A bounding sphere (centre in metres, radius in metres).
+template <class Scalar>
+struct BoundingSphere {
+  Vector3<Scalar> center{Vector3<Scalar>::Zero()};  ///< Centre (m).
+  Scalar radius{0};                                 ///< Radius (m), >= 0.
+};
+
+/// The smallest sphere containing spheres a and b.
+template <class Scalar>
+BoundingSphere<Scalar> enclose(const BoundingSphere<Scalar>& a, const BoundingSphere<Scalar>& b) {
+  const Vector3<Scalar> d = b.center - a.center;
+  const Scalar dist = d.norm();
+  if (dist + b.radius <= a.radius) return a;
+  if (dist + a.radius <= b.radius) return b;
+  BoundingSphere<Scalar> s;
+  s.radius = (dist + a.radius + b.radius) / Scalar(2);
+  s.center = a.center + d * ((s.radius - a.radius) / dist);
+  return s;
+}
+
+/// True if the two spheres overlap or touch.
+template <class Scalar>
+bool overlap(const BoundingSphere<Scalar>& a, const BoundingSphere<Scalar>& b) {
+  const Scalar r = a.radius + b.radius;
+  return (a.center - b.center).squaredNorm() <= r * r;
+}
+
+/// The posed hand's sphere hierarchy, world frame. Samples per phalanx: a power of two >= 2.
+template <class Scalar, int Samples = 8>
+class HandCollisionModel {
+  static_assert(Samples >= 2 && (Samples & (Samples - 1)) == 0, "Samples must be a power of two >= 2");
+
+ public:
+  static constexpr int samples_per_phalanx = Samples;        ///< Leaves of each phalanx tree.
+  static constexpr int nodes_per_phalanx = 2 * Samples - 1;  ///< Nodes of each phalanx tree.
+  static constexpr int first_leaf = Samples - 1;             ///< Node index of sample 0.
+
+  /// Builds every sphere of the hierarchy from a posed hand. InvalidInput (model unchanged)
+  /// if a capsule holds a non-finite number or a radius <= 0; Ok otherwise.
+  Status set_posture(const HandPosture<Scalar>& posture) {
+    for (const PhalanxCapsule<Scalar>& c : posture.phalanges)
+      if (!c.base.allFinite() || !c.tip.allFinite() || !std::isfinite(c.radius) || !(c.radius > Scalar(0)))
+        return Status::InvalidInput;
+    for (int k = 0; k < hand_phalanx_count; ++k) {
+      const PhalanxCapsule<Scalar>& c = posture.phalanges[static_cast<std::size_t>(k)];
+      capsules_[static_cast<std::size_t>(k)] = c;
+      auto& nodes = nodes_[static_cast<std::size_t>(k)];
+      for (int j = 0; j < Samples; ++j) {
+        const Scalar t = Scalar(j) / Scalar(Samples - 1);
+        nodes[static_cast<std::size_t>(first_leaf + j)] = BoundingSphere<Scalar>{c.base + t * (c.tip - c.base), c.radius};
+      }
+      for (int i = first_leaf - 1; i >= 0; --i)
+        nodes[static_cast<std::size_t>(i)] =
+            enclose(nodes[static_cast<std::size_t>(2 * i + 1)], nodes[static_cast<std::size_t>(2 * i + 2)]);
+    }
+    for (int f = 0; f < 5; ++f) {
+      const int first = first_phalanx(f);
+      BoundingSphere<Scalar> s = phalanx_node(first, 0);
+      for (int k = first + 1; k < first + phalanges_of(f); ++k) s = enclose(s, phalanx_node(k, 0));
+      fingers_[static_cast<std::size_t>(f)] = s;
+      hand_ = f == 0 ? s : enclose(hand_, s);
+    }
+    posed_ = true;
+    return Status::Ok;
+  }
+
+  /// True once set_posture() has succeeded.
+  bool posed() const { return posed_; }
+  /// Sphere bounding the whole hand.
+  const BoundingSphere<Scalar>& hand_sphere() const { return hand_; }
+  /// Sphere bounding digit f (0 thumb .. 4 little).
+  const BoundingSphere<Scalar>& finger_sphere(int f) const { return fingers_[static_cast<std::size_t>(f)]; }
+  /// Node i (0 .. nodes_per_phalanx - 1) of phalanx k's tree (0 is its root).
+  const BoundingSphere<Scalar>& phalanx_node(int k, int i) const {
+    return nodes_[static_cast<std::size_t>(k)][static_cast<std::size_t>(i)];
+  }
+  /// The capsule of phalanx k as last posed.
+  const PhalanxCapsule<Scalar>& capsule(int k) const { return capsules_[static_cast<std::size_t>(k)]; }
+
+  /// First phalanx index of digit f (0 thumb .. 4 little).
+  static constexpr int first_phalanx(int f) { return f == 0 ? 0 : 2 + 3 * (f - 1); }
+  /// Number of phalanges of digit f (2 for the thumb, 3 otherwise).
+  static constexpr int phalanges_of(int f) { return f == 0 ? 2 : 3; }
+
+ private:
+  std::array<std::array<BoundingSphere<Scalar>, static_cast<std::size_t>(nodes_per_phalanx)>,
+             hand_phalanx_count> nodes_{};
+  std::array<PhalanxCapsule<Scalar>, hand_phalanx_count> capsules_{};
+  std::array<BoundingSphere<Scalar>, 5> fingers_{};
+  BoundingSphere<Scalar> hand_{};
+  bool posed_{false};
+};
+
+}  // namespace grip

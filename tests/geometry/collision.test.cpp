@@ -1,0 +1,245 @@
+// Collision detection: analytic cases (sphere, box, cylinder) at known depths, accuracy per
+// octree depth, no contact when apart, pruned == exhaustive, bad input, no heap per frame.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <random>
+
+#include <Eigen/Geometry>
+
+#include <grip/geometry/collision.hpp>
+
+#include "support/allocation_counter.hpp"
+
+using namespace grip;
+
+template class grip::HandCollisionModel<double, 8>;
+template class grip::HandCollisionModel<float, 4>;
+template struct grip::HandContacts<double>;
+template struct grip::HandContacts<float>;
+
+namespace {
+template <class S>
+using Iso = Eigen::Transform<S, 3, Eigen::Isometry>;
+constexpr int cap = 32768;
+template <class S>
+SphericalOctree<S, cap>& octree() {
+  static SphericalOctree<S, cap> t;
+  return t;
+}
+// A posture whose phalanges are all far away (10 m) except phalanx k = [a, b] of radius r.
+template <class S>
+HandPosture<S> single(int k, const Vector3<S>& a, const Vector3<S>& b, S r) {
+  HandPosture<S> h;
+  for (int i = 0; i < hand_phalanx_count; ++i) {
+    h.phalanges[i].base = Vector3<S>(S(10), S(0), S(i));
+    h.phalanges[i].tip = Vector3<S>(S(10.01), S(0), S(i));
+    h.phalanges[i].radius = S(0.008);
+  }
+  h.phalanges[k].base = a;
+  h.phalanges[k].tip = b;
+  h.phalanges[k].radius = r;
+  return h;
+}
+// The documented accuracy of an octree leaf model (spherical_octree.hpp): e = 3 h^2 (R + s) / (2 R^2).
+template <class S>
+double curved_tolerance(const SphericalOctree<S, cap>& oct, int depth, double R, double s) {
+  const double h = double(oct.cell_half_edge(depth));
+  return 3 * h * h * (R + std::max(s, 0.0)) / (2 * R * R);
+}
+template <class S>
+double round_off() {
+  return std::is_same<S, float>::value ? 2e-5 : 1e-10;
+}
+}  // namespace
+
+TEST_CASE_TEMPLATE("a sphere pressed into a sphere: depth, normal, point within the depth's tolerance", S, double,
+                   float) {
+  // Object: sphere R = 40 mm at the origin. Phalanx: a capsule of zero length (a sphere) of
+  // radius r = 10 mm centred at x with |x| = 48 mm: depth = R + r - |x| = 2 mm, inward normal
+  // -x/|x|, contact point R x/|x| on the object's surface.
+  auto& oct = octree<S>();
+  const double R = 0.04, r = 0.01, dist = 0.048;
+  std::mt19937 rng(3);
+  std::normal_distribution<double> g(0, 1);
+  double prev_worst = 1;
+  for (int depth = 2; depth <= 5; ++depth) {
+    REQUIRE(oct.build(Shape<S>(make_sphere<S>(S(R))), depth) == Status::Ok);
+    const double tol = curved_tolerance(oct, depth, R, dist - R) + round_off<S>();
+    const double h = double(oct.cell_half_edge(depth));
+    double worst = 0;
+    for (int t = 0; t < 20; ++t) {
+      const Vector3<double> u = Vector3<double>(g(rng), g(rng), g(rng)).normalized();
+      const Vector3<S> x = (dist * u).cast<S>();
+      HandCollisionModel<S> hand;
+      REQUIRE(hand.set_posture(single<S>(5, x, x, S(r))) == Status::Ok);
+      HandContacts<S> out;
+      REQUIRE(detect_contacts(hand, oct, Iso<S>::Identity(), out) == Status::Ok);
+      REQUIRE(out.count == 1);
+      CHECK(out[0].finger == Finger::Long);
+      CHECK(out[0].phalanx == Phalanx::Proximal);
+      const double err = double(out[0].depth) - (R + r - dist);
+      worst = std::max(worst, std::abs(err));
+      CHECK(err >= -round_off<S>());  // each leaf is a lower bound of the distance: depth from above
+      CHECK(err <= tol);
+      CHECK(std::acos(std::min(1.0, -out[0].normal.template cast<double>().dot(u))) <= std::sqrt(3.0) * h / R + 1e-3);
+      CHECK((out[0].point.template cast<double>() - R * u).norm() <= std::sqrt(3.0) * h * (dist - R) / R + tol + 1e-4);
+    }
+    CHECK(worst <= prev_worst + round_off<S>());  // converges with depth
+    prev_worst = worst;
+  }
+  CHECK(prev_worst <= 1e-4);  // depth 5 (leaf edge 2.5 mm): below 0.1 mm
+}
+
+TEST_CASE_TEMPLATE("a box face: exact depth (planar), and the leaf over-reach the correction removes", S, double,
+                   float) {
+  // Box half sizes (50, 40, 30) mm, turned and moved by the object pose. A phalanx lies flat
+  // 8 mm radius, its axis z0 = 30 + 8 - 1.5 mm above the top face: depth 1.5 mm, normal -z
+  // (into the box, object frame), point on the face below the axis midpoint.
+  auto& oct = octree<S>();
+  REQUIRE(oct.build(Shape<S>(make_box<S>(Vector3<S>(S(0.05), S(0.04), S(0.03)))), 4) == Status::Ok);
+  Iso<S> pose = Iso<S>::Identity();
+  pose.linear() = Eigen::AngleAxis<S>(S(0.8), Vector3<S>(S(1), S(2), S(3)).normalized()).toRotationMatrix();
+  pose.translation() = Vector3<S>(S(0.2), S(-0.1), S(0.3));
+  const S r = S(0.008), z0 = S(0.03) + r - S(0.0015);
+  const Vector3<S> a(S(-0.02), S(0.005), z0), b(S(0.015), S(-0.01), z0);
+  HandCollisionModel<S> hand;
+  REQUIRE(hand.set_posture(single<S>(13, pose * a, pose * b, r)) == Status::Ok);
+  HandContacts<S> out;
+  REQUIRE(detect_contacts(hand, oct, pose, out) == Status::Ok);
+  REQUIRE(out.count == 1);
+  CHECK(out[0].finger == Finger::Little);
+  CHECK(out[0].phalanx == Phalanx::Distal);
+  CHECK(std::abs(double(out[0].depth) - 0.0015) <= 10 * round_off<S>());
+  CHECK((out[0].normal - pose.linear() * Vector3<S>(S(0), S(0), S(-1))).norm() <= S(10 * round_off<S>()));
+  const Vector3<S> mid((a.x() + b.x()) / S(2), (a.y() + b.y()) / S(2), S(0.03));
+  CHECK((pose.inverse() * out[0].point - mid).norm() <= S(10 * round_off<S>()));
+  CHECK(out[0].samples == HandCollisionModel<S>::samples_per_phalanx);
+
+  // The uncorrected estimate, depth against the leaf spheres themselves, over-reaches by at
+  // least (sqrt(3) - 1) / 2 of the leaf edge (hand derivation in spherical_octree.hpp).
+  double naive = -1;
+  const Vector3<S> x = (a + b) / S(2);
+  for (int i = 0; i < oct.tree().size(); ++i)
+    if (oct.is_solid_leaf(i))
+      naive = std::max(naive, double(r + oct.tree().node(i).radius - (x - oct.tree().node(i).center).norm()));
+  CHECK(naive - 0.0015 >= 0.366 * 2 * double(oct.cell_half_edge(4)) - 1e-6);
+
+  // 0.1 mm apart: no contact (planar faces are exact).
+  const Vector3<S> lift(S(0), S(0), S(0.0016));
+  REQUIRE(hand.set_posture(single<S>(13, pose * Vector3<S>(a + lift), pose * Vector3<S>(b + lift), r)) == Status::Ok);
+  REQUIRE(detect_contacts(hand, oct, pose, out) == Status::Ok);
+  CHECK(out.count == 0);
+}
+
+TEST_CASE_TEMPLATE("a cylinder: side (curved) and cap (planar) at known depths; apart gives nothing", S, double,
+                   float) {
+  // Cylinder R = 35 mm, half height 70 mm, axis z. A phalanx of radius 8 mm parallel to the
+  // axis at radial distance R + r - 2 mm along direction (cos 0.3, sin 0.3): depth 2 mm, normal
+  // -radial, point on the side at the axis midpoint's height.
+  auto& oct = octree<S>();
+  const double R = 0.035, r = 0.008;
+  REQUIRE(oct.build(Shape<S>(make_cylinder<S>(S(R), S(0.07))), 5) == Status::Ok);
+  const Vector3<double> radial(std::cos(0.3), std::sin(0.3), 0);
+  const Vector3<double> a = (R + r - 0.002) * radial + Vector3<double>(0, 0, -0.01);
+  const Vector3<double> b = (R + r - 0.002) * radial + Vector3<double>(0, 0, 0.03);
+  HandCollisionModel<S> hand;
+  REQUIRE(hand.set_posture(single<S>(0, a.cast<S>(), b.cast<S>(), S(r))) == Status::Ok);
+  HandContacts<S> out;
+  REQUIRE(detect_contacts(hand, oct, Iso<S>::Identity(), out) == Status::Ok);
+  REQUIRE(out.count == 1);
+  CHECK(out[0].finger == Finger::Thumb);
+  const double tol = curved_tolerance(oct, 5, R, r - 0.002) + round_off<S>();
+  CHECK(double(out[0].depth) >= 0.002 - round_off<S>());
+  CHECK(double(out[0].depth) <= 0.002 + tol);
+  CHECK((out[0].normal.template cast<double>() + radial).norm() <= 0.05);
+  CHECK((out[0].point.template cast<double>() - (R * radial + Vector3<double>(0, 0, 0.01))).norm() <= 2e-3);
+
+  // A fingertip pushed 3 mm into the top cap along -z: planar, exact; normal -z.
+  const Vector3<S> tip(S(0.01), S(-0.005), S(0.07 + r - 0.003));
+  REQUIRE(hand.set_posture(single<S>(4, Vector3<S>(tip + Vector3<S>(S(0.005), S(0), S(0.02))), tip, S(r))) ==
+          Status::Ok);
+  REQUIRE(detect_contacts(hand, oct, Iso<S>::Identity(), out) == Status::Ok);
+  REQUIRE(out.count == 1);
+  CHECK(out[0].finger == Finger::Index);
+  CHECK(out[0].phalanx == Phalanx::Distal);
+  CHECK(std::abs(double(out[0].depth) - 0.003) <= 10 * round_off<S>());
+  CHECK((out[0].normal + Vector3<S>::UnitZ()).norm() <= S(10 * round_off<S>()));
+
+  // 1 mm off the side (more than the depth-5 tolerance): no contact.
+  REQUIRE(tol < 0.001);
+  const Vector3<double> a2 = (R + r + 0.001) * radial, b2 = a2 + Vector3<double>(0, 0, 0.03);
+  REQUIRE(hand.set_posture(single<S>(0, a2.cast<S>(), b2.cast<S>(), S(r))) == Status::Ok);
+  REQUIRE(detect_contacts(hand, oct, Iso<S>::Identity(), out) == Status::Ok);
+  CHECK(out.count == 0);
+}
+
+TEST_CASE_TEMPLATE("pruned descent finds the same contacts as the exhaustive leaf-pair loop", S, double, float) {
+  auto& oct = octree<S>();
+  Shape<S, 2> shape;
+  shape.add(make_box<S>(Vector3<S>(S(0.04), S(0.03), S(0.02))));
+  shape.add(make_sphere<S>(S(0.03), Vector3<S>(S(0.03), S(0), S(0.02))));
+  REQUIRE(oct.build(shape, 4) == Status::Ok);
+  const HandDimensions<S> dims = HandDimensions<S>::standard();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int total = 0;
+  for (int t = 0; t < 30; ++t) {
+    JointAngles<S> q;
+    for (int k = 0; k < 14; ++k) q(k) = S(0.6 + 0.6 * u(rng));
+    Iso<S> wrist = Iso<S>::Identity();
+    wrist.translation() = Vector3<S>(S(-0.09 + 0.03 * u(rng)), S(0.02 * u(rng)), S(0.05 + 0.02 * u(rng)));
+    HandPosture<S> h;
+    REQUIRE(forward_kinematics(dims, wrist, q, h) == Status::Ok);
+    HandCollisionModel<S> hand;
+    REQUIRE(hand.set_posture(h) == Status::Ok);
+    HandContacts<S> fast, slow;
+    REQUIRE(detect_contacts(hand, oct, Iso<S>::Identity(), fast) == Status::Ok);
+    REQUIRE(detect_contacts_exhaustive(hand, oct, Iso<S>::Identity(), slow) == Status::Ok);
+    REQUIRE(fast.count == slow.count);
+    total += fast.count;
+    for (int i = 0; i < fast.count; ++i) {
+      CHECK(fast[i].finger == slow[i].finger);
+      CHECK(fast[i].phalanx == slow[i].phalanx);
+      CHECK(std::abs(fast[i].depth - slow[i].depth) <= S(round_off<S>()));
+      CHECK((fast[i].normal - slow[i].normal).norm() <= S(10 * round_off<S>()));
+    }
+  }
+  CHECK(total > 20);  // the poses do touch
+}
+
+TEST_CASE_TEMPLATE("bad input, and no heap per frame", S, double, float) {
+  auto& oct = octree<S>();
+  REQUIRE(oct.build(Shape<S>(make_cylinder<S>(S(0.035), S(0.07))), 5) == Status::Ok);
+  HandCollisionModel<S> hand;
+  HandContacts<S> out;
+  out.count = 3;
+  CHECK(detect_contacts(hand, oct, Iso<S>::Identity(), out) == Status::InvalidInput);  // never posed
+  CHECK(out.count == 0);
+  const HandDimensions<S> dims = HandDimensions<S>::standard();
+  HandPosture<S> h;
+  JointAngles<S> q = JointAngles<S>::Constant(S(0.5));
+  Iso<S> wrist = Iso<S>::Identity();
+  wrist.translation() = Vector3<S>(S(-0.08), S(0), S(0.05));
+  {
+    grip_test::NoHeapScope scope;  // one whole frame: kinematics, hierarchy, detection
+    REQUIRE(forward_kinematics(dims, wrist, q, h) == Status::Ok);
+    REQUIRE(hand.set_posture(h) == Status::Ok);
+    REQUIRE(detect_contacts(hand, oct, Iso<S>::Identity(), out) == Status::Ok);
+    CHECK(scope.allocations() == 0);
+  }
+  CHECK(out.count > 0);
+  Iso<S> skewed = Iso<S>::Identity();
+  skewed.linear()(0, 1) = S(0.5);
+  CHECK(detect_contacts(hand, oct, skewed, out) == Status::InvalidInput);
+  Iso<S> nan = Iso<S>::Identity();
+  nan.translation()(2) = std::numeric_limits<S>::quiet_NaN();
+  CHECK(detect_contacts(hand, oct, nan, out) == Status::InvalidInput);
+  static SphericalOctree<S, 8> empty;
+  CHECK(detect_contacts(hand, empty, Iso<S>::Identity(), out) == Status::InvalidInput);
+  h.phalanges[3].radius = S(0);
+  CHECK(hand.set_posture(h) == Status::InvalidInput);
+  h.phalanges[3].radius = S(0.01);
+  h.phalanges[3].tip(1) = std::numeric_limits<S>::infinity();
+  CHECK(hand.set_posture(h) == Status::InvalidInput);
+}
