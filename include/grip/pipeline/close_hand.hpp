@@ -1,0 +1,91 @@
+#pragma once
+/// \file
+/// Scripted grasping: the joint angles at which a hand closing on an object stops, for
+/// sessions and tests that stand in for a glove.
+
+#include <algorithm>
+#include <cstddef>
+
+#include "grip/core/status.hpp"
+#include "grip/core/types.hpp"
+#include "grip/dynamics/rigid_body.hpp"
+#include "grip/hand/hand_kinematics.hpp"
+#include "grip/hand/hand_model.hpp"
+#include "grip/geometry/collision.hpp"
+
+namespace grip {
+
+/// Result of close_hand_in_scene().
+template <class Scalar>
+struct ClosedHand {
+  JointAngles<Scalar> angles{JointAngles<Scalar>::Zero()};  ///< the closed posture (rad)
+  int touching{0};  ///< phalanges in contact in the closed posture
+  Status status{Status::InvalidInput};  ///< Ok, or InvalidInput (angles zero)
+};
+
+/// Closes the hand posed at `wrist` on `object` the way a grasping hand does: digit by digit,
+/// joint by joint from the palm outwards, each joint flexes (in steps of `step` rad, then
+/// bisection) until some phalanx distal to it penetrates the object by `target_depth` (m),
+/// or the joint reaches its upper limit. Uses `scene.hand_contacts` (see HapticPipeline); the
+/// same procedure as geometry's close_hand(), for any scene.
+/// InvalidInput for invalid dimensions, pose, non-positive step or negative depth. Set-up
+/// cost: a few thousand forward kinematics; no heap.
+template <class Scalar, class Scene>
+ClosedHand<Scalar> close_hand_in_scene(const Scene& scene, const HandDimensions<Scalar>& dims,
+                              const Eigen::Transform<Scalar, 3, Eigen::Isometry>& wrist,
+                              const RigidBody<Scalar>& object, Scalar target_depth,
+                              Scalar step = Scalar(0.01)) {
+  ClosedHand<Scalar> out;
+  if (validate(dims) != Status::Ok || !(step > Scalar(0)) || !(target_depth >= Scalar(0)) ||
+      validate(object) != Status::Ok)
+    return out;
+  HandPosture<Scalar> posture;
+  HandContacts<Scalar> contacts;
+  JointAngles<Scalar> q = JointAngles<Scalar>::Zero();
+  // Deepest penetration among phalanges [first, last] for angles q (-1 if none touch).
+  auto deepest = [&](int first, int last) {
+    if (forward_kinematics(dims, wrist, q, posture) != Status::Ok) return Scalar(-2);
+    scene.hand_contacts(posture, object, contacts);
+    Scalar d = Scalar(-1);
+    for (int i = 0; i < contacts.count; ++i) {
+      const HandContact<Scalar>& c = contacts.items[static_cast<std::size_t>(i)];
+      const int k = phalanx_index(c.finger, c.phalanx);
+      if (k >= first && k <= last) d = std::max(d, c.depth);
+    }
+    return d;
+  };
+  if (deepest(0, hand_phalanx_count - 1) < Scalar(-1)) return out;
+  for (int f = 0; f < 5; ++f) {
+    const int first = f == 0 ? 0 : 2 + 3 * (f - 1);
+    const int last = f == 0 ? 1 : first + 2;
+    for (int k = first; k <= last; ++k) {
+      const Scalar limit = dims.joint_upper_limit[static_cast<std::size_t>(k)];
+      if (deepest(k, last) >= target_depth) continue;  // already blocked: keep it straight
+      Scalar lo = Scalar(0), hi = Scalar(0);
+      bool blocked = false;
+      while (hi < limit) {
+        lo = hi;
+        hi = std::min(limit, hi + step);
+        q(k) = hi;
+        if (deepest(k, last) >= target_depth) {
+          blocked = true;
+          break;
+        }
+      }
+      if (!blocked) continue;  // the joint reached its limit
+      for (int it = 0; it < 30; ++it) {  // bisection: smallest angle reaching target_depth
+        q(k) = Scalar(0.5) * (lo + hi);
+        if (deepest(k, last) >= target_depth) hi = q(k);
+        else lo = q(k);
+      }
+      q(k) = hi;  // the next joint then flexes the phalanges beyond this one
+    }
+  }
+  out.angles = q;
+  (void)deepest(0, hand_phalanx_count - 1);
+  out.touching = contacts.count;
+  out.status = Status::Ok;
+  return out;
+}
+
+}  // namespace grip
