@@ -8,6 +8,12 @@
 
 #include "grip/contact/contact.hpp"
 #include "grip/contact/contact_model.hpp"
+#include "grip/contact/cone_support.hpp"
+#include "grip/contact/coulomb_cone.hpp"
+#include "grip/contact/pyramid_cone.hpp"
+#include "grip/contact/soft_finger_cone.hpp"
+#include "grip/contact/normal_cone.hpp"
+#include "grip/contact/exact_cone.hpp"
 
 #include "grip/grasp/grasp.hpp"
 #include "grip/grasp/objective.hpp"
@@ -16,5 +22,9 @@
 #include "grip/solve/symmetric_solve.hpp"
 #include "grip/solve/solve_range_space.hpp"
 #include "grip/solve/solve_kkt.hpp"
+
+#include "grip/monitor/grasp_state.hpp"
+#include "grip/monitor/stability_monitor.hpp"
+#include "grip/monitor/resolution.hpp"
 
 #include "grip/hand/squeeze.hpp"

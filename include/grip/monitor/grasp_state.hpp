@@ -1,0 +1,81 @@
+#pragma once
+/// \file
+/// The state of a grasp as a stability monitor reports it: per-contact modes and margins.
+
+#include <array>
+#include <cstddef>
+
+#include "grip/contact/cone_support.hpp"
+#include "grip/core/status.hpp"
+#include "grip/core/types.hpp"
+
+namespace grip {
+
+/// What one contact does under the forces given to the monitor.
+enum class ContactMode {
+  Sticking,    ///< f_n > 0 and the force is inside its friction cone: the contact holds
+  Sliding,     ///< f_n > 0 but the force is outside its cone: the finger slips on the object
+  Separating,  ///< f_n = f.a <= 0: the finger would have to pull, so it leaves the object
+};
+
+/// A short English name of the mode ("sticking", "sliding", "separating").
+constexpr const char* to_string(ContactMode m) {
+  switch (m) {
+    case ContactMode::Sticking: return "sticking";
+    case ContactMode::Sliding: return "sliding";
+    case ContactMode::Separating: return "separating";
+  }
+  return "unknown";
+}
+
+/// The monitor's report on one contact.
+template <class Scalar>
+struct ContactState {
+  ContactMode mode{ContactMode::Separating};  ///< see ContactMode
+  Scalar margin{cone_margin_floor<Scalar>()};           ///< the cone's margin (N), >= 0 inside
+  Scalar relative_margin{cone_margin_floor<Scalar>()};  ///< the cone's relative margin, <= 1
+  Scalar normal_force{0};                               ///< f_n = f.a (N)
+  Vector3<Scalar> tangential_force{Vector3<Scalar>::Zero()};  ///< f_t = f - f_n a (N)
+  Scalar moment{0};  ///< torsional moment about a (N m): soft finger only, else 0
+};
+
+/// The monitor's report on a whole grasp of type GraspT; fixed storage, no heap.
+///
+/// Invariant: every number is finite. Under Status::InvalidInput, size() is 0, stable is false,
+/// the counts are 0 and min_margin is cone_margin_floor().
+template <class GraspT>
+struct GraspState {
+  using Scalar = typename GraspT::ScalarType;
+  static constexpr int capacity = GraspT::capacity;  ///< most contacts reported
+
+  /// Per-contact states; entries [0, size()) are meaningful.
+  std::array<ContactState<Scalar>, static_cast<std::size_t>(capacity)> contacts{};
+  int count{0};             ///< number of contacts reported (the grasp's size())
+  int sticking_count{0};    ///< contacts in ContactMode::Sticking
+  int sliding_count{0};     ///< contacts in ContactMode::Sliding
+  int separating_count{0};  ///< contacts in ContactMode::Separating
+  /// Smallest margin over the contacts (N); cone_margin_floor() when there are none.
+  Scalar min_margin{cone_margin_floor<Scalar>()};
+  int min_margin_index{-1};  ///< the contact with min_margin, -1 when there are none
+  /// True when status is Ok, there is at least one contact and every contact sticks: the
+  /// paper's conditions 4 and 5 hold at every contact.
+  bool stable{false};
+  Status status{Status::InvalidInput};  ///< Ok, or InvalidInput (see StabilityMonitor)
+
+  /// Number of contacts reported.
+  int size() const { return count; }
+  /// The state of contact i (0 <= i < size(), unchecked).
+  const ContactState<Scalar>& contact(int i) const { return contacts[static_cast<std::size_t>(i)]; }
+  /// The mode of contact i.
+  ContactMode mode(int i) const { return contact(i).mode; }
+  /// True if contact i slides.
+  bool is_sliding(int i) const { return mode(i) == ContactMode::Sliding; }
+  /// True if contact i separates.
+  bool is_separating(int i) const { return mode(i) == ContactMode::Separating; }
+  /// True if contact i sticks.
+  bool is_sticking(int i) const { return mode(i) == ContactMode::Sticking; }
+  /// True when status == Status::Ok.
+  bool ok() const { return status == Status::Ok; }
+};
+
+}  // namespace grip
