@@ -25,7 +25,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
+#include <cstdint>
 
 #include <Eigen/Geometry>
 
@@ -64,6 +64,9 @@ struct HandContacts {
     return nullptr;
   }
 };
+
+/// The phalanx mask of detect_contacts() selecting all 14 phalanges (bit k = phalanx k).
+constexpr std::uint32_t all_phalanges = (1u << hand_phalanx_count) - 1u;
 
 namespace detail {
 
@@ -176,10 +179,12 @@ bool rigid_pose_ok(const Eigen::Transform<Scalar, 3, Eigen::Isometry>& pose) {
 /// (object-frame point -> world point). Writes out.items[0 .. out.count), phalanx order.
 /// Statuses: InvalidInput (out.count = 0) if the model was never posed, the octree is empty,
 /// or the pose is not finite and rigid (rotation orthonormal within 1e-3); Ok otherwise
-/// (out.count may be 0: no contact). No heap; recursion depth <= octree depth + log2(Samples).
+/// (out.count may be 0: no contact). No heap; recursion depth <= octree depth.
+/// `phalanx_mask` (bit k = phalanx k, default all 14) skips the phalanges whose bit is clear.
 template <class Scalar, int Samples, int Capacity>
 Status detect_contacts(const HandCollisionModel<Scalar, Samples>& hand, const SphericalOctree<Scalar, Capacity>& object,
-                       const Eigen::Transform<Scalar, 3, Eigen::Isometry>& object_pose, HandContacts<Scalar>& out) {
+                       const Eigen::Transform<Scalar, 3, Eigen::Isometry>& object_pose, HandContacts<Scalar>& out,
+                       std::uint32_t phalanx_mask = all_phalanges) {
   out.count = 0;
   if (!hand.posed() || object.tree().empty() || !detail::rigid_pose_ok(object_pose)) return Status::InvalidInput;
   const Eigen::Transform<Scalar, 3, Eigen::Isometry> to_object = object_pose.inverse(Eigen::Isometry);
@@ -191,7 +196,7 @@ Status detect_contacts(const HandCollisionModel<Scalar, Samples>& hand, const Sp
     if (!overlap(hand.finger_sphere(f), root_world)) continue;
     const int first = HandCollisionModel<Scalar, Samples>::first_phalanx(f);
     for (int k = first; k < first + HandCollisionModel<Scalar, Samples>::phalanges_of(f); ++k) {
-      if (!overlap(hand.phalanx_node(k, 0), root_world)) continue;
+      if (!((phalanx_mask >> k) & 1u) || !overlap(hand.phalanx_node(k, 0), root_world)) continue;
       for (int i = 0; i < 2 * Samples - 1; ++i) {
         q.nodes[static_cast<std::size_t>(i)].center = to_object * hand.phalanx_node(k, i).center;
         q.nodes[static_cast<std::size_t>(i)].radius = hand.phalanx_node(k, i).radius;

@@ -1,0 +1,99 @@
+#pragma once
+/// \file
+/// A set-up helper that closes the virtual hand on an object: for each digit, each joint
+/// from the palm outwards flexes until a phalanx at or beyond it reaches a target depth
+/// (or the joint's upper limit). Gives joint angles for a power grasp without a glove
+/// (tests, examples, benchmarks). Not a per-frame routine: it runs collision detection a few
+/// hundred times.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include <Eigen/Geometry>
+
+#include "grip/core/status.hpp"
+#include "grip/core/types.hpp"
+#include "grip/geometry/collision.hpp"
+#include "grip/geometry/hand_collision_model.hpp"
+#include "grip/geometry/spherical_octree.hpp"
+#include "grip/hand/hand_kinematics.hpp"
+#include "grip/hand/hand_model.hpp"
+
+namespace grip {
+
+namespace detail {
+// Deepest contact of digit f's phalanges with index >= k_from, 0 if none.
+template <class Scalar, int Samples, int Capacity>
+Scalar digit_depth(const HandDimensions<Scalar>& dims, const Eigen::Transform<Scalar, 3, Eigen::Isometry>& wrist,
+                   const JointAngles<Scalar>& angles, const SphericalOctree<Scalar, Capacity>& object,
+                   const Eigen::Transform<Scalar, 3, Eigen::Isometry>& object_pose, int k_from, int k_end,
+                   HandCollisionModel<Scalar, Samples>& model, HandContacts<Scalar>& contacts) {
+  HandPosture<Scalar> posture;
+  forward_kinematics(dims, wrist, angles, posture);
+  model.set_posture(posture);
+  std::uint32_t mask = 0;
+  for (int k = k_from; k < k_end; ++k) mask |= 1u << k;
+  detect_contacts(model, object, object_pose, contacts, mask);
+  Scalar d = Scalar(0);
+  for (int i = 0; i < contacts.count; ++i) {
+    const int k = phalanx_index(contacts[i].finger, contacts[i].phalanx);
+    if (k >= k_from && k < k_end && contacts[i].depth > d) d = contacts[i].depth;
+  }
+  return d;
+}
+}  // namespace detail
+
+/// Flexes `angles` (in: the starting posture, usually zeros; out: the closed posture) joint by
+/// joint, digit by digit, in steps of `step` (rad) then by 10 bisections, until a phalanx
+/// distal to the joint (of the same digit) penetrates by at least `target_depth` (m), or the
+/// joint reaches dims.joint_upper_limit. Statuses: InvalidInput for bad dimensions, poses,
+/// angles, a step <= 0 or target depth <= 0, or an empty octree; Ok otherwise. Uses a
+/// HandCollisionModel of `Samples` samples per phalanx (no heap).
+template <int Samples = 8, class Scalar, int Capacity>
+Status close_hand(const HandDimensions<Scalar>& dims, const Eigen::Transform<Scalar, 3, Eigen::Isometry>& wrist,
+                  const SphericalOctree<Scalar, Capacity>& object,
+                  const Eigen::Transform<Scalar, 3, Eigen::Isometry>& object_pose, Scalar target_depth, Scalar step,
+                  JointAngles<Scalar>& angles) {
+  HandPosture<Scalar> posture;
+  if (!(target_depth > Scalar(0)) || !(step > Scalar(0)) || !std::isfinite(target_depth) || !std::isfinite(step) ||
+      forward_kinematics(dims, wrist, angles, posture) != Status::Ok || object.tree().empty() ||
+      !detail::rigid_pose_ok(object_pose))
+    return Status::InvalidInput;
+  HandCollisionModel<Scalar, Samples> model;
+  HandContacts<Scalar> contacts;
+  for (int f = 0; f < 5; ++f) {
+    const int first = HandCollisionModel<Scalar, Samples>::first_phalanx(f);
+    const int end = first + HandCollisionModel<Scalar, Samples>::phalanges_of(f);
+    for (int k = first; k < end; ++k) {
+      auto depth_at = [&](Scalar a) {
+        JointAngles<Scalar> trial = angles;
+        trial(k) = a;
+        return detail::digit_depth(dims, wrist, trial, object, object_pose, k, end, model, contacts);
+      };
+      const Scalar limit = dims.joint_upper_limit[static_cast<std::size_t>(k)];
+      Scalar lo = angles(k);
+      if (depth_at(lo) >= target_depth) continue;
+      Scalar hi = lo;
+      bool reached = false;
+      while (hi < limit) {
+        hi = std::min(hi + step, limit);
+        if (depth_at(hi) >= target_depth) {
+          reached = true;
+          break;
+        }
+        lo = hi;
+      }
+      if (reached)
+        for (int it = 0; it < 10; ++it) {
+          const Scalar mid = (lo + hi) / Scalar(2);
+          if (depth_at(mid) >= target_depth) hi = mid;
+          else lo = mid;
+        }
+      angles(k) = hi;
+    }
+  }
+  return Status::Ok;
+}
+
+}  // namespace grip
