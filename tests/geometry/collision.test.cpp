@@ -184,7 +184,7 @@ TEST_CASE_TEMPLATE("pruned descent finds the same contacts as the exhaustive lea
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-1, 1);
   int total = 0;
-  for (int t = 0; t < 30; ++t) {
+  for (int t = 0; t < 8; ++t) {
     JointAngles<S> q;
     for (int k = 0; k < 14; ++k) q(k) = S(0.6 + 0.6 * u(rng));
     Iso<S> wrist = Iso<S>::Identity();
@@ -205,7 +205,7 @@ TEST_CASE_TEMPLATE("pruned descent finds the same contacts as the exhaustive lea
       CHECK((fast[i].normal - slow[i].normal).norm() <= S(10 * round_off<S>()));
     }
   }
-  CHECK(total > 20);  // the poses do touch
+  CHECK(total > 5);  // the poses do touch
 }
 
 TEST_CASE_TEMPLATE("bad input, and no heap per frame", S, double, float) {
