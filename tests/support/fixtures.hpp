@@ -28,25 +28,31 @@ grip::Contact<S> sphere_contact(double theta, double phi, double radius, double 
   return c;
 }
 
-/// A random contact on a sphere of radius 2-6 cm, random squeeze and weight.
+/// A random contact on a sphere of radius 2-6 cm, random squeeze and weight. With `tilt` > 0
+/// the normal leans off the radial direction by up to atan(tilt) (a non-spherical surface),
+/// so that normals no longer all pass through the centre.
 template <class S>
-grip::Contact<S> random_contact(std::mt19937& rng, bool random_weight = true) {
+grip::Contact<S> random_contact(std::mt19937& rng, bool random_weight = true, double tilt = 0.0) {
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   const double theta = std::acos(1.0 - 2.0 * u01(rng)), phi = 6.283185307179586 * u01(rng);
   grip::Contact<S> c = sphere_contact<S>(theta, phi, 0.02 + 0.04 * u01(rng), 0.2 + u01(rng), 3.0 * u01(rng));
   c.weight = random_weight ? S(0.5 + 1.5 * u01(rng)) : S(1);
+  if (tilt > 0.0) {
+    const grip::Vector3<double> v(u01(rng) - 0.5, u01(rng) - 0.5, u01(rng) - 0.5);
+    c.normal = (c.normal.template cast<double>() + tilt * v).normalized().template cast<S>();
+  }
   return c;
 }
 
 /// Fills every slot of a fixed grasp, or adds `n` contacts to a Dynamic one.
 template <class GraspT>
-GraspT random_grasp(std::mt19937& rng, int n, bool random_weight = true) {
+GraspT random_grasp(std::mt19937& rng, int n, bool random_weight = true, double tilt = 0.0) {
   using S = typename GraspT::ScalarType;
   GraspT g;
   if constexpr (GraspT::fixed_size == grip::Dynamic) {
-    for (int i = 0; i < n; ++i) (void)g.add(random_contact<S>(rng, random_weight));
+    for (int i = 0; i < n; ++i) (void)g.add(random_contact<S>(rng, random_weight, tilt));
   } else {
-    for (int i = 0; i < g.size(); ++i) (void)g.set(i, random_contact<S>(rng, random_weight));
+    for (int i = 0; i < g.size(); ++i) (void)g.set(i, random_contact<S>(rng, random_weight, tilt));
   }
   return g;
 }

@@ -12,7 +12,7 @@ namespace grip {
 
 /// Solves H c = b of eq. 9, c = (x, lambda), by Gaussian elimination with partial pivoting
 /// on the (6 + n dim)-square H, in fixed-size (or bounded) storage: the paper's method,
-/// O(n^3). Rows are first scaled to unit max-norm so that the pivot test is unit-free.
+/// O(n^3). H is first scaled so that the pivot test is unit-free (see the code).
 ///
 /// Statuses and numbers as solve_range_space (same optimum, same multipliers):
 /// - Ok: the unique optimum.
@@ -31,9 +31,22 @@ Solution<GraspT> solve_kkt(const GraspT& grasp, const Wrench<typename GraspT::Sc
   typename GraspT::KktMatrix h = grasp.kkt_matrix();
   typename GraspT::KktVector b = grasp.kkt_rhs(w_ext);
   const int m = static_cast<int>(h.rows());
-  for (int i = 0; i < m; ++i) {  // row equilibration
-    const S s = h.row(i).cwiseAbs().maxCoeff();
-    if (!(s > S(0))) return solve_range_space(grasp, w_ext);  // a zero row: rank deficient
+  const int n = grasp.unknowns();
+  // Unit-free scaling (see solve_symmetric_6x6): moment rows and the moment multipliers'
+  // columns by the lever arm L, the six equilibrium rows by one common factor (scaling them
+  // one by one would blow round-off in an all-but-zero row up to size one), and each
+  // stationarity row by its weight.
+  const S length = detail::lever_arm(grasp);
+  if (!(length > S(0))) return solve_range_space(grasp, w_ext);  // no lever arm: no moments
+  h.block(3, 0, 3, m) /= length;
+  b.template segment<3>(3) /= length;
+  h.block(0, n + 3, m, 3) /= length;
+  const S eq_scale = h.topRows(6).cwiseAbs().maxCoeff();
+  if (!(eq_scale > S(0))) return solve_range_space(grasp, w_ext);
+  h.topRows(6) /= eq_scale;
+  b.template head<6>() /= eq_scale;
+  for (int i = 6; i < m; ++i) {
+    const S s = h.row(i).cwiseAbs().maxCoeff();  // >= the contact's weight > 0
     h.row(i) /= s;
     b(i) /= s;
   }
@@ -60,9 +73,9 @@ Solution<GraspT> solve_kkt(const GraspT& grasp, const Wrench<typename GraspT::Sc
     b(i) = v / h(i, i);
   }
   if (!b.allFinite()) return solve_range_space(grasp, w_ext);
-  const int n = grasp.unknowns();
   sol.forces = b.head(n);
   sol.multipliers = b.tail(6);
+  sol.multipliers.template tail<3>() /= length;  // undo the column scaling of lambda_M
   sol.residual = (grasp.wrench(sol.forces) + w_ext).norm();
   sol.status = Status::Ok;
   return sol;

@@ -48,6 +48,26 @@ void forces_from_multipliers(const GraspT& grasp, const Wrench<typename GraspT::
   sol.residual = sum.norm();
 }
 
+/// The characteristic lever arm L = sqrt(sum k_i |r_i|^2 / sum k_i) (m) that balances force
+/// and moment rows in rank tests; 0 when every contact sits at the reference point.
+template <class S>
+S lever_arm(S k_sum, S kr2_sum) {
+  return k_sum > S(0) ? std::sqrt(kr2_sum / k_sum) : S(0);
+}
+
+/// lever_arm() of a grasp.
+template <class GraspT>
+typename GraspT::ScalarType lever_arm(const GraspT& grasp) {
+  using S = typename GraspT::ScalarType;
+  S k_sum(0), kr2_sum(0);
+  for (int i = 0; i < grasp.size(); ++i) {
+    const auto& c = grasp.contact(i);
+    k_sum += S(1) / c.weight;
+    kr2_sum += c.position.squaredNorm() / c.weight;
+  }
+  return lever_arm(k_sum, kr2_sum);
+}
+
 }  // namespace detail
 
 /// The 6x6 matrix G W^-1 G^T of a grasp, accumulated contact by contact in closed form
@@ -70,9 +90,11 @@ Matrix6<typename GraspT::ScalarType> weighted_gram(const GraspT& grasp) {
 ///
 /// Statuses:
 /// - Ok: the unique optimum; `residual` at round-off.
-/// - Singular: G has rank < 6 (fewer than 3 hard fingers, all contacts on a line, ...).
-///   `forces` are the least-squares forces: |G x + w_ext| is as small as possible, and among
-///   such x, F2 is smallest (lambda = M^+ r, minimum norm). `residual` tells what is left.
+/// - Singular: G has rank < 6 (fewer than 3 hard fingers, all contacts on a line, normals all
+///   through one point for frictionless contacts, ...). `forces` are the least-squares
+///   forces: |D (G x + w_ext)| is as small as possible, D = diag(1, 1, 1, 1/L, 1/L, 1/L) with
+///   L = detail::lever_arm(grasp) (m) putting N and N m on one footing, and among such x, F2
+///   is smallest. `residual` (unscaled) tells what is left unbalanced.
 /// - InvalidInput: incomplete grasp or non-finite/out-of-range w_ext; zeros.
 template <class GraspT>
 Solution<GraspT> solve_range_space(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext) {
@@ -82,13 +104,17 @@ Solution<GraspT> solve_range_space(const GraspT& grasp, const Wrench<typename Gr
   if (!detail::check_inputs(grasp, w_ext, sol)) return sol;
   GramAccumulator<S> acc;
   Wrench<S> rhs = -w_ext;
+  S k_sum(0), kr2_sum(0);
   for (int i = 0; i < grasp.size(); ++i) {
     const auto& c = grasp.contact(i);
-    M::accumulate(acc, c, S(1) / c.weight);
+    const S k = S(1) / c.weight;
+    M::accumulate(acc, c, k);
+    k_sum += k;
+    kr2_sum += k * c.position.squaredNorm();
     rhs -= M::wrench(c, M::target(c));
   }
   Wrench<S> lambda;
-  sol.status = solve_symmetric_6x6(acc.matrix(), rhs, lambda);
+  sol.status = solve_symmetric_6x6(acc.matrix(), rhs, lambda, detail::lever_arm(k_sum, kr2_sum));
   detail::forces_from_multipliers(grasp, w_ext, lambda, sol);
   return sol;
 }

@@ -3,6 +3,7 @@
 /// Solving the small symmetric positive semi-definite 6x6 systems M y = r that every
 /// range-space method in grip reduces to (M = G W^-1 G^T).
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Eigenvalues>
@@ -13,34 +14,37 @@
 
 namespace grip {
 
-/// Solves M y = r for a symmetric positive semi-definite 6x6 M by Cholesky with Jacobi
-/// scaling (D M D has a unit diagonal, D = diag(M_jj^-1/2), so the rank test does not
-/// depend on units: forces in N, moments in N m).
+/// Solves M y = r for a symmetric positive semi-definite 6x6 M = G W^-1 G^T by Cholesky on
+/// the unit-free matrix A = D M D, D = diag(1, 1, 1, 1/L, 1/L, 1/L), where `length` L (m) is a
+/// characteristic lever arm of the grasp (e.g. the weighted RMS of |r_i|): force and moment rows
+/// of A then have comparable size, so the rank test does not depend on units, and round-off
+/// in a row that is zero in exact arithmetic (moments of contacts whose normals all pass
+/// through the centre) is not mistaken for information, as row-by-row scaling would.
 ///
-/// Ok: y solves the system. Singular: a scaled pivot fell below
-/// ScalarTraits::rank_tolerance (or a diagonal entry is not positive); y is then the
-/// minimum-norm least-squares solution M^+ r, with eigenvalues below rank_tolerance times
-/// the largest treated as zero. y is finite in both cases.
+/// Ok: y solves the system. Singular: a pivot fell below ScalarTraits::rank_tolerance times
+/// the largest diagonal entry of A (or L is not positive); y = D u is then given by the
+/// minimum-norm least-squares solution u = A^+ D r, so |D (M y - r)| is smallest, with
+/// eigenvalues of A below rank_tolerance times the largest treated as zero. y is finite.
 template <class Scalar>
-Status solve_symmetric_6x6(const Matrix6<Scalar>& m, const Wrench<Scalar>& r, Wrench<Scalar>& y) {
+Status solve_symmetric_6x6(const Matrix6<Scalar>& m, const Wrench<Scalar>& r, Wrench<Scalar>& y,
+                           Scalar length = Scalar(1)) {
   const Scalar tol = ScalarTraits<Scalar>::rank_tolerance;
   Wrench<Scalar> d;
-  bool ok = true;
-  for (int j = 0; j < 6; ++j) {
-    const Scalar mjj = m(j, j);
-    if (!(mjj > Scalar(0)) || !std::isfinite(mjj)) {
-      ok = false;
-      break;
-    }
-    d(j) = Scalar(1) / std::sqrt(mjj);
+  d << Scalar(1), Scalar(1), Scalar(1), Scalar(1) / length, Scalar(1) / length, Scalar(1) / length;
+  bool ok = length > Scalar(0) && std::isfinite(length) && d.allFinite();
+  Scalar ref(0);
+  if (ok) {
+    for (int j = 0; j < 6; ++j) ref = std::max(ref, m(j, j) * d(j) * d(j));
+    ok = ref > Scalar(0) && std::isfinite(ref);
   }
   if (ok) {
     // Cholesky of the scaled matrix, lower triangle in place.
     Matrix6<Scalar> l = d.asDiagonal() * m * d.asDiagonal();
+    const Scalar min_pivot = tol * ref;
     for (int j = 0; j < 6 && ok; ++j) {
       Scalar p = l(j, j);
       for (int k = 0; k < j; ++k) p -= l(j, k) * l(j, k);
-      if (!(p > tol)) {
+      if (!(p > min_pivot)) {
         ok = false;
         break;
       }
@@ -66,17 +70,20 @@ Status solve_symmetric_6x6(const Matrix6<Scalar>& m, const Wrench<Scalar>& r, Wr
       if (y.allFinite()) return Status::Ok;
     }
   }
-  // Rank deficient: minimum-norm least squares through the eigen-decomposition.
+  // Rank deficient: minimum-norm least squares on the scaled system A u = D r, y = D u, so that
+  // D (M y - r) is as small as possible.
   y.setZero();
-  if (!m.allFinite()) return Status::Singular;
-  Eigen::SelfAdjointEigenSolver<Matrix6<Scalar>> eig(m);
+  if (!ok && !(length > Scalar(0) && std::isfinite(length))) d.setOnes();
+  const Matrix6<Scalar> a = d.asDiagonal() * m * d.asDiagonal();
+  if (!a.allFinite()) return Status::Singular;
+  Eigen::SelfAdjointEigenSolver<Matrix6<Scalar>> eig(a);
   const auto& ev = eig.eigenvalues();
   const Scalar cut = tol * ev.cwiseAbs().maxCoeff();
-  const Wrench<Scalar> q = eig.eigenvectors().transpose() * r;
+  const Wrench<Scalar> q = eig.eigenvectors().transpose() * d.cwiseProduct(r);
   Wrench<Scalar> u = Wrench<Scalar>::Zero();
   for (int k = 0; k < 6; ++k)
     if (ev(k) > cut && ev(k) > Scalar(0)) u(k) = q(k) / ev(k);
-  y = eig.eigenvectors() * u;
+  y = d.cwiseProduct(eig.eigenvectors() * u);
   if (!y.allFinite()) y.setZero();
   return Status::Singular;
 }
