@@ -102,21 +102,20 @@ struct SegmentQuery {
   Scalar length{0}, spacing{0}, radius{0};
 };
 
-template <class Scalar, int Samples, int Capacity>
-void descend(PhalanxQuery<Scalar, Samples>& q, const SegmentQuery<Scalar, Samples>& seg,
-             const SphericalOctree<Scalar, Capacity>& oct, int o) {
-  const SphereNode<Scalar>& on = oct.tree().node(o);
-  const Vector3<Scalar> v = on.center - seg.a;
-  const Scalar s = v.dot(seg.axis);
+// Squared distance from point v (relative to sample 0) to the segment, and the axial
+// coordinate s of v (unclamped).
+template <class Scalar, int Samples>
+Scalar segment_distance2(const SegmentQuery<Scalar, Samples>& seg, const Vector3<Scalar>& v, Scalar& s) {
+  s = v.dot(seg.axis);
   const Scalar sc = std::min(std::max(s, Scalar(0)), seg.length);
-  const Scalar reach = seg.radius + on.radius;
-  const Scalar d2 = (v - sc * seg.axis).squaredNorm();
-  if (d2 > reach * reach) return;
-  if (on.child_count > 0) {
-    for (int k = on.first_child; k < on.first_child + on.child_count; ++k) descend(q, seg, oct, k);
-    return;
-  }
-  if (oct.kind(o) == CellKind::Empty) return;
+  return (v - sc * seg.axis).squaredNorm();
+}
+
+// Octree leaf o (solid) in reach of the segment: the samples j whose spheres reach it.
+template <class Scalar, int Samples, int Capacity>
+void leaf_samples(PhalanxQuery<Scalar, Samples>& q, const SegmentQuery<Scalar, Samples>& seg,
+                  const SphericalOctree<Scalar, Capacity>& oct, int o, const Vector3<Scalar>& v, Scalar s,
+                  Scalar reach) {
   if (!(seg.spacing > Scalar(0))) {  // a point-like phalanx: every sample is at a
     for (int j = 0; j < Samples; ++j) leaf_pair(q, j, oct, o);
     return;
@@ -127,6 +126,38 @@ void descend(PhalanxQuery<Scalar, Samples>& q, const SegmentQuery<Scalar, Sample
   const int j0 = jlo < Scalar(0) ? 0 : static_cast<int>(jlo);
   const int j1 = jhi > Scalar(Samples - 1) ? Samples - 1 : static_cast<int>(jhi);
   for (int j = j0; j <= j1; ++j) leaf_pair(q, j, oct, o);
+}
+
+// Visits the children of octree node o (itself in reach): each child in reach is a leaf to
+// evaluate or a node to descend into. (The reach test is done here, before the call, so that
+// the many children out of reach cost no call.)
+template <class Scalar, int Samples, int Capacity>
+void descend(PhalanxQuery<Scalar, Samples>& q, const SegmentQuery<Scalar, Samples>& seg,
+             const SphericalOctree<Scalar, Capacity>& oct, int o) {
+  const SphereNode<Scalar>& on = oct.tree().node(o);
+  const int end = on.first_child + on.child_count;
+  for (int k = on.first_child; k < end; ++k) {
+    const SphereNode<Scalar>& cn = oct.tree().node(k);
+    const Vector3<Scalar> v = cn.center - seg.a;
+    Scalar s;
+    const Scalar reach = seg.radius + cn.radius;
+    if (segment_distance2(seg, v, s) > reach * reach) continue;
+    if (cn.child_count > 0) descend(q, seg, oct, k);
+    else if (oct.kind(k) != CellKind::Empty) leaf_samples(q, seg, oct, k, v, s, reach);
+  }
+}
+
+// Stage 2 from the octree's root.
+template <class Scalar, int Samples, int Capacity>
+void descend_from_root(PhalanxQuery<Scalar, Samples>& q, const SegmentQuery<Scalar, Samples>& seg,
+                       const SphericalOctree<Scalar, Capacity>& oct) {
+  const SphereNode<Scalar>& root = oct.tree().node(0);
+  const Vector3<Scalar> v = root.center - seg.a;
+  Scalar s;
+  const Scalar reach = seg.radius + root.radius;
+  if (segment_distance2(seg, v, s) > reach * reach) return;
+  if (root.child_count > 0) descend(q, seg, oct, 0);
+  else if (oct.kind(0) != CellKind::Empty) leaf_samples(q, seg, oct, 0, v, s, reach);
 }
 
 /// Turns the per-sample estimates of phalanx k into at most one contact (object frame in,
@@ -209,7 +240,7 @@ Status detect_contacts(const HandCollisionModel<Scalar, Samples>& hand, const Sp
       seg.axis = seg.length > Scalar(0) ? Vector3<Scalar>(ab / seg.length) : Vector3<Scalar>::Zero();
       seg.spacing = seg.length / Scalar(Samples - 1);
       seg.radius = hand.capsule(k).radius;
-      detail::descend(q, seg, object, 0);
+      detail::descend_from_root(q, seg, object);
       HandContact<Scalar>& c = out.items[static_cast<std::size_t>(out.count)];
       if (detail::combine(q, hand.capsule(k).radius, object, object_pose, c)) {
         c.finger = phalanx_finger(k);

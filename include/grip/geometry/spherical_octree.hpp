@@ -79,7 +79,7 @@ class SphericalOctree {
     tree_.clear();
     depth_ = 0;
     needed_ = 0;
-    Vector3<Scalar> lo, hi;
+    Vector3<Scalar> lo = Vector3<Scalar>::Zero(), hi = Vector3<Scalar>::Zero();
     if (max_depth < 0 || max_depth > max_octree_depth || !shape.bounding_box(lo, hi) ||
         !lo.allFinite() || !hi.allFinite())
       return Status::InvalidInput;
