@@ -28,3 +28,13 @@
 #include "grip/monitor/resolution.hpp"
 
 #include "grip/hand/squeeze.hpp"
+#include "grip/hand/hand_model.hpp"
+#include "grip/hand/hand_kinematics.hpp"
+
+#include "grip/geometry/shape.hpp"
+#include "grip/geometry/sphere_tree.hpp"
+#include "grip/geometry/spherical_octree.hpp"
+#include "grip/geometry/hand_collision_model.hpp"
+#include "grip/geometry/collision.hpp"
+#include "grip/geometry/grasp_from_contacts.hpp"
+#include "grip/geometry/hand_closure.hpp"
