@@ -1,0 +1,178 @@
+#pragma once
+// The hostile-input oracle, shared by the property test (hostile_input.test.cpp) and the
+// libFuzzer target (tests/fuzz/fuzz_solvers.cpp): an independent statement of which inputs
+// are valid, and a check of every public solver on one grasp against the contract of
+// status.hpp / solution.hpp (status matches the input, every output finite, least squares
+// never worse than doing nothing). No doctest here, no heap: a failure is a message.
+#include <cmath>
+#include <limits>
+#include <type_traits>
+
+#include <grip/grip.hpp>
+
+namespace grip_hostile {
+
+/// What the generator knows about a grasp it built.
+struct Expect {
+  bool contacts_valid = true;   ///< every contact offered passed contact_valid() (else grasp incomplete)
+  bool must_be_singular = false;  ///< rank < 6 by construction, exactly representable
+  bool well_conditioned = false;  ///< moderate magnitudes, spread contacts: Ok and accurate expected
+  bool moderate_scale = false;    ///< lengths ~cm, forces ~N, weights ~1: least squares must hold
+};
+
+/// Independent restatement of Contact's invariants (contact.hpp), in long double.
+template <class S>
+bool value_ok(S x) {
+  return std::isfinite(x) && std::fabs(static_cast<long double>(x)) <=
+                                 static_cast<long double>(grip::ScalarTraits<S>::max_magnitude);
+}
+template <class S>
+bool contact_valid(const grip::Contact<S>& c) {
+  using T = grip::ScalarTraits<S>;
+  long double n2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    if (!value_ok(c.position(k)) || !value_ok(c.normal(k))) return false;
+    n2 += static_cast<long double>(c.normal(k)) * static_cast<long double>(c.normal(k));
+  }
+  for (S v : {c.friction, c.torsional_friction, c.squeeze, c.weight})
+    if (!value_ok(v)) return false;
+  if (c.friction < S(0) || c.torsional_friction < S(0) || c.squeeze < S(0)) return false;
+  if (c.weight < T::min_weight) return false;
+  return std::fabs(n2 - 1.0L) <= 2.0L * static_cast<long double>(T::normal_tolerance);
+}
+template <class S>
+bool wrench_valid(const grip::Wrench<S>& w) {
+  for (int k = 0; k < 6; ++k)
+    if (!value_ok(w(k))) return false;
+  return true;
+}
+
+template <class Derived>
+bool finite(const Eigen::MatrixBase<Derived>& v) {
+  for (Eigen::Index i = 0; i < v.size(); ++i)
+    if (!std::isfinite(v(i))) return false;
+  return true;
+}
+
+/// res = |D (G x + w)| with D = diag(1, 1, 1, m, m, m), in double, from the contacts directly;
+/// adds to `scale` the size of its terms, sum |D G_i| |x_i| + |D w| (round-off scales with it).
+template <class GraspT, class Vec>
+void residual_of(const GraspT& g, const Vec& x, const grip::Wrench<typename GraspT::ScalarType>& w,
+                 double& res, double& scale, double m = 1.0) {
+  using M = typename GraspT::ModelType;
+  constexpr int d = GraspT::dim;
+  grip::Wrench<double> dm;
+  dm << 1, 1, 1, m, m, m;
+  grip::Wrench<double> sum = dm.cwiseProduct(w.template cast<double>());
+  scale += sum.norm();
+  for (int i = 0; i < g.size(); ++i) {
+    const Eigen::Matrix<double, 6, d> gi = dm.asDiagonal() * M::basis(g.contact(i)).template cast<double>();
+    const Eigen::Matrix<double, d, 1> xi = x.template segment<d>(i * d).template cast<double>();
+    sum += gi * xi;
+    scale += gi.norm() * xi.norm();
+  }
+  res = sum.norm();
+}
+
+/// Checks one solver's answer; nullptr when it keeps the contract, else what broke.
+template <class GraspT>
+const char* check_solution(const GraspT& g, const grip::Wrench<typename GraspT::ScalarType>& w,
+                           const Expect& e, const grip::Solution<GraspT>& sol) {
+  using S = typename GraspT::ScalarType;
+  using grip::Status;
+  if (!finite(sol.forces) || !finite(sol.multipliers) || !std::isfinite(sol.residual))
+    return "non-finite output";
+  if (sol.forces.size() != g.unknowns()) return "forces of the wrong size";
+  const bool invalid = !e.contacts_valid || !wrench_valid(w);
+  if (invalid != (sol.status == Status::InvalidInput)) return "InvalidInput does not match the input";
+  if (invalid) {
+    if (!sol.forces.isZero(0) || !sol.multipliers.isZero(0) || sol.residual != std::numeric_limits<S>::max())
+      return "InvalidInput without the documented zeros";
+    return nullptr;
+  }
+  if (sol.status != Status::Ok && sol.status != Status::Singular) return "status neither Ok nor Singular";
+  if (e.must_be_singular && sol.status != Status::Singular) {
+#ifdef GRIP_HOSTILE_TRACE
+    GRIP_HOSTILE_TRACE(g, w, sol, 0.0, 0.0, 0.0, 0.0);
+#endif
+    return "rank-deficient grasp not Singular";
+  }
+  if (e.well_conditioned && sol.status != Status::Ok) return "well-conditioned grasp not Ok";
+  double res = 0, scale = 0;
+  residual_of(g, sol.forces, w, res, scale);
+  const double eps = static_cast<double>(std::numeric_limits<S>::epsilon());
+  if (!(std::fabs(res - static_cast<double>(sol.residual)) <= 64 * eps * scale + 1e-300))
+    return "reported residual differs from |G x + w|";
+  // Least squares (solve_range_space's contract): |D (G x + w)| is smallest over all x, with
+  // D = diag(1, 1, 1, 1/L, 1/L, 1/L), L the weighted RMS lever arm; so it is never larger than
+  // at x = 0 nor at x = t.
+  double k_sum = 0, kr2_sum = 0;
+  for (int i = 0; i < g.size(); ++i) {
+    const double k = 1.0 / static_cast<double>(g.contact(i).weight);
+    k_sum += k;
+    kr2_sum += k * g.contact(i).position.template cast<double>().squaredNorm();
+  }
+  const double lever = k_sum > 0 ? std::sqrt(kr2_sum / k_sum) : 0.0;
+  const double inv_l = lever > 0 && std::isfinite(1 / lever) ? 1 / lever : 1.0;
+  double sres = 0, sres_t = 0, sres_0 = 0, sscale = 0;
+  residual_of(g, sol.forces, w, sres, sscale, inv_l);
+  residual_of(g, g.target(), w, sres_t, sscale, inv_l);
+  residual_of(g, decltype(sol.forces)::Zero(g.unknowns()), w, sres_0, sscale, inv_l);
+#ifdef GRIP_HOSTILE_TRACE
+  GRIP_HOSTILE_TRACE(g, w, sol, sres, sres_t, sres_0, sscale);
+#endif
+  // Messages starting "soft:" break a documented promise only for extreme (valid) scales:
+  // reported, not fatal.
+  if (!(sres <= sres_t * (1 + 1e-3) + 256 * eps * sscale))
+    return e.moderate_scale ? "Singular: |D(Gx+w)| worse than at x = t" : "soft: Singular: |D(Gx+w)| worse than at x = t";
+  if (!(sres <= sres_0 * (1 + 1e-3) + 256 * eps * sscale))
+    return e.moderate_scale ? "Singular: |D(Gx+w)| worse than at x = 0" : "soft: Singular: |D(Gx+w)| worse than at x = 0";
+  if (e.well_conditioned) {
+    if (!(res <= 1e3 * eps * scale)) return "Ok but equilibrium not met";
+    // Stationarity (eq. 9, lower rows): w_i (x_i - t_i) = G_i^T lambda.
+    using M = typename GraspT::ModelType;
+    constexpr int d = GraspT::dim;
+    for (int i = 0; i < g.size(); ++i) {
+      const auto& c = g.contact(i);
+      const Eigen::Matrix<double, d, 1> lhs =
+          static_cast<double>(c.weight) *
+          (sol.forces.template segment<d>(i * d) - M::target(c)).template cast<double>();
+      const Eigen::Matrix<double, d, 1> rhs =
+          M::basis(c).template cast<double>().transpose() * sol.multipliers.template cast<double>();
+      if (!((lhs - rhs).norm() <= 1e4 * eps * (1 + lhs.norm() + rhs.norm() +
+                                               static_cast<double>(c.weight * c.squeeze))))
+        return "Ok but not stationary";
+    }
+  }
+  return nullptr;
+}
+
+/// Runs every public solver entry point on (g, w) and checks each; nullptr when all keep
+/// the contract. Allocates nothing (callers check that around it).
+template <class GraspT>
+const char* check_solvers(const GraspT& g, const grip::Wrench<typename GraspT::ScalarType>& w,
+                          const Expect& e) {
+  using S = typename GraspT::ScalarType;
+  const grip::Solution<GraspT> rs = grip::solve_range_space(g, w);
+  if (const char* m = check_solution(g, w, e, rs)) return m;
+  const grip::Solution<GraspT> kkt = grip::solve_kkt(g, w);
+  if (const char* m = check_solution(g, w, e, kkt)) return m;
+  if (rs.status == grip::Status::Ok && kkt.status == grip::Status::Ok && e.well_conditioned) {
+    // Two methods, one optimum.
+    const double dx = (rs.forces - kkt.forces).template cast<double>().norm();
+    const double eps = static_cast<double>(std::numeric_limits<S>::epsilon());
+    if (!(dx <= 1e4 * eps * (1 + rs.forces.template cast<double>().norm()))) return "range-space and KKT disagree";
+  }
+  if (e.contacts_valid && g.complete()) {
+    const grip::Matrix6<S> m = grip::weighted_gram(g);
+    if (!finite(m)) return "weighted_gram not finite";
+    grip::Wrench<S> y;
+    const grip::Status st = grip::solve_symmetric_6x6(m, w, y);
+    if (!finite(y)) return "solve_symmetric_6x6 output not finite";
+    if (st != grip::Status::Ok && st != grip::Status::Singular) return "solve_symmetric_6x6 status";
+    if (e.must_be_singular && st != grip::Status::Singular) return "singular Gram matrix not Singular";
+  }
+  return nullptr;
+}
+
+}  // namespace grip_hostile
