@@ -39,6 +39,19 @@ constexpr Scalar cone_half_space_mu() {
   return ScalarTraits<Scalar>::max_magnitude;
 }
 
+/// Everything a monitor reads from one contact force, computed by a cone's measure(x) in one
+/// pass (one square root, few divisions): the same numbers as normal_part(),
+/// tangential_part(), margin() and relative_margin() (same operations, so equal to round-off).
+template <class Scalar>
+struct ConeMeasure {
+  Scalar normal_force{0};                                     ///< f_n = f.a (N)
+  Vector3<Scalar> tangential_force{Vector3<Scalar>::Zero()};  ///< f_t (N)
+  Scalar tangential_norm{0};                                  ///< |f_t| (N)
+  Scalar moment{0};                                           ///< torsional moment (N m), soft finger only
+  Scalar margin{cone_margin_floor<Scalar>()};                 ///< as margin(x)
+  Scalar relative_margin{cone_margin_floor<Scalar>()};        ///< as relative_margin(x)
+};
+
 namespace detail {
 
 /// True if every coordinate of v is finite and within max_magnitude.

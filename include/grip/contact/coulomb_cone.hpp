@@ -49,7 +49,7 @@ struct CoulombCone {
   Scalar margin(const Vector& f) const {
     if (!detail::cone_input_valid(f)) return cone_margin_floor<Scalar>();
     const Scalar fn = normal_part(f);
-    return detail::pull_corrected(mu * fn - tangential_norm(f), fn);
+    return margin_of(fn, (f - fn * normal).norm());
   }
 
   /// Relative margin 1 - |f_t| / (mu f_n) in [cone_margin_floor(), 1] (1: no friction used,
@@ -59,9 +59,19 @@ struct CoulombCone {
   Scalar relative_margin(const Vector& f) const {
     if (!detail::cone_input_valid(f)) return cone_margin_floor<Scalar>();
     const Scalar fn = normal_part(f);
-    const Scalar ft = tangential_norm(f);
-    if (fn <= Scalar(0)) return (fn == Scalar(0) && ft == Scalar(0)) ? Scalar(0) : cone_margin_floor<Scalar>();
-    return detail::relative_from(ft, mu * fn);
+    return relative_of(fn, (f - fn * normal).norm());
+  }
+
+  /// normal_part, tangential_part, margin and relative_margin of f in one pass.
+  ConeMeasure<Scalar> measure(const Vector& f) const {
+    ConeMeasure<Scalar> m;
+    if (!detail::cone_input_valid(f)) return m;
+    m.normal_force = normal_part(f);
+    m.tangential_force = f - m.normal_force * normal;
+    m.tangential_norm = m.tangential_force.norm();
+    m.margin = margin_of(m.normal_force, m.tangential_norm);
+    m.relative_margin = relative_of(m.normal_force, m.tangential_norm);
+    return m;
   }
 
   /// Euclidean projection onto the cone (closed form): f itself if inside; 0 if f is in the
@@ -85,6 +95,13 @@ struct CoulombCone {
   /// same normal. Convention: the dual of the ray (mu = 0) is the half-space y.a >= 0,
   /// represented by mu = cone_half_space_mu(); and the dual of that is mu = 0 again.
   CoulombCone dual() const { return CoulombCone{normal, detail::dual_coefficient(mu)}; }
+
+ private:
+  Scalar margin_of(Scalar fn, Scalar ft) const { return detail::pull_corrected(mu * fn - ft, fn); }
+  Scalar relative_of(Scalar fn, Scalar ft) const {
+    if (fn <= Scalar(0)) return (fn == Scalar(0) && ft == Scalar(0)) ? Scalar(0) : cone_margin_floor<Scalar>();
+    return detail::relative_from(ft, mu * fn);
+  }
 };
 
 }  // namespace grip

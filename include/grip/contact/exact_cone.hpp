@@ -13,7 +13,8 @@ namespace grip {
 /// FrictionlessPoint -> CompressionCone, HardFinger -> CoulombCone (eq. 4-5),
 /// SoftFinger -> SoftFingerCone (Elliptic). Every cone type has `dim == Model::dim`,
 /// `Vector` (Eigen::Matrix<Scalar, dim, 1>), `from_contact(c)`, `is_inside(x)`, `margin(x)`,
-/// `relative_margin(x)`, `project(x)`, `dual()`, `normal_part(x)`, `tangential_part(x)`,
+/// `relative_margin(x)`, `measure(x)` (all of these in one pass, a ConeMeasure), `project(x)`,
+/// `dual()`, `normal_part(x)`, `tangential_part(x)`,
 /// `tangential_norm(x)`; so monitors and solvers take any of them as a policy.
 template <class Model, class Scalar>
 struct ExactCone;

@@ -44,6 +44,15 @@ struct CompressionCone {
     if (!detail::cone_input_valid(x) || x(0) < Scalar(0)) return cone_margin_floor<Scalar>();
     return x(0) > Scalar(0) ? Scalar(1) : Scalar(0);
   }
+  /// normal_part, margin and relative_margin of x in one pass (tangential parts are 0).
+  ConeMeasure<Scalar> measure(const Vector& x) const {
+    ConeMeasure<Scalar> m;
+    if (!detail::cone_input_valid(x)) return m;
+    m.normal_force = x(0);
+    m.margin = margin(x);
+    m.relative_margin = relative_margin(x);
+    return m;
+  }
   /// max(x, 0); 0 for invalid x.
   Vector project(const Vector& x) const {
     return Vector::Constant(detail::cone_input_valid(x) && x(0) > Scalar(0) ? x(0) : Scalar(0));

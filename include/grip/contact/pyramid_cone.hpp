@@ -56,19 +56,9 @@ class PyramidCone {
   /// other values taken modulo 2) half sides.
   PyramidCone(const Vector3<Scalar>& a, Scalar mu, int half_step = 0)
       : normal_(a), basis_(TangentBasis<Scalar>::from_normal(a)), mu_(mu), half_(((half_step % 2) + 2) % 2) {
-    const Scalar pi = Scalar(3.14159265358979323846264338327950288L);
-    const Scalar c = std::cos(pi / Scalar(K));
+    const Scalar c = angle_cos(1);  // cos(pi/K)
     r_ = Fit == PyramidFit::Inscribed ? mu * c : mu;
     big_r_ = Fit == PyramidFit::Inscribed ? mu : mu / c;
-    for (int j = 0; j < K; ++j) {
-      const auto k = static_cast<std::size_t>(j);
-      const Scalar face = Scalar(2 * j + 1 + half_) * pi / Scalar(K);
-      const Scalar edge = Scalar(2 * j + half_) * pi / Scalar(K);
-      face_cos_[k] = std::cos(face);
-      face_sin_[k] = std::sin(face);
-      edge_cos_[k] = std::cos(edge);
-      edge_sin_[k] = std::sin(edge);
-    }
   }
 
   /// The inscribed/circumscribed (per Fit) pyramid of contact c: a = c.normal, mu = c.friction.
@@ -90,9 +80,10 @@ class PyramidCone {
   /// The largest tangential load against a face, max_j f_t . u_j (N), >= |f_t| cos(pi/K).
   Scalar face_load(const Vector& f) const {
     const Scalar u = f.dot(basis_.t1), v = f.dot(basis_.t2);
-    Scalar m = u * face_cos_[0] + v * face_sin_[0];
-    for (std::size_t j = 1; j < static_cast<std::size_t>(K); ++j) {
-      const Scalar l = u * face_cos_[j] + v * face_sin_[j];
+    Scalar m = u * angle_cos(1 + half_) + v * angle_sin(1 + half_);
+    for (int j = 1; j < K; ++j) {
+      const int k = 2 * j + 1 + half_;
+      const Scalar l = u * angle_cos(k) + v * angle_sin(k);
       if (l > m) m = l;
     }
     return m;
@@ -104,8 +95,7 @@ class PyramidCone {
   /// Signed margin (N): r f_n - face_load(f), pull-corrected for f_n < 0.
   Scalar margin(const Vector& f) const {
     if (!detail::cone_input_valid(f)) return cone_margin_floor<Scalar>();
-    const Scalar fn = normal_part(f);
-    return detail::pull_corrected(r_ * fn - face_load(f), fn);
+    return margin_of(normal_part(f), face_load(f));
   }
 
   /// Relative margin 1 - face_load / (r f_n), with CoulombCone's conventions (1 for no
@@ -113,10 +103,20 @@ class PyramidCone {
   Scalar relative_margin(const Vector& f) const {
     if (!detail::cone_input_valid(f)) return cone_margin_floor<Scalar>();
     const Scalar fn = normal_part(f);
+    return relative_of(fn, face_load(f), fn <= Scalar(0) && tangential_norm(f) == Scalar(0));
+  }
+
+  /// normal_part, tangential_part, margin and relative_margin of f in one pass.
+  ConeMeasure<Scalar> measure(const Vector& f) const {
+    ConeMeasure<Scalar> m;
+    if (!detail::cone_input_valid(f)) return m;
+    m.normal_force = normal_part(f);
+    m.tangential_force = f - m.normal_force * normal_;
+    m.tangential_norm = m.tangential_force.norm();
     const Scalar load = face_load(f);
-    if (fn <= Scalar(0))
-      return (fn == Scalar(0) && tangential_norm(f) == Scalar(0)) ? Scalar(0) : cone_margin_floor<Scalar>();
-    return load <= Scalar(0) ? Scalar(1) : detail::relative_from(load, r_ * fn);
+    m.margin = margin_of(m.normal_force, load);
+    m.relative_margin = relative_of(m.normal_force, load, m.tangential_norm == Scalar(0));
+    return m;
   }
 
   /// Euclidean projection onto the pyramid: f if inside; else the nearest of the finitely many
@@ -132,7 +132,8 @@ class PyramidCone {
     std::array<Vector3<Scalar>, static_cast<std::size_t>(K)> e;
     const Scalar scale = Scalar(1) / std::sqrt(Scalar(1) + big_r_ * big_r_);
     for (std::size_t j = 0; j < static_cast<std::size_t>(K); ++j)
-      e[j] = scale * normal_ + (scale * big_r_) * (edge_cos_[j] * basis_.t1 + edge_sin_[j] * basis_.t2);
+      e[j] = scale * normal_ + (scale * big_r_) * (angle_cos(2 * static_cast<int>(j) + half_) * basis_.t1 +
+                                                    angle_sin(2 * static_cast<int>(j) + half_) * basis_.t2);
     return detail::project_onto_edge_cone(f, e);
   }
 
@@ -143,13 +144,37 @@ class PyramidCone {
   DualType dual() const { return DualType(normal_, detail::dual_coefficient(mu_), (half_ + K + 1) % 2); }
 
  private:
+  /// cos and sin of k pi / K for k = 0..2K (taken modulo 2K), computed once per program.
+  struct AngleTable {
+    std::array<Scalar, 2 * static_cast<std::size_t>(K)> c{}, s{};
+    AngleTable() {
+      const long double pi = 3.14159265358979323846264338327950288L;
+      for (int k = 0; k < 2 * K; ++k) {
+        const long double a = static_cast<long double>(k) * pi / static_cast<long double>(K);
+        c[static_cast<std::size_t>(k)] = static_cast<Scalar>(std::cos(a));
+        s[static_cast<std::size_t>(k)] = static_cast<Scalar>(std::sin(a));
+      }
+    }
+  };
+  static const AngleTable& table() {
+    static const AngleTable t;
+    return t;
+  }
+  static Scalar angle_cos(int k) { return table().c[static_cast<std::size_t>(k % (2 * K))]; }
+  static Scalar angle_sin(int k) { return table().s[static_cast<std::size_t>(k % (2 * K))]; }
+
+  Scalar margin_of(Scalar fn, Scalar load) const { return detail::pull_corrected(r_ * fn - load, fn); }
+  Scalar relative_of(Scalar fn, Scalar load, bool no_tangential) const {
+    if (fn <= Scalar(0)) return (fn == Scalar(0) && no_tangential) ? Scalar(0) : cone_margin_floor<Scalar>();
+    return load <= Scalar(0) ? Scalar(1) : detail::relative_from(load, r_ * fn);
+  }
+
   Vector3<Scalar> normal_;
   TangentBasis<Scalar> basis_;
   Scalar mu_;
   int half_;
   Scalar r_{0};
   Scalar big_r_{0};
-  std::array<Scalar, static_cast<std::size_t>(K)> face_cos_{}, face_sin_{}, edge_cos_{}, edge_sin_{};
 };
 
 }  // namespace grip

@@ -78,32 +78,29 @@ struct SoftFingerCone {
   /// Signed margin (N), see the class comment.
   Scalar margin(const Vector& x) const {
     if (!detail::cone_input_valid(x)) return cone_margin_floor<Scalar>();
-    const Scalar fn = normal_part(x), t = tangential_norm(x), q = std::abs(x(3));
-    Scalar m;
-    if (mu > Scalar(0) && mu_t > Scalar(0)) {
-      m = mu * (fn - combine(t / mu, q / mu_t));
-    } else if (mu > Scalar(0)) {
-      const Scalar c = mu * fn - t;
-      m = q == Scalar(0) ? c : (c < Scalar(0) ? c : Scalar(0)) - q;
-    } else if (mu_t > Scalar(0)) {
-      m = q <= mu_t * fn ? -t : -t - (q / mu_t - fn);
-    } else {
-      m = -t - q;
-    }
-    return detail::pull_corrected(m, fn);
+    const Scalar fn = normal_part(x);
+    return margin_of(fn, (x.template head<3>() - fn * normal).norm(), std::abs(x(3)));
   }
 
   /// Relative margin 1 - rho / f_n, see the class comment.
   Scalar relative_margin(const Vector& x) const {
     if (!detail::cone_input_valid(x)) return cone_margin_floor<Scalar>();
-    const Scalar fn = normal_part(x), t = tangential_norm(x), q = std::abs(x(3));
-    if (fn <= Scalar(0))
-      return (fn == Scalar(0) && t == Scalar(0) && q == Scalar(0)) ? Scalar(0) : cone_margin_floor<Scalar>();
-    if ((t > Scalar(0) && !(mu > Scalar(0))) || (q > Scalar(0) && !(mu_t > Scalar(0))))
-      return cone_margin_floor<Scalar>();
-    const Scalar a = t > Scalar(0) ? t / mu : Scalar(0);
-    const Scalar b = q > Scalar(0) ? q / mu_t : Scalar(0);
-    return detail::relative_from(combine(a, b), fn);
+    const Scalar fn = normal_part(x);
+    return relative_of(fn, (x.template head<3>() - fn * normal).norm(), std::abs(x(3)));
+  }
+
+  /// normal_part, tangential_part, moment, margin and relative_margin of x in one pass.
+  ConeMeasure<Scalar> measure(const Vector& x) const {
+    ConeMeasure<Scalar> m;
+    if (!detail::cone_input_valid(x)) return m;
+    m.normal_force = normal_part(x);
+    m.tangential_force = x.template head<3>() - m.normal_force * normal;
+    m.tangential_norm = m.tangential_force.norm();
+    m.moment = x(3);
+    const Scalar q = std::abs(x(3));
+    m.margin = margin_of(m.normal_force, m.tangential_norm, q);
+    m.relative_margin = relative_of(m.normal_force, m.tangential_norm, q);
+    return m;
   }
 
   /// Euclidean projection onto the cone (in the coordinates (f, m), N and N m alike).
@@ -169,6 +166,31 @@ struct SoftFingerCone {
   }
 
  private:
+  Scalar margin_of(Scalar fn, Scalar t, Scalar q) const {
+    Scalar m;
+    if (mu > Scalar(0) && mu_t > Scalar(0)) {
+      m = mu * (fn - combine(t / mu, q / mu_t));
+    } else if (mu > Scalar(0)) {
+      const Scalar c = mu * fn - t;
+      m = q == Scalar(0) ? c : (c < Scalar(0) ? c : Scalar(0)) - q;
+    } else if (mu_t > Scalar(0)) {
+      m = q <= mu_t * fn ? -t : -t - (q / mu_t - fn);
+    } else {
+      m = -t - q;
+    }
+    return detail::pull_corrected(m, fn);
+  }
+
+  Scalar relative_of(Scalar fn, Scalar t, Scalar q) const {
+    if (fn <= Scalar(0))
+      return (fn == Scalar(0) && t == Scalar(0) && q == Scalar(0)) ? Scalar(0) : cone_margin_floor<Scalar>();
+    if ((t > Scalar(0) && !(mu > Scalar(0))) || (q > Scalar(0) && !(mu_t > Scalar(0))))
+      return cone_margin_floor<Scalar>();
+    const Scalar a = t > Scalar(0) ? t / mu : Scalar(0);
+    const Scalar b = q > Scalar(0) ? q / mu_t : Scalar(0);
+    return detail::relative_from(combine(a, b), fn);
+  }
+
   static Scalar combine(Scalar a, Scalar b) {
     if (Norm == SoftFingerNorm::Elliptic) return std::sqrt(a * a + b * b);
     if (Norm == SoftFingerNorm::Linear) return a + b;

@@ -19,7 +19,7 @@ namespace grip {
 template <class Scalar>
 struct MonitorSettings {
   /// A force counts as inside its cone when margin >= -(absolute_tolerance + relative_tolerance
-  /// |x_i|): solvers that put a force exactly on the cone leave round-off on either side.
+  /// (|f_n| + |f_t| + |m|)) (m: soft-finger moment, else 0): solvers that put a force exactly on the cone leave round-off on either side.
   Scalar absolute_tolerance{0};                                      ///< N
   Scalar relative_tolerance{ScalarTraits<Scalar>::default_tolerance};  ///< dimensionless
 };
@@ -31,9 +31,10 @@ struct MonitorSettings {
 ///
 /// Classification of contact i with unknown x_i and normal part f_n:
 /// - Separating if f_n <= 0 (a zero force too: eq. 5 asks f.a > 0);
-/// - else Sliding if margin(x_i) < -(absolute_tolerance + relative_tolerance |x_i|);
+/// - else Sliding if margin(x_i) < -(absolute_tolerance + relative_tolerance (|f_n| + |f_t| + |m|));
 /// - else Sticking.
-/// Cost: one cone evaluation per contact (a few dozen flops for CoulombCone), no heap.
+/// Cost: one Cone::measure per contact (CoulombCone: ~20 flops, one square root, one
+/// division), no heap.
 template <class GraspT, class Cone = ExactConeT<typename GraspT::ModelType, typename GraspT::ScalarType>>
 class StabilityMonitor {
  public:
@@ -64,12 +65,14 @@ class StabilityMonitor {
       const Cone cone = Cone::from_contact(grasp.contact(i));
       const typename Cone::Vector x = forces.template segment<d>(i * d);
       ContactState<Scalar>& cs = st.contacts[static_cast<std::size_t>(i)];
-      cs.normal_force = cone.normal_part(x);
-      cs.tangential_force = cone.tangential_part(x);
-      cs.moment = d == 4 ? x(d - 1) : Scalar(0);
-      cs.margin = cone.margin(x);
-      cs.relative_margin = cone.relative_margin(x);
-      const Scalar slack = settings_.absolute_tolerance + settings_.relative_tolerance * x.norm();
+      const ConeMeasure<Scalar> m = cone.measure(x);
+      cs.normal_force = m.normal_force;
+      cs.tangential_force = m.tangential_force;
+      cs.moment = m.moment;
+      cs.margin = m.margin;
+      cs.relative_margin = m.relative_margin;
+      const Scalar slack = settings_.absolute_tolerance +
+                           settings_.relative_tolerance * (std::abs(m.normal_force) + m.tangential_norm + std::abs(m.moment));
       if (!(cs.normal_force > Scalar(0))) {
         cs.mode = ContactMode::Separating;
         ++st.separating_count;

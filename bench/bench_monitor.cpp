@@ -1,0 +1,111 @@
+// Cost of monitoring every contact of a 20-contact grasp (exact Coulomb cone, an 8-sided
+// pyramid, soft-finger elliptic cone) against solve_range_space on the same grasps, same run.
+// Target: monitor < 1/10 of the solve. BM_MonitorToSolveRatio reports the ratio directly as the
+// counter "monitor_over_solve", measured on the same grasps in one loop.
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include <grip/contact/pyramid_cone.hpp>
+#include <grip/monitor/resolution.hpp>
+#include <grip/monitor/stability_monitor.hpp>
+#include <grip/solve/solve_range_space.hpp>
+
+namespace {
+
+template <class Model>
+using G = grip::Grasp<20, Model, double>;
+
+grip::Contact<double> random_contact(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  const double th = std::acos(1 - 2 * u01(rng)), ph = 6.283185307179586 * u01(rng);
+  const grip::Vector3<double> u(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
+  grip::Contact<double> c;
+  c.position = 0.04 * u;
+  c.normal = -u;
+  c.friction = 0.3 + 0.5 * u01(rng);
+  c.torsional_friction = 0.005;
+  c.squeeze = 2.0 * u01(rng);
+  return c;
+}
+
+template <class Model>
+struct Case {
+  G<Model> grasp;
+  grip::Wrench<double> w;
+  typename G<Model>::ForceVector forces;
+};
+
+template <class Model>
+std::vector<Case<Model>> cases(unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  std::vector<Case<Model>> v(64);
+  for (auto& c : v) {
+    for (int i = 0; i < 20; ++i) (void)c.grasp.set(i, random_contact(rng));
+    for (int k = 0; k < 3; ++k) c.w(k) = 5 * n01(rng);
+    for (int k = 3; k < 6; ++k) c.w(k) = 0.1 * n01(rng);
+    c.forces = grip::solve_range_space(c.grasp, c.w).forces;
+  }
+  return v;
+}
+
+void BM_SolveRangeSpace20(benchmark::State& st) {
+  const auto v = cases<grip::HardFinger>(1);
+  std::size_t i = 0;
+  for (auto _ : st) {
+    const auto& c = v[i++ % v.size()];
+    benchmark::DoNotOptimize(grip::solve_range_space(c.grasp, c.w));
+  }
+}
+BENCHMARK(BM_SolveRangeSpace20);
+
+template <class Cone, class Model>
+void BM_Monitor20(benchmark::State& st) {
+  const auto v = cases<Model>(1);
+  const grip::StabilityMonitor<G<Model>, Cone> monitor;
+  std::size_t i = 0;
+  for (auto _ : st) {
+    const auto& c = v[i++ % v.size()];
+    benchmark::DoNotOptimize(monitor.evaluate(c.grasp, c.forces));
+  }
+}
+BENCHMARK_TEMPLATE(BM_Monitor20, grip::CoulombCone<double>, grip::HardFinger);
+BENCHMARK_TEMPLATE(BM_Monitor20, grip::PyramidCone<8, double>, grip::HardFinger);
+BENCHMARK_TEMPLATE(BM_Monitor20, grip::SoftFingerCone<double>, grip::SoftFinger);
+
+void BM_MonitorAndResolve20(benchmark::State& st) {
+  const auto v = cases<grip::HardFinger>(1);
+  std::size_t i = 0;
+  for (auto _ : st) {
+    const auto& c = v[i++ % v.size()];
+    const auto s = grip::monitor_grasp(c.grasp, c.forces);
+    benchmark::DoNotOptimize(grip::resolve(c.grasp, c.forces, s, c.w));
+  }
+}
+BENCHMARK(BM_MonitorAndResolve20);
+
+// Both in one loop, each timed over a batch of 64 grasps: the ratio of the two in the same run.
+void BM_MonitorToSolveRatio(benchmark::State& st) {
+  const auto v = cases<grip::HardFinger>(1);
+  using clock = std::chrono::steady_clock;
+  double t_solve = 0, t_mon = 0;
+  for (auto _ : st) {
+    auto t0 = clock::now();
+    for (const auto& c : v) benchmark::DoNotOptimize(grip::solve_range_space(c.grasp, c.w));
+    auto t1 = clock::now();
+    for (const auto& c : v) benchmark::DoNotOptimize(grip::monitor_grasp(c.grasp, c.forces));
+    auto t2 = clock::now();
+    t_solve += std::chrono::duration<double>(t1 - t0).count();
+    t_mon += std::chrono::duration<double>(t2 - t1).count();
+  }
+  st.counters["monitor_over_solve"] = t_mon / t_solve;
+  st.counters["solve_ns"] = 1e9 * t_solve / (double(st.iterations()) * double(v.size()));
+  st.counters["monitor_ns"] = 1e9 * t_mon / (double(st.iterations()) * double(v.size()));
+}
+BENCHMARK(BM_MonitorToSolveRatio);
+
+}  // namespace
