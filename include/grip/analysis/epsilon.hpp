@@ -1,0 +1,383 @@
+#pragma once
+/// \file
+/// The Ferrari-Canny epsilon quality (L1 and L-infinity), exactly, for linearised cones,
+/// without a convex-hull library: an expanding-polytope search that only needs the
+/// support function of the grasp wrench set.
+///
+/// Definitions (Ferrari & Canny, "Planning optimal grasps", ICRA 1992; Roa & Suarez 2015
+/// section 4.3 "Q_LRW"). Each contact's exact cone is replaced by K primitive forces of unit
+/// normal component on its surface (the inscribed pyramid): d_ik = a_i + mu_i (cos th_k t1 +
+/// sin th_k t2), th_k = 2 pi k / K, with (t1, t2) the tangent basis of tangent_basis(). A
+/// soft finger adds the two torsion primitives (a_i, +-mu_t,i); a frictionless point has
+/// the single primitive a_i. The primitive wrenches are
+///     w_ik = [d_ik ; (r_i x d_ik + m_ik a_i) / rho]
+/// with rho the explicit torque scale (m): moments are compared with forces as a force at
+/// lever arm rho (Ferrari-Canny's "lambda", Roa-Suarez's unit-conversion factor).
+/// - L1 (sum of normal forces <= 1): W_1 = conv({0} U {w_ik});
+/// - L-infinity (each normal force <= 1): W_inf = sum_i conv({0} U {w_ik : k}) (Minkowski).
+/// epsilon = the radius of the largest ball about the origin inside W = min over unit u of
+/// h_W(u), the support function: the smallest wrench (in the worst direction) the grasp can
+/// resist per unit of force budget. epsilon > 0 iff the linearised grasp is in force closure.
+///
+/// Method (exact, like the expanding polytope algorithm of van den Bergen used for
+/// penetration depth): keep an inner polytope Q of W (its vertices are support points of W),
+/// its facets as a flat list of 5-simplices. Take the facet of Q nearest the origin
+/// (normal u, offset b); query the support point p of W along u. If h_W(u) - b <= tolerance,
+/// then epsilon = b: b = dist(0, dQ) <= dist(0, dW) <= h_W(u) (Q inside W). Otherwise p
+/// is a new vertex of W beyond that facet: add it (remove the facets that see it, close
+/// the hole with the horizon). W has finitely many vertices, so this ends; it touches only
+/// the facets near the origin, never the whole hull. Support of W_inf is the sum of the
+/// per-contact supports, O(n K), so the exponentially large Minkowski sum is never built.
+/// All storage is in a caller-visible EpsilonWorkspace (no heap).
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <type_traits>
+
+#include <Eigen/QR>
+
+#include "grip/contact/contact_model.hpp"
+#include "grip/core/scalar_traits.hpp"
+#include "grip/core/status.hpp"
+#include "grip/core/types.hpp"
+#include "grip/grasp/grasp.hpp"
+
+namespace grip {
+
+/// Which force budget epsilon is measured with.
+enum class EpsilonNorm {
+  L1,         ///< sum of normal forces <= 1: W = conv(all primitive wrenches, 0).
+  LInfinity,  ///< every normal force <= 1: W = Minkowski sum of per-contact hulls.
+};
+
+/// A fixed orthonormal tangent basis (t1, t2) of the plane normal to unit a: t1 = a x e / |a x e|
+/// with e the x axis, or the y axis when |a_x| > 0.9; t2 = a x t1.
+template <class S>
+void tangent_basis(const Vector3<S>& a, Vector3<S>& t1, Vector3<S>& t2) {
+  const Vector3<S> e = std::abs(a.x()) > S(0.9) ? Vector3<S>::UnitY() : Vector3<S>::UnitX();
+  t1 = a.cross(e).normalized();
+  t2 = a.cross(t1);
+}
+
+/// Number of primitive wrenches per contact for K pyramid sides: K (hard), K + 2 (soft), 1.
+template <class Model, int K>
+constexpr int primitives_per_contact() {
+  return Model::dim == 1 ? 1 : (Model::dim == 4 ? K + 2 : K);
+}
+
+/// Writes the primitive wrenches of contact c (see the file comment) into out[0..count).
+template <class Model, int K, class S>
+int contact_primitives(const Contact<S>& c, S rho, Wrench<S>* out) {
+  const Vector3<S> a = c.normal;
+  auto put = [&](int j, const Vector3<S>& d, S m) {
+    out[j].template head<3>() = d;
+    out[j].template tail<3>() = (c.position.cross(d) + m * a) / rho;
+  };
+  if constexpr (Model::dim == 1) {
+    put(0, a, S(0));
+    return 1;
+  } else {
+    Vector3<S> t1, t2;
+    tangent_basis(a, t1, t2);
+    const S two_pi = S(6.283185307179586476925L);
+    for (int k = 0; k < K; ++k) {
+      const S th = two_pi * S(k) / S(K);
+      put(k, a + c.friction * (std::cos(th) * t1 + std::sin(th) * t2), S(0));
+    }
+    if constexpr (Model::dim == 4) {
+      put(K, a, c.torsional_friction);
+      put(K + 1, a, -c.torsional_friction);
+      return K + 2;
+    }
+    return K;
+  }
+}
+
+/// Storage of the expanding-polytope search: at most MaxVertices support points and
+/// MaxFacets facets. Default ~1.7 MB for double: keep one per thread (static or heap in
+/// the caller), not in a small embedded stack.
+template <class S, int MaxVertices = 512, int MaxFacets = 16384>
+struct EpsilonWorkspace {
+  static constexpr int max_vertices = MaxVertices;
+  static constexpr int max_facets = MaxFacets;
+  /// One facet: six vertex indices (sorted), unit outward normal, offset (normal . x = offset).
+  struct Facet {
+    std::array<int, 6> v;
+    Wrench<S> normal;
+    S offset;
+  };
+  std::array<Wrench<S>, static_cast<std::size_t>(MaxVertices)> vertices;
+  std::array<Facet, static_cast<std::size_t>(MaxFacets)> facets;
+  std::array<int, static_cast<std::size_t>(MaxFacets)> visible;
+  std::array<std::array<int, 5>, static_cast<std::size_t>(MaxFacets)> horizon;
+  std::array<bool, static_cast<std::size_t>(MaxFacets)> is_visible;
+};
+
+/// The outcome of ferrari_canny_epsilon().
+///
+/// Ok: epsilon exact to `tolerance * scale` (scale = largest primitive wrench norm).
+/// IterationLimit: the workspace filled up; epsilon is then a lower bound (the nearest facet
+/// of the inner polytope, or 0) and `upper` an upper bound. InvalidInput: incomplete grasp,
+/// torque scale or tolerance not finite and > 0; zeros.
+template <class Scalar>
+struct Epsilon {
+  Scalar epsilon{0};  ///< Ferrari-Canny epsilon (N per N of budget, moments / rho); 0 if no closure.
+  Scalar upper{0};    ///< The smallest support value h_W(u) found: epsilon <= upper.
+  /// Unit wrench direction u (moment part scaled by 1/rho) of the nearest facet: the
+  /// weakest direction. When not in closure, every wrench of W has u . w <= ~0.
+  Wrench<Scalar> direction{Wrench<Scalar>::Zero()};
+  bool closure{false};  ///< epsilon > tolerance * scale: linearised force closure.
+  int vertices{0};      ///< support points used.
+  int facets{0};        ///< facets of the final inner polytope.
+  Status status{Status::InvalidInput};
+};
+
+namespace detail {
+
+// True if sorted ridge r (5) is a subset of sorted facet vertices f (6).
+inline bool ridge_in_facet(const std::array<int, 5>& r, const std::array<int, 6>& f) {
+  int j = 0;
+  for (int k = 0; k < 6 && j < 5; ++k)
+    if (f[static_cast<std::size_t>(k)] == r[static_cast<std::size_t>(j)]) ++j;
+  return j == 5;
+}
+
+}  // namespace detail
+
+/// Ferrari-Canny epsilon of `grasp` with K-sided linearised cones, the given norm and
+/// torque scale rho (m), using `ws` for storage. No heap. Cost: each step one support query
+/// (O(n K)) and one pass over the current facets.
+template <int K, class GraspT, class Workspace>
+Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, EpsilonNorm norm,
+                                                           typename GraspT::ScalarType torque_scale, Workspace& ws,
+                                                           typename GraspT::ScalarType tolerance =
+                                                               std::is_same<typename GraspT::ScalarType, float>::value
+                                                                   ? typename GraspT::ScalarType(1e-4)
+                                                                   : typename GraspT::ScalarType(1e-10)) {
+  static_assert(K >= 3, "a linearised cone needs K >= 3 sides");
+  using S = typename GraspT::ScalarType;
+  using M = typename GraspT::ModelType;
+  using Facet = typename Workspace::Facet;
+  constexpr int P = primitives_per_contact<M, K>();
+  Epsilon<S> out;
+  if (!grasp.complete() || !std::isfinite(torque_scale) || !(torque_scale > S(0)) || !std::isfinite(tolerance) ||
+      !(tolerance > S(0)))
+    return out;
+  const int n = grasp.size();
+  std::array<Wrench<S>, static_cast<std::size_t>(GraspT::capacity * P)> prim;
+  S scale(0);
+  for (int i = 0; i < n; ++i) {
+    contact_primitives<M, K>(grasp.contact(i), torque_scale, &prim[static_cast<std::size_t>(i * P)]);
+    for (int k = 0; k < P; ++k) scale = std::max(scale, prim[static_cast<std::size_t>(i * P + k)].norm());
+  }
+  if (!std::isfinite(scale)) return out;
+  out.status = Status::Ok;
+  if (n == 0 || scale == S(0)) return out;
+  const S tol = tolerance * scale;
+  // Visibility threshold: above round-off in a facet test (~ 64 eps scale), below tol.
+  const S tol_visible = std::max(S(1e-3) * tol, S(64) * std::numeric_limits<S>::epsilon() * scale);
+
+  // Support point of W along u (and its value).
+  auto support = [&](const Wrench<S>& u, Wrench<S>& p) {
+    p.setZero();
+    S h(0);
+    if (norm == EpsilonNorm::L1) {
+      for (int j = 0; j < n * P; ++j) {
+        const S v = u.dot(prim[static_cast<std::size_t>(j)]);
+        if (v > h) {
+          h = v;
+          p = prim[static_cast<std::size_t>(j)];
+        }
+      }
+    } else {
+      for (int i = 0; i < n; ++i) {
+        S best(0);
+        int arg = -1;
+        for (int k = 0; k < P; ++k) {
+          const S v = u.dot(prim[static_cast<std::size_t>(i * P + k)]);
+          if (v > best) {
+            best = v;
+            arg = i * P + k;
+          }
+        }
+        if (arg >= 0) {
+          h += best;
+          p += prim[static_cast<std::size_t>(arg)];
+        }
+      }
+    }
+    return h;
+  };
+
+  // 1. An initial 6-simplex of support points (or W is flat: epsilon = 0).
+  int nv = 0;
+  std::array<Wrench<S>, 6> basis;
+  Wrench<S> p;
+  support(Wrench<S>::UnitX(), p);
+  ws.vertices[0] = p;
+  nv = 1;
+  out.upper = std::numeric_limits<S>::max();
+  for (int k = 0; k < 6; ++k) {
+    // A direction orthogonal to the span so far: the coordinate axis with the largest residual.
+    Wrench<S> d = Wrench<S>::Zero();
+    S dn(-1);
+    for (int e = 0; e < 6; ++e) {
+      Wrench<S> r = Wrench<S>::Unit(e);
+      for (int b = 0; b < k; ++b) r -= basis[static_cast<std::size_t>(b)].dot(r) * basis[static_cast<std::size_t>(b)];
+      if (r.norm() > dn) {
+        dn = r.norm();
+        d = r;
+      }
+    }
+    d /= dn;
+    Wrench<S> best_res = Wrench<S>::Zero(), best_p = Wrench<S>::Zero();
+    for (int sgn = 0; sgn < 2; ++sgn) {
+      const Wrench<S> u = sgn == 0 ? d : Wrench<S>(-d);
+      Wrench<S> q;
+      const S h = support(u, q);
+      if (h < out.upper) {
+        out.upper = h;
+        out.direction = u;
+      }
+      Wrench<S> r = q - ws.vertices[0];
+      for (int b = 0; b < k; ++b) r -= basis[static_cast<std::size_t>(b)].dot(r) * basis[static_cast<std::size_t>(b)];
+      if (r.norm() > best_res.norm()) {
+        best_res = r;
+        best_p = q;
+      }
+    }
+    if (!(best_res.norm() > tol)) {
+      // W lies in the hyperplane d . w = d . v0 (= 0 since 0 is in W): no closure.
+      out.epsilon = S(0);
+      out.upper = S(0);
+      const S side = d.dot(ws.vertices[0]);
+      out.direction = side <= S(0) ? d : Wrench<S>(-d);
+      out.vertices = nv;
+      return out;
+    }
+    basis[static_cast<std::size_t>(k)] = best_res / best_res.norm();
+    ws.vertices[static_cast<std::size_t>(nv++)] = best_p;
+  }
+  Wrench<S> centre = Wrench<S>::Zero();
+  for (int k = 0; k < 7; ++k) centre += ws.vertices[static_cast<std::size_t>(k)];
+  centre /= S(7);
+
+  // Plane through six vertices, oriented away from the centre. False if degenerate.
+  auto make_facet = [&](const std::array<int, 6>& v, Facet& f) {
+    Eigen::Matrix<S, 6, 5> e;
+    for (int k = 1; k < 6; ++k)
+      e.col(k - 1) = ws.vertices[static_cast<std::size_t>(v[static_cast<std::size_t>(k)])] -
+                     ws.vertices[static_cast<std::size_t>(v[0])];
+    Eigen::HouseholderQR<Eigen::Matrix<S, 6, 5>> qr(e);
+    Wrench<S> nrm = qr.householderQ() * Wrench<S>::Unit(5);
+    S off = nrm.dot(ws.vertices[static_cast<std::size_t>(v[0])]);
+    const S c = nrm.dot(centre) - off;
+    if (!(std::abs(c) > std::numeric_limits<S>::epsilon() * scale)) return false;
+    if (c > S(0)) {
+      nrm = -nrm;
+      off = -off;
+    }
+    f.v = v;
+    f.normal = nrm;
+    f.offset = off;
+    return true;
+  };
+  int nf = 0;
+  for (int skip = 0; skip < 7; ++skip) {
+    std::array<int, 6> v{};
+    for (int k = 0, j = 0; k < 7; ++k)
+      if (k != skip) v[static_cast<std::size_t>(j++)] = k;
+    if (!make_facet(v, ws.facets[static_cast<std::size_t>(nf)])) return out;  // cannot happen: simplex is full
+    ++nf;
+  }
+
+  // 2. Expand towards the origin.
+  out.status = Status::IterationLimit;
+  while (true) {
+    int best = 0;
+    for (int f = 1; f < nf; ++f)
+      if (ws.facets[static_cast<std::size_t>(f)].offset < ws.facets[static_cast<std::size_t>(best)].offset) best = f;
+    const Facet& fb = ws.facets[static_cast<std::size_t>(best)];
+    const S h = support(fb.normal, p);
+    out.epsilon = std::max(S(0), fb.offset);
+    if (h < out.upper) {
+      out.upper = h;
+    }
+    out.direction = fb.normal;
+    if (h - fb.offset <= tol) {
+      out.status = Status::Ok;
+      break;
+    }
+    if (nv >= Workspace::max_vertices) break;
+    const int np = nv;
+    ws.vertices[static_cast<std::size_t>(nv++)] = p;
+    // Facets that see p.
+    int nvis = 0;
+    for (int f = 0; f < nf; ++f) {
+      const Facet& ff = ws.facets[static_cast<std::size_t>(f)];
+      const bool vis = ff.normal.dot(p) - ff.offset > tol_visible;
+      ws.is_visible[static_cast<std::size_t>(f)] = vis;
+      if (vis) ws.visible[static_cast<std::size_t>(nvis++)] = f;
+    }
+    // Horizon: ridges of visible facets not shared with another visible facet.
+    int nh = 0;
+    bool full = false;
+    for (int a = 0; a < nvis && !full; ++a) {
+      const Facet& fa = ws.facets[static_cast<std::size_t>(ws.visible[static_cast<std::size_t>(a)])];
+      for (int drop = 0; drop < 6; ++drop) {
+        std::array<int, 5> r{};
+        for (int k = 0, j = 0; k < 6; ++k)
+          if (k != drop) r[static_cast<std::size_t>(j++)] = fa.v[static_cast<std::size_t>(k)];
+        bool shared = false;
+        for (int b = 0; b < nvis && !shared; ++b)
+          if (b != a && detail::ridge_in_facet(r, ws.facets[static_cast<std::size_t>(ws.visible[static_cast<std::size_t>(b)])].v))
+            shared = true;
+        if (!shared) {
+          if (nh >= Workspace::max_facets) {
+            full = true;
+            break;
+          }
+          ws.horizon[static_cast<std::size_t>(nh++)] = r;
+        }
+      }
+    }
+    if (full || nf - nvis + nh > Workspace::max_facets) break;
+    // Remove the visible facets (compact the list), then add the cone from p to the horizon.
+    int w = 0;
+    for (int f = 0; f < nf; ++f)
+      if (!ws.is_visible[static_cast<std::size_t>(f)]) ws.facets[static_cast<std::size_t>(w++)] = ws.facets[static_cast<std::size_t>(f)];
+    nf = w;
+    for (int k = 0; k < nh; ++k) {
+      std::array<int, 6> v{};
+      const std::array<int, 5>& r = ws.horizon[static_cast<std::size_t>(k)];
+      int j = 0;
+      bool placed = false;
+      for (int m = 0; m < 5; ++m) {
+        if (!placed && np < r[static_cast<std::size_t>(m)]) {
+          v[static_cast<std::size_t>(j++)] = np;
+          placed = true;
+        }
+        v[static_cast<std::size_t>(j++)] = r[static_cast<std::size_t>(m)];
+      }
+      if (!placed) v[5] = np;
+      if (make_facet(v, ws.facets[static_cast<std::size_t>(nf)])) ++nf;
+    }
+  }
+  out.vertices = nv;
+  out.facets = nf;
+  out.closure = out.epsilon > tol;
+  if (!out.closure) out.epsilon = S(0);
+  return out;
+}
+
+/// As above with a workspace of the default size on the stack (about 1.7 MB for double).
+template <int K, class GraspT>
+Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, EpsilonNorm norm,
+                                                           typename GraspT::ScalarType torque_scale) {
+  EpsilonWorkspace<typename GraspT::ScalarType> ws;
+  return ferrari_canny_epsilon<K>(grasp, norm, torque_scale, ws);
+}
+
+}  // namespace grip
