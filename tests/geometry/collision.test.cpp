@@ -32,13 +32,13 @@ template <class S>
 HandPosture<S> single(int k, const Vector3<S>& a, const Vector3<S>& b, S r) {
   HandPosture<S> h;
   for (int i = 0; i < hand_phalanx_count; ++i) {
-    h.phalanges[i].base = Vector3<S>(S(10), S(0), S(i));
-    h.phalanges[i].tip = Vector3<S>(S(10.01), S(0), S(i));
-    h.phalanges[i].radius = S(0.008);
+    h.phalanges[static_cast<std::size_t>(i)].base = Vector3<S>(S(10), S(0), S(i));
+    h.phalanges[static_cast<std::size_t>(i)].tip = Vector3<S>(S(10.01), S(0), S(i));
+    h.phalanges[static_cast<std::size_t>(i)].radius = S(0.008);
   }
-  h.phalanges[k].base = a;
-  h.phalanges[k].tip = b;
-  h.phalanges[k].radius = r;
+  h.phalanges[static_cast<std::size_t>(k)].base = a;
+  h.phalanges[static_cast<std::size_t>(k)].tip = b;
+  h.phalanges[static_cast<std::size_t>(k)].radius = r;
   return h;
 }
 // The documented accuracy of an octree leaf model (spherical_octree.hpp): e = 3 h^2 (R + s) / (2 R^2).

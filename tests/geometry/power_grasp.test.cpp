@@ -53,10 +53,10 @@ TEST_CASE_TEMPLATE("power grasp of a 35 mm cylinder: contacts on every phalanx, 
   REQUIRE(sc.closed == Status::Ok);
   for (int k = 0; k < 14; ++k) {
     CHECK(sc.angles(k) >= S(0));
-    CHECK(sc.angles(k) <= sc.dims.joint_upper_limit[k]);
+    CHECK(sc.angles(k) <= sc.dims.joint_upper_limit[static_cast<std::size_t>(k)]);
   }
   // The last joint of each digit stopped on contact, not at its limit.
-  for (int k : {1, 4, 7, 10, 13}) CHECK(sc.angles(k) < sc.dims.joint_upper_limit[k]);
+  for (int k : {1, 4, 7, 10, 13}) CHECK(sc.angles(k) < sc.dims.joint_upper_limit[static_cast<std::size_t>(k)]);
 
   HandPosture<S> posture;
   REQUIRE(forward_kinematics(sc.dims, Iso<S>::Identity(), sc.angles, posture) == Status::Ok);
@@ -76,7 +76,7 @@ TEST_CASE_TEMPLATE("power grasp of a 35 mm cylinder: contacts on every phalanx, 
   const double R = 0.035, h = double(sc.octree.cell_half_edge(5));
   for (int i = 0; i < contacts.count; ++i) {
     const HandContact<S>& c = contacts[i];
-    const PhalanxCapsule<S>& cap_k = posture.phalanges[phalanx_index(c.finger, c.phalanx)];
+    const PhalanxCapsule<S>& cap_k = posture.phalanges[static_cast<std::size_t>(phalanx_index(c.finger, c.phalanx))];
     const Vector3<double> a = (to_object * cap_k.base).template cast<double>();
     const Vector3<double> b = (to_object * cap_k.tip).template cast<double>();
     const Shape<double> exact(make_cylinder<double>(R, 0.07));

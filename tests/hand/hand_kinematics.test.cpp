@@ -46,16 +46,16 @@ TEST_CASE_TEMPLATE("standard dimensions are Buchholz's fractions of hand length"
   CHECK(d.hand_length == L);
   REQUIRE(validate(d) == Status::Ok);
   // Buchholz et al. 1992 coefficients, typed from the paper's table (not from the code).
-  CHECK(d.length[phalanx_index(Finger::Long, Phalanx::Proximal)] == doctest::Approx(0.277 * 0.19));
-  CHECK(d.length[phalanx_index(Finger::Index, Phalanx::Middle)] == doctest::Approx(0.143 * 0.19));
-  CHECK(d.length[phalanx_index(Finger::Little, Phalanx::Distal)] == doctest::Approx(0.093 * 0.19));
-  CHECK(d.length[phalanx_index(Finger::Thumb, Phalanx::Distal)] == doctest::Approx(0.158 * 0.19));
+  CHECK(d.length[static_cast<std::size_t>(phalanx_index(Finger::Long, Phalanx::Proximal))] == doctest::Approx(0.277 * 0.19));
+  CHECK(d.length[static_cast<std::size_t>(phalanx_index(Finger::Index, Phalanx::Middle))] == doctest::Approx(0.143 * 0.19));
+  CHECK(d.length[static_cast<std::size_t>(phalanx_index(Finger::Little, Phalanx::Distal))] == doctest::Approx(0.093 * 0.19));
+  CHECK(d.length[static_cast<std::size_t>(phalanx_index(Finger::Thumb, Phalanx::Distal))] == doctest::Approx(0.158 * 0.19));
   CHECK(d.base[2].x() == doctest::Approx(0.373 * 0.19));  // long MCP at its metacarpal length
   // Scaling: twice the hand, twice every length, radius and joint position.
   const HandDimensions<S> d2 = HandDimensions<S>::standard(S(2) * L);
   for (int k = 0; k < 14; ++k) {
-    CHECK(d2.length[k] == doctest::Approx(double(S(2) * d.length[k])).epsilon(1e-5));
-    CHECK(d2.radius[k] == doctest::Approx(double(S(2) * d.radius[k])).epsilon(1e-5));
+    CHECK(d2.length[static_cast<std::size_t>(k)] == doctest::Approx(double(S(2) * d.length[static_cast<std::size_t>(k)])).epsilon(1e-5));
+    CHECK(d2.radius[static_cast<std::size_t>(k)] == doctest::Approx(double(S(2) * d.radius[static_cast<std::size_t>(k)])).epsilon(1e-5));
   }
   CHECK((d2.base[0] - S(2) * d.base[0]).norm() <= S(10) * tol<S>());
   // Bad hand lengths give dimensions that validate() rejects.
@@ -77,7 +77,7 @@ TEST_CASE_TEMPLATE("zero angles give the documented rest pose", S, double, float
   for (int f = 1; f < 5; ++f) {
     double x = mc[f] * 0.19;
     for (int p = 0; p < 3; ++p) {
-      const PhalanxCapsule<S>& c = h.phalanges[phalanx_index(static_cast<Finger>(f), static_cast<Phalanx>(p))];
+      const PhalanxCapsule<S>& c = h.phalanges[static_cast<std::size_t>(phalanx_index(static_cast<Finger>(f), static_cast<Phalanx>(p)))];
       CHECK(c.finger == static_cast<Finger>(f));
       CHECK(c.phalanx == static_cast<Phalanx>(p));
       CHECK(double(c.base.x()) == doctest::Approx(x).epsilon(1e-5));
@@ -111,11 +111,11 @@ TEST_CASE_TEMPLATE("flexion: a right-angle MCP turns the finger palmar; the wris
   HandPosture<S> h;
   REQUIRE(forward_kinematics(d, Iso<S>::Identity(), q, h) == Status::Ok);
   // Proximal: rotating +x by 90 deg about +y gives -z (palmar).
-  const Vector3<S> prox = h.phalanges[k].tip - h.phalanges[k].base;
-  CHECK((prox - d.length[k] * Vector3<S>(0, 0, -1)).norm() <= S(10) * tol<S>());
-  const Vector3<S> mid = h.phalanges[k + 1].tip - h.phalanges[k + 1].base;
-  CHECK((mid - d.length[k + 1] * Vector3<S>(-1, 0, 0)).norm() <= S(10) * tol<S>());
-  CHECK((h.phalanges[k + 1].base - h.phalanges[k].tip).norm() <= tol<S>());  // chained
+  const Vector3<S> prox = h.phalanges[static_cast<std::size_t>(k)].tip - h.phalanges[static_cast<std::size_t>(k)].base;
+  CHECK((prox - d.length[static_cast<std::size_t>(k)] * Vector3<S>(0, 0, -1)).norm() <= S(10) * tol<S>());
+  const Vector3<S> mid = h.phalanges[static_cast<std::size_t>(k + 1)].tip - h.phalanges[static_cast<std::size_t>(k + 1)].base;
+  CHECK((mid - d.length[static_cast<std::size_t>(k + 1)] * Vector3<S>(-1, 0, 0)).norm() <= S(10) * tol<S>());
+  CHECK((h.phalanges[static_cast<std::size_t>(k + 1)].base - h.phalanges[static_cast<std::size_t>(k)].tip).norm() <= tol<S>());  // chained
 
   // A wrist pose T: every point is T applied to the identity-pose point.
   Iso<S> T = Iso<S>::Identity();
@@ -124,8 +124,8 @@ TEST_CASE_TEMPLATE("flexion: a right-angle MCP turns the finger palmar; the wris
   HandPosture<S> g;
   REQUIRE(forward_kinematics(d, T, q, g) == Status::Ok);
   for (int i = 0; i < 14; ++i) {
-    CHECK((g.phalanges[i].base - T * h.phalanges[i].base).norm() <= S(100) * tol<S>());
-    CHECK((g.phalanges[i].tip - T * h.phalanges[i].tip).norm() <= S(100) * tol<S>());
+    CHECK((g.phalanges[static_cast<std::size_t>(i)].base - T * h.phalanges[static_cast<std::size_t>(i)].base).norm() <= S(100) * tol<S>());
+    CHECK((g.phalanges[static_cast<std::size_t>(i)].tip - T * h.phalanges[static_cast<std::size_t>(i)].tip).norm() <= S(100) * tol<S>());
   }
 }
 

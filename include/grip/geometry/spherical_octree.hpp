@@ -87,7 +87,7 @@ class SphericalOctree {
     const Vector3<Scalar> c0 = (lo + hi) / Scalar(2);
     // Slightly larger than the bounding box so that surfaces never lie on the root's faces.
     half_edge_[0] = (hi - lo).maxCoeff() / Scalar(2) * (Scalar(1) + Scalar(1e-3));
-    for (int l = 1; l <= max_octree_depth; ++l) half_edge_[l] = half_edge_[l - 1] / Scalar(2);
+    for (int l = 1; l <= max_octree_depth; ++l) half_edge_[static_cast<std::size_t>(l)] = half_edge_[static_cast<std::size_t>(l - 1)] / Scalar(2);
     Vector3<Scalar> n;
     const Scalar phi0 = shape.distance(c0, n);
     tree_.add_root(c0, sqrt3 * half_edge_[0]);
@@ -100,7 +100,7 @@ class SphericalOctree {
       const int level = cell.level;
       const Scalar phi = planes_[static_cast<std::size_t>(i)].distance;
       if (level >= max_depth || phi < -cell.radius) continue;  // boundary leaf or interior leaf
-      const Scalar hc = half_edge_[level + 1];
+      const Scalar hc = half_edge_[static_cast<std::size_t>(level + 1)];
       const Scalar rc = sqrt3 * hc;
       const Vector3<Scalar> parent_center = cell.center;
       for (int o = 0; o < 8; ++o) {

@@ -54,18 +54,18 @@ Status forward_kinematics(const HandDimensions<Scalar>& dims,
   for (int f = 0; f < 5; ++f) {
     const int first = f == 0 ? 0 : 2 + 3 * (f - 1);
     const int count = f == 0 ? 2 : 3;
-    Vector3<Scalar> p = dims.base[f];
+    Vector3<Scalar> p = dims.base[static_cast<std::size_t>(f)];
     Scalar sum = Scalar(0);
     for (int j = 0; j < count; ++j) {
       const int k = first + j;
       sum += angles(k);
       const Vector3<Scalar> dir =
-          Eigen::AngleAxis<Scalar>(sum, dims.flexion_axis[f]) * dims.rest_direction[f];
-      const Vector3<Scalar> q = p + dims.length[k] * dir;
-      PhalanxCapsule<Scalar>& c = out.phalanges[k];
+          Eigen::AngleAxis<Scalar>(sum, dims.flexion_axis[static_cast<std::size_t>(f)]) * dims.rest_direction[static_cast<std::size_t>(f)];
+      const Vector3<Scalar> q = p + dims.length[static_cast<std::size_t>(k)] * dir;
+      PhalanxCapsule<Scalar>& c = out.phalanges[static_cast<std::size_t>(k)];
       c.base = R * p + t;
       c.tip = R * q + t;
-      c.radius = dims.radius[k];
+      c.radius = dims.radius[static_cast<std::size_t>(k)];
       c.finger = phalanx_finger(k);
       c.phalanx = phalanx_kind(k);
       p = q;
