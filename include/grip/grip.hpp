@@ -27,6 +27,13 @@
 #include "grip/monitor/stability_monitor.hpp"
 #include "grip/monitor/resolution.hpp"
 
+#include "grip/analysis/internal_forces.hpp"
+#include "grip/analysis/quality.hpp"
+#include "grip/analysis/force_closure.hpp"
+#include "grip/analysis/max_wrench.hpp"
+#include "grip/analysis/epsilon.hpp"
+#include "grip/analysis/batch.hpp"
+
 #include "grip/hand/squeeze.hpp"
 #include "grip/hand/hand_model.hpp"
 #include "grip/hand/hand_kinematics.hpp"
