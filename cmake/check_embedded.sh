@@ -40,6 +40,10 @@ for src in examples/embedded/*.cpp; do
   su="$out/$name.su"
   maxf=$(awk -F'\t' '{if ($2 + 0 > m) m = $2 + 0} END {print m + 0}' "$su" 2>/dev/null || echo 0)
   root=$(arm-none-eabi-nm "$out/$name.o" | awk '$2 == "T" && $3 ~ /^grip_/ {print $3; exit}')
+  if [ -z "$root" ]; then  # e.g. constrained_step before solve_constrained exists
+    printf '%-22s %10s %14s %18s\n' "$name.o" "$text" "-" "(no entry point)"
+    continue
+  fi
   depth=$(python3 cmake/stack_depth.py "$out/$name.ci" "$root")
   stack_rc=$?
   worst=$(echo "$depth" | awk 'NR == 1 {print $1}')
