@@ -52,7 +52,7 @@ void report(const char* title, const grip::Grasp<n>& grasp, const grip::Wrench<d
     const grip::Vector3<double> f = sol.forces.segment<3>(3 * i);
     const double fn = f.dot(c.normal);
     const double ft = (f - fn * c.normal).norm();
-    const double ratio = fn > 0 ? ft / (c.friction * fn) : INFINITY;
+    const double ratio = fn > 0 ? ft / (c.friction * fn) : 1e9;
     std::printf("  %-16s %8.2f %8.2f %8.2f %10.2f%s  [%6.2f %6.2f %6.2f]\n", sites[i].name, c.squeeze, fn, ft,
                 ratio, ratio > 1 ? " SLIP" : "     ", -f.x(), -f.y(), -f.z());
   }

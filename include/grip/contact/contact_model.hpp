@@ -20,7 +20,8 @@ namespace grip {
 ///
 /// For G_i = [I; [r]x] the block is [[I, -[r]x], [[r]x, |r|^2 I - r r^T]]; so
 /// sum k G G^T = [[k0 I, -[s1]x], [[s1]x, S2]] + extra, with k0 = sum k, s1 = sum k r,
-/// S2 = sum k (|r|^2 I - r r^T). `extra` holds terms that are not of this form.
+/// S2 = sum k (|r|^2 I - r r^T) (upper triangle kept). `extra` holds terms that are not of
+/// this form.
 template <class Scalar>
 struct GramAccumulator {
   Scalar k0{0};
@@ -35,27 +36,30 @@ struct GramAccumulator {
     m.template topLeftCorner<3, 3>().diagonal().array() += k0;
     m.template topRightCorner<3, 3>() -= s;
     m.template bottomLeftCorner<3, 3>() += s;
-    m.template bottomRightCorner<3, 3>() += s2;
+    Matrix3<Scalar> sym = s2;  // add_point_force fills the upper triangle only
+    sym(1, 0) = sym(0, 1);
+    sym(2, 0) = sym(0, 2);
+    sym(2, 1) = sym(1, 2);
+    m.template bottomRightCorner<3, 3>() += sym;
     return m;
   }
 
-  /// Adds k [I; [r]x][I; [r]x]^T: the hard-finger block in closed form.
+  /// Adds k [I; [r]x][I; [r]x]^T: the hard-finger block in closed form (plain scalar code:
+  /// 3-vectors are too short for SIMD to pay).
   void add_point_force(Scalar k, const Vector3<Scalar>& r) {
+    const Scalar x = r.x(), y = r.y(), z = r.z();
+    const Scalar kx = k * x, ky = k * y, kz = k * z;
     k0 += k;
-    s1 += k * r;
-    const Vector3<Scalar> kr = k * r;
-    const Scalar kr2 = kr.dot(r);
-    // |r|^2 I - r r^T, lower triangle then mirrored at assembly time is not worth it: 6 + 3 flops.
-    s2(0, 0) += kr2 - kr.x() * r.x();
-    s2(1, 1) += kr2 - kr.y() * r.y();
-    s2(2, 2) += kr2 - kr.z() * r.z();
-    const Scalar xy = kr.x() * r.y(), xz = kr.x() * r.z(), yz = kr.y() * r.z();
-    s2(0, 1) -= xy;
-    s2(1, 0) -= xy;
-    s2(0, 2) -= xz;
-    s2(2, 0) -= xz;
-    s2(1, 2) -= yz;
-    s2(2, 1) -= yz;
+    s1.x() += kx;
+    s1.y() += ky;
+    s1.z() += kz;
+    const Scalar kxx = kx * x, kyy = ky * y, kzz = kz * z;
+    s2(0, 0) += kyy + kzz;
+    s2(1, 1) += kxx + kzz;
+    s2(2, 2) += kxx + kyy;
+    s2(0, 1) -= kx * y;
+    s2(0, 2) -= kx * z;
+    s2(1, 2) -= ky * z;
   }
 };
 
@@ -69,7 +73,8 @@ struct FrictionlessPoint {
   template <class Scalar>
   static Eigen::Matrix<Scalar, 6, dim> basis(const Contact<Scalar>& c) {
     Eigen::Matrix<Scalar, 6, dim> g;
-    g << c.normal, c.position.cross(c.normal);
+    g.template head<3>() = c.normal;
+    g.template tail<3>() = c.position.cross(c.normal);
     return g;
   }
   template <class Scalar>
@@ -110,14 +115,22 @@ struct HardFinger {
   }
   template <class Scalar>
   static Wrench<Scalar> wrench(const Contact<Scalar>& c, const Vector<Scalar>& f) {
+    const Scalar rx = c.position.x(), ry = c.position.y(), rz = c.position.z();
     Wrench<Scalar> w;
-    w << f, c.position.cross(f);
+    w(0) = f.x();
+    w(1) = f.y();
+    w(2) = f.z();
+    w(3) = ry * f.z() - rz * f.y();
+    w(4) = rz * f.x() - rx * f.z();
+    w(5) = rx * f.y() - ry * f.x();
     return w;
   }
   template <class Scalar>
   static Vector<Scalar> wrench_transpose(const Contact<Scalar>& c, const Wrench<Scalar>& l) {
     // [I, R^T] l = l_f - r x l_m
-    return l.template head<3>() - c.position.cross(l.template tail<3>());
+    const Scalar rx = c.position.x(), ry = c.position.y(), rz = c.position.z();
+    return Vector<Scalar>(l(0) - (ry * l(5) - rz * l(4)), l(1) - (rz * l(3) - rx * l(5)),
+                          l(2) - (rx * l(4) - ry * l(3)));
   }
   template <class Scalar>
   static void accumulate(GramAccumulator<Scalar>& acc, const Contact<Scalar>& c, Scalar k) {
@@ -142,21 +155,23 @@ struct SoftFinger {
   template <class Scalar>
   static Vector<Scalar> target(const Contact<Scalar>& c) {
     Vector<Scalar> t;
-    t << c.squeeze * c.normal, Scalar(0);
+    t.template head<3>() = c.squeeze * c.normal;
+    t(3) = Scalar(0);
     return t;
   }
   template <class Scalar>
   static Wrench<Scalar> wrench(const Contact<Scalar>& c, const Vector<Scalar>& x) {
     Wrench<Scalar> w;
     const Vector3<Scalar> f = x.template head<3>();
-    w << f, c.position.cross(f) + x(3) * c.normal;
+    w.template head<3>() = f;
+    w.template tail<3>() = c.position.cross(f) + x(3) * c.normal;
     return w;
   }
   template <class Scalar>
   static Vector<Scalar> wrench_transpose(const Contact<Scalar>& c, const Wrench<Scalar>& l) {
     Vector<Scalar> x;
-    x << l.template head<3>() - c.position.cross(l.template tail<3>()),
-        c.normal.dot(l.template tail<3>());
+    x.template head<3>() = l.template head<3>() - c.position.cross(l.template tail<3>());
+    x(3) = c.normal.dot(l.template tail<3>());
     return x;
   }
   template <class Scalar>

@@ -29,23 +29,18 @@ bool check_inputs(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>
 }
 
 /// Given multipliers lambda, writes x_i = t_i + W_i^-1 G_i^T lambda (the stationarity rows of
-/// eq. 9) into `sol`, with the residual |G x + w_ext|. One pass over the contacts.
+/// eq. 9) into `sol`. One pass over the contacts.
 template <class GraspT>
-void forces_from_multipliers(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
-                             const Wrench<typename GraspT::ScalarType>& lambda, Solution<GraspT>& sol) {
+void forces_from_multipliers(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& lambda,
+                             Solution<GraspT>& sol) {
   using S = typename GraspT::ScalarType;
   using M = typename GraspT::ModelType;
   constexpr int d = GraspT::dim;
-  Wrench<S> sum = w_ext;
   for (int i = 0; i < grasp.size(); ++i) {
     const auto& c = grasp.contact(i);
-    const typename GraspT::ContactVector x =
-        M::target(c) + (S(1) / c.weight) * M::wrench_transpose(c, lambda);
-    sol.forces.template segment<d>(i * d) = x;
-    sum += M::wrench(c, x);
+    sol.forces.template segment<d>(i * d) = M::target(c) + (S(1) / c.weight) * M::wrench_transpose(c, lambda);
   }
   sol.multipliers = lambda;
-  sol.residual = sum.norm();
 }
 
 /// The characteristic lever arm L = sqrt(sum k_i |r_i|^2 / sum k_i) (m) that balances force
@@ -86,7 +81,9 @@ Matrix6<typename GraspT::ScalarType> weighted_gram(const GraspT& grasp) {
 /// Solves min F2 = 1/2 sum w_i |x_i - t_i|^2 subject to G x + w_ext = 0 (the paper's
 /// section 5 problem) by eliminating x: x = t + W^-1 G^T lambda with
 /// (G W^-1 G^T) lambda = -(w_ext + G t). Cost O(n): one pass to accumulate the 6x6 matrix
-/// and G t, one 6x6 Cholesky, one pass to recover the forces. No heap.
+/// and G t, one 6x6 Cholesky, one pass to recover the forces. No heap. `residual` is
+/// evaluated as |M lambda + w_ext + G t|, equal to |G x + w_ext| up to the round-off of the
+/// recovery pass.
 ///
 /// Statuses:
 /// - Ok: the unique optimum; `residual` at round-off.
@@ -114,8 +111,11 @@ Solution<GraspT> solve_range_space(const GraspT& grasp, const Wrench<typename Gr
     rhs -= M::wrench(c, M::target(c));
   }
   Wrench<S> lambda;
-  sol.status = solve_symmetric_6x6(acc.matrix(), rhs, lambda, detail::lever_arm(k_sum, kr2_sum));
-  detail::forces_from_multipliers(grasp, w_ext, lambda, sol);
+  const Matrix6<S> gram = acc.matrix();
+  sol.status = solve_symmetric_6x6(gram, rhs, lambda, detail::lever_arm(k_sum, kr2_sum));
+  detail::forces_from_multipliers(grasp, lambda, sol);
+  // G x + w_ext = G t + M lambda + w_ext = M lambda - rhs: the residual without another pass.
+  sol.residual = (gram * lambda - rhs).norm();
   return sol;
 }
 
