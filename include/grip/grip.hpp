@@ -45,3 +45,15 @@
 #include "grip/geometry/collision.hpp"
 #include "grip/geometry/grasp_from_contacts.hpp"
 #include "grip/geometry/hand_closure.hpp"
+
+#include "grip/dynamics/rigid_body.hpp"
+#include "grip/dynamics/penalty_contact.hpp"
+#include "grip/dynamics/external_wrench.hpp"
+#include "grip/dynamics/integrator.hpp"
+
+#include "grip/pipeline/obstacle_contacts.hpp"
+#include "grip/pipeline/cylinder_scene.hpp"
+#include "grip/pipeline/octree_scene.hpp"
+#include "grip/pipeline/frame_solver.hpp"
+#include "grip/pipeline/haptic_pipeline.hpp"
+#include "grip/pipeline/close_hand.hpp"

@@ -12,7 +12,6 @@
 
 #include "grip/contact/contact.hpp"
 #include "grip/contact/contact_model.hpp"
-#include "grip/contact/coulomb_cone.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
 #include "grip/dynamics/external_wrench.hpp"
@@ -22,6 +21,9 @@
 #include "grip/hand/hand_kinematics.hpp"
 #include "grip/hand/hand_model.hpp"
 #include "grip/hand/squeeze.hpp"
+#include "grip/monitor/grasp_state.hpp"
+#include "grip/monitor/resolution.hpp"
+#include "grip/monitor/stability_monitor.hpp"
 #include "grip/pipeline/frame_solver.hpp"
 #include "grip/geometry/collision.hpp"
 #include "grip/pipeline/obstacle_contacts.hpp"
@@ -103,13 +105,14 @@ struct HapticFrame {
   int clamped{0};       ///< phalanges whose command was clamped
   int solves{0};        ///< solver calls this frame
   bool held{false};     ///< the grasp is stable: the object moves with the hand
-  Scalar min_margin{0};  ///< smallest Coulomb margin (N) over the contacts kept
+  Scalar min_margin{0};  ///< smallest Coulomb margin (N) over the contacts of the last solve
 };
 
 /// The per-frame haptic pipeline: hand pose and joint angles in; contacts from `Scene`;
 /// squeeze s_i = d_i K_i dr_i (eq. 8); external wrench (gravity, inertial terms of the
 /// motion the hand imposes, obstacle penalty contacts); optimal forces from `Solver`;
-/// friction-cone monitor; per-phalanx feedback -f_i out, clamped to the device's limits.
+/// friction-cone monitor (StabilityMonitor, exact cones; resolve() for what slides or
+/// separates); per-phalanx feedback -f_i out, clamped to the device's limits.
 ///
 /// - `Scene`: the contact source, with
 ///   `int hand_contacts(const HandPosture<S>&, const RigidBody<S>& object, HandContacts<S>&) const` and
@@ -181,13 +184,15 @@ class HapticPipeline {
     if (frame.external.status != Status::Ok) return frame.status;
     const Wrench<Scalar> w_ext = frame.external.total();
 
-    // 4. Optimal forces, monitored; separating contacts are dropped and the rest re-solved.
+    // 4. Optimal forces, monitored (StabilityMonitor, exact cones); separating contacts are
+    //    dropped and the rest re-solved; what slides or separates is resolved (resolve()).
     std::array<bool, hand_phalanx_count> keep{};
     for (int i = 0; i < hand_.count; ++i) keep[static_cast<std::size_t>(i)] = true;
     std::array<Vector3<Scalar>, hand_phalanx_count> force{};
     std::array<bool, hand_phalanx_count> slide{};
     bool stable = false;
-    for (int round = 0; round <= std::max(0, settings_.max_resolves); ++round) {
+    const int rounds = std::max(0, settings_.max_resolves);
+    for (int round = 0; round <= rounds; ++round) {
       build_grasp(keep);
       force.fill(Vector3<Scalar>::Zero());
       slide.fill(false);
@@ -198,38 +203,30 @@ class HapticPipeline {
       const Solution<GraspType> sol = solver_(grasp_, w_ext);
       ++frame.solves;
       frame.solve_status = sol.status;
-      int dropped = 0, sliding = 0;
-      Scalar min_margin = std::numeric_limits<Scalar>::max();
-      for (int j = 0; j < grasp_.size(); ++j) {
-        const int i = index_[static_cast<std::size_t>(j)];
-        const Vector3<Scalar> f = sol.forces.template segment<3>(3 * j);
-        const CoulombCone<Scalar> cone = CoulombCone<Scalar>::from_contact(grasp_.contact(j));
-        if (!(cone.normal_part(f) > Scalar(0))) {  // the finger would have to pull
-          keep[static_cast<std::size_t>(i)] = false;
-          ++dropped;
-          continue;
-        }
-        const Scalar m = cone.margin(f);
-        min_margin = std::min(min_margin, m);
-        if (m < Scalar(0)) {
-          slide[static_cast<std::size_t>(i)] = true;
-          ++sliding;
-          force[static_cast<std::size_t>(i)] = cone.project(f);
-        } else {
-          force[static_cast<std::size_t>(i)] = f;
-        }
-      }
-      frame.separating += dropped;
-      frame.sliding = sliding;
-      frame.min_margin = min_margin == std::numeric_limits<Scalar>::max() ? Scalar(0) : min_margin;
-      if (dropped == 0 || round == std::max(0, settings_.max_resolves)) {
-        stable = sol.status == Status::Ok && sliding == 0 && dropped == 0;
-        if (dropped > 0)  // out of re-solves: the dropped forces transmit nothing
-          for (int j = 0; j < grasp_.size(); ++j)
-            if (!keep[static_cast<std::size_t>(index_[static_cast<std::size_t>(j)])])
-              force[static_cast<std::size_t>(index_[static_cast<std::size_t>(j)])].setZero();
+      const GraspState<GraspType> state = monitor_.evaluate(grasp_, sol.forces);
+      if (state.status != Status::Ok) {
+        frame.solve_status = Status::InvalidInput;
         break;
       }
+      frame.sliding = state.sliding_count;
+      frame.min_margin = state.count > 0 && state.sticking_count + state.sliding_count > 0 ? state.min_margin : Scalar(0);
+      const bool last = state.separating_count == 0 || round == rounds;
+      if (!last) {  // drop the separating contacts and solve again with the rest
+        frame.separating += state.separating_count;
+        for (int j = 0; j < grasp_.size(); ++j)
+          if (state.is_separating(j)) keep[static_cast<std::size_t>(index_[static_cast<std::size_t>(j)])] = false;
+        continue;
+      }
+      frame.separating += state.separating_count;
+      stable = sol.status == Status::Ok && state.stable;
+      const Resolution<GraspType> res = resolve(grasp_, sol.forces, state, w_ext);
+      for (int j = 0; j < grasp_.size(); ++j) {
+        const auto i = static_cast<std::size_t>(index_[static_cast<std::size_t>(j)]);
+        force[i] = res.status == Status::Ok ? Vector3<Scalar>(res.transmitted.template segment<3>(3 * j))
+                                            : Vector3<Scalar>::Zero();
+        slide[i] = state.is_sliding(j);
+      }
+      break;
     }
 
     // 5. The object: held, or moved by what is left unbalanced.
@@ -333,6 +330,7 @@ class HapticPipeline {
   HapticSettings<Scalar> settings_;
   Scene scene_;
   Solver solver_{};
+  StabilityMonitor<GraspType> monitor_{};
   RigidBody<Scalar> object_;
   bool held_{false};
   Isometry offset_{Isometry::Identity()};

@@ -1,0 +1,72 @@
+#pragma once
+// A hand closed on a 0.4 kg horizontal cylinder held in the air (no table unless a test adds
+// one), for the pipeline tests, in float or double.
+#include <grip/pipeline/close_hand.hpp>
+#include <grip/pipeline/cylinder_scene.hpp>
+#include <grip/pipeline/haptic_pipeline.hpp>
+
+namespace grip_test {
+
+template <class S>
+struct HeldCylinder {
+  using Isometry = Eigen::Transform<S, 3, Eigen::Isometry>;
+  static constexpr double mass = 0.4, radius = 0.035, half_length = 0.06;
+
+  grip::HapticSettings<S> settings;
+  grip::CylinderScene<S> scene;
+  grip::RigidBody<S> object;
+  grip::WristState<S> wrist;
+  grip::JointAngles<S> closed{grip::JointAngles<S>::Zero()};
+  int touching = 0;
+
+  HeldCylinder() {
+    settings.hand.thumb_cmc.y() = S(-0.005);  // thumb opposing the long finger
+    settings.hand.base[0].y() = S(-0.005);
+    settings.thumb_contribution = {{S(0.5), S(0.7)}};
+    settings.stiffness.fill(S(1.5e4));
+    settings.device_limit.fill(S(100));
+    scene.radius = S(radius);
+    scene.half_length = S(half_length);
+    object.mass = S(mass);
+    object.principal_inertia = grip::solid_cylinder_inertia<S>(S(mass), S(radius), S(half_length));
+    object.position = grip::Vector3<S>(S(0.1), S(0.2), S(0.5));
+    grip::Matrix3<S> r;  // axis (body z) along world y, palm down over it
+    r.col(0) = grip::Vector3<S>::UnitZ();
+    r.col(1) = grip::Vector3<S>::UnitX();
+    r.col(2) = grip::Vector3<S>::UnitY();
+    object.orientation = Eigen::Quaternion<S>(r);
+    const S l = settings.hand.hand_length;
+    const grip::Vector3<S> offset(S(0.374) * l + S(0.03), S(0), -(S(radius) + S(0.045) * l - S(0.002)));
+    wrist.pose = Isometry::Identity();
+    wrist.pose.translation() = object.position - offset;
+    const grip::ClosedHand<S> c = grip::close_hand_in_scene<S>(scene, settings.hand, wrist.pose, object, S(0.002));
+    closed = c.angles;
+    touching = c.touching;
+  }
+
+  using Pipeline = grip::HapticPipeline<S, grip::CylinderScene<S>>;
+  Pipeline pipeline() const { return Pipeline(settings, scene, object); }
+};
+
+/// Sum over phalanges of the feedback forces (N, world).
+template <class S>
+grip::Vector3<S> total_feedback(const grip::HapticFrame<S>& f) {
+  grip::Vector3<S> sum = grip::Vector3<S>::Zero();
+  for (const auto& p : f.phalanges) sum += p.force;
+  return sum;
+}
+
+/// Moment about the object's centre of mass of the forces the fingers apply (-feedback).
+template <class S, class P>
+grip::Vector3<S> finger_moment(const grip::HapticFrame<S>& f, const P& pipeline) {
+  grip::Vector3<S> m = grip::Vector3<S>::Zero();
+  const auto& contacts = pipeline.hand_contacts();
+  for (int i = 0; i < contacts.count; ++i) {
+    const auto& c = contacts.items[static_cast<std::size_t>(i)];
+    const int k = grip::phalanx_index(c.finger, c.phalanx);
+    m += (c.point - pipeline.object().position).cross(grip::Vector3<S>(-f.phalanges[static_cast<std::size_t>(k)].force));
+  }
+  return m;
+}
+
+}  // namespace grip_test
