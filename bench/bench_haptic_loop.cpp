@@ -14,6 +14,11 @@
 
 #include "../examples/haptic_loop/session.hpp"
 
+#if __has_include(<grip/pipeline/constrained_frame_solver.hpp>)
+#include <grip/pipeline/constrained_frame_solver.hpp>
+#define GRIP_BENCH_HAS_CONSTRAINED 1
+#endif
+
 namespace {
 
 using namespace haptic_session;
@@ -63,6 +68,7 @@ void run_session(benchmark::State& state, const SceneT& sc) {
   std::vector<double> us;
   us.reserve(static_cast<std::size_t>(state.max_iterations));
   int i = 0, held = 0;
+  long iterations = 0;
   for (auto _ : state) {
     if (i == frames) {
       state.PauseTiming();
@@ -76,6 +82,7 @@ void run_session(benchmark::State& state, const SceneT& sc) {
     benchmark::DoNotOptimize(frame);
     us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
     held += frame.held ? 1 : 0;
+    iterations += frame.iterations;
     ++i;
   }
   std::sort(us.begin(), us.end());
@@ -84,6 +91,7 @@ void run_session(benchmark::State& state, const SceneT& sc) {
   state.counters["p99_us"] = at(0.99);
   state.counters["worst_us"] = us.back();
   state.counters["median_kHz"] = 1e3 / at(0.5);
+  state.counters["iters_per_frame"] = static_cast<double>(iterations) / static_cast<double>(us.size());
   state.counters["held_frac"] = static_cast<double>(held) / static_cast<double>(us.size());
 }
 
@@ -102,6 +110,16 @@ void BM_Frame_OctreeCollision_Kkt_baseline(benchmark::State& s) {
   run_session<grip::OctreeScene<S, octree_capacity>, grip::KktFrameSolver>(s, octree_scene());
 }
 
+#ifdef GRIP_BENCH_HAS_CONSTRAINED
+void BM_Frame_AnalyticContacts_Constrained_warm(benchmark::State& s) {
+  run_session<grip::CylinderScene<S>, grip::ConstrainedFrameSolver<S>>(s, scene());
+}
+void BM_Frame_OctreeCollision_Constrained_warm(benchmark::State& s) {
+  run_session<grip::OctreeScene<S, octree_capacity>, grip::ConstrainedFrameSolver<S>>(s, octree_scene());
+}
+BENCHMARK(BM_Frame_AnalyticContacts_Constrained_warm)->Iterations(2 * session_frames)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Frame_OctreeCollision_Constrained_warm)->Iterations(2 * session_frames)->Unit(benchmark::kMicrosecond);
+#endif
 BENCHMARK(BM_Frame_AnalyticContacts_RangeSpace)->Iterations(2 * session_frames)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Frame_AnalyticContacts_Kkt_baseline)->Iterations(2 * session_frames)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Frame_OctreeCollision_RangeSpace)->Iterations(2 * session_frames)->Unit(benchmark::kMicrosecond);

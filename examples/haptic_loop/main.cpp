@@ -12,6 +12,17 @@
 
 #include "session.hpp"
 
+// The friction-constrained solver (issue 5) with warm start when the library has it;
+// otherwise the paper's equality-constrained optimum, monitored.
+#if __has_include(<grip/pipeline/constrained_frame_solver.hpp>)
+#include <grip/pipeline/constrained_frame_solver.hpp>
+using FrameSolver = grip::ConstrainedFrameSolver<haptic_session::S>;
+constexpr const char* solver_name = "solve_constrained (exact cones, warm-started)";
+#else
+using FrameSolver = grip::RangeSpaceFrameSolver;
+constexpr const char* solver_name = "solve_range_space + monitor";
+#endif
+
 namespace {
 
 using namespace haptic_session;
@@ -135,7 +146,7 @@ void write_svg(const std::string& path, const std::vector<Sample>& samples) {
 int main(int argc, char** argv) {
   const std::string dir = argc > 1 ? std::string(argv[1]) + "/" : std::string();
   const Script script;
-  grip::HapticPipeline<S, grip::CylinderScene<S>> pipeline(settings(), scene(), object());
+  grip::HapticPipeline<S, grip::CylinderScene<S>, FrameSolver> pipeline(settings(), scene(), object());
   const int frames = static_cast<int>(duration * rate);
   std::vector<Sample> samples;
   samples.reserve(static_cast<std::size_t>(frames));
@@ -189,6 +200,7 @@ int main(int argc, char** argv) {
 
   std::printf("grip haptic loop: %d frames at %.0f Hz (%.1f s), cylinder %.2f kg, r %.0f mm; closed grasp touches %d phalanges\n",
               frames, rate, duration, mass, radius * 1e3, script.touching);
+  std::printf("solver: %s\n", solver_name);
   std::printf("\n%-9s %6s %6s %14s %14s %10s\n", "phase", "from", "to", "mean sum|F| N", "peak sum|F| N", "lift N(end)");
   for (int i = 0; i < phase_count; ++i) {
     const auto& ps = phase_stats[static_cast<std::size_t>(i)];

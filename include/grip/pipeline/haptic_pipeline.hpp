@@ -104,6 +104,7 @@ struct HapticFrame {
   int separating{0};    ///< contacts dropped as separating (f . a <= 0)
   int clamped{0};       ///< phalanges whose command was clamped
   int solves{0};        ///< solver calls this frame
+  int iterations{0};    ///< solver iterations this frame (0 for direct solvers)
   bool held{false};     ///< the grasp is stable: the object moves with the hand
   Scalar min_margin{0};  ///< smallest Coulomb margin (N) over the contacts of the last solve
 };
@@ -202,6 +203,7 @@ class HapticPipeline {
       }
       const Solution<GraspType> sol = solver_(grasp_, w_ext);
       ++frame.solves;
+      frame.iterations += sol.iterations;
       frame.solve_status = sol.status;
       const GraspState<GraspType> state = monitor_.evaluate(grasp_, sol.forces);
       if (state.status != Status::Ok) {
