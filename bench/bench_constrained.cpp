@@ -1,0 +1,207 @@
+// solve_constrained (exact friction cones) beside solve_range_space (no cones) in one run.
+//
+// Instances: n hard fingers at random points of a 4 cm sphere (mu = 0.5, squeeze 0.3 N),
+// holding a 0.5 kg object: w_ext = gravity (0, 0, -4.905 N) plus a random inertial/collision
+// wrench (|F| ~ 1 N, |M| ~ 0.01 N m). Instances are kept only if the unconstrained optimum
+// violates at least one cone (active cones) and the constrained problem is feasible.
+//
+// Benchmarks (per n = 3, 5, 10, 15, 20, 32, 64):
+//   Constrained/n      cold solve over a pool of 64 instances (counter: iterations per solve)
+//   RangeSpace/n       solve_range_space on the same pool (the baseline)
+//   ConstrainedWarm/n  warm start from the multipliers of a slightly perturbed previous frame
+//   FastPath/n, FastPathRange/n: instances whose unconstrained optimum is strictly inside
+//   Distribution/n     one pass over 10,000 fresh instances, each solve timed with
+//                      std::chrono: counters median_us, p99_us, worst_us, worst_over_median,
+//                      median_iter, worst_iter, range_median_us (and their ratio)
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <random>
+#include <vector>
+
+#include <grip/grasp/grasp.hpp>
+#include <grip/solve/solve_constrained.hpp>
+#include <grip/solve/solve_range_space.hpp>
+
+namespace {
+
+using grip::Contact;
+using grip::Wrench;
+
+template <int N>
+using G = grip::Grasp<N, grip::HardFinger, double>;
+
+template <int N>
+struct Instance {
+  G<N> grasp;
+  Wrench<double> w_ext;
+  Wrench<double> warm;  // multipliers of the previous (perturbed) frame
+};
+
+Contact<double> on_sphere(double theta, double phi, double mu, double squeeze) {
+  Contact<double> c;
+  const grip::Vector3<double> u(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+  c.position = 0.04 * u;
+  c.normal = -u;
+  c.friction = mu;
+  c.torsional_friction = 0.005;
+  c.squeeze = squeeze;
+  return c;
+}
+
+/// A random instance; `active` asks for an unconstrained optimum outside some cone (else
+/// strictly inside all). Also solves the previous frame (contacts moved by 1 mm, load changed
+/// by 2%) for the warm start.
+template <int N>
+Instance<N> make_instance(std::mt19937& rng, bool active) {
+  std::uniform_real_distribution<double> u01(0, 1);
+  std::normal_distribution<double> n01(0, 1);
+  for (;;) {
+    Instance<N> in;
+    G<N> prev;
+    double th[N], ph[N];
+    for (int i = 0; i < N; ++i) {
+      th[i] = std::acos(1 - 2 * u01(rng));
+      ph[i] = 6.283185307179586 * u01(rng);
+      (void)in.grasp.set(i, on_sphere(th[i], ph[i], 0.5, active ? 0.3 : 6.0));
+      (void)prev.set(i, on_sphere(th[i] + 0.025 * n01(rng), ph[i] + 0.025 * n01(rng), 0.5, active ? 0.3 : 6.0));
+    }
+    in.w_ext << n01(rng), n01(rng), -4.905 + n01(rng), 0.01 * n01(rng), 0.01 * n01(rng), 0.01 * n01(rng);
+    const auto rs = grip::solve_range_space(in.grasp, in.w_ext);
+    if (rs.status != grip::Status::Ok) continue;
+    bool inside = true;
+    for (int i = 0; i < N; ++i)
+      inside = inside && grip::CoulombCone<double>::from_contact(in.grasp.contact(i)).margin(rs.forces.template segment<3>(3 * i)) > 0;
+    if (inside == active) continue;
+    const auto sol = grip::solve_constrained(in.grasp, in.w_ext);
+    if (sol.status != grip::Status::Ok) continue;
+    const auto p = grip::solve_constrained(prev, Wrench<double>(in.w_ext * 1.02));
+    if (p.status != grip::Status::Ok) continue;
+    in.warm = p.multipliers;
+    return in;
+  }
+}
+
+template <int N>
+const std::vector<Instance<N>>& pool(bool active) {
+  static std::vector<Instance<N>> a, f;
+  std::vector<Instance<N>>& v = active ? a : f;
+  if (v.empty()) {
+    std::mt19937 rng(active ? 1000 + N : 2000 + N);
+    for (int k = 0; k < 64; ++k) v.push_back(make_instance<N>(rng, active));
+  }
+  return v;
+}
+
+template <int N>
+void Constrained(benchmark::State& state) {
+  const auto& p = pool<N>(true);
+  std::size_t k = 0;
+  long iters = 0, solves = 0;
+  for (auto _ : state) {
+    const auto& in = p[k++ % p.size()];
+    const auto s = grip::solve_constrained(in.grasp, in.w_ext);
+    benchmark::DoNotOptimize(s.forces.data());
+    iters += s.iterations;
+    ++solves;
+  }
+  state.counters["iterations"] = double(iters) / double(solves);
+}
+
+template <int N>
+void ConstrainedWarm(benchmark::State& state) {
+  const auto& p = pool<N>(true);
+  const grip::ConstrainedSettings<double> st;
+  std::size_t k = 0;
+  long iters = 0, solves = 0;
+  for (auto _ : state) {
+    const auto& in = p[k++ % p.size()];
+    const auto s = grip::solve_constrained(in.grasp, in.w_ext, st, in.warm);
+    benchmark::DoNotOptimize(s.forces.data());
+    iters += s.iterations;
+    ++solves;
+  }
+  state.counters["iterations"] = double(iters) / double(solves);
+}
+
+template <int N, bool Active>
+void RangeSpace(benchmark::State& state) {
+  const auto& p = pool<N>(Active);
+  std::size_t k = 0;
+  for (auto _ : state) {
+    const auto& in = p[k++ % p.size()];
+    const auto s = grip::solve_range_space(in.grasp, in.w_ext);
+    benchmark::DoNotOptimize(s.forces.data());
+  }
+}
+
+template <int N>
+void FastPath(benchmark::State& state) {
+  const auto& p = pool<N>(false);
+  std::size_t k = 0;
+  for (auto _ : state) {
+    const auto& in = p[k++ % p.size()];
+    const auto s = grip::solve_constrained(in.grasp, in.w_ext);
+    benchmark::DoNotOptimize(s.forces.data());
+  }
+}
+
+template <int N>
+void Distribution(benchmark::State& state) {
+  const int count = 10000;
+  std::vector<double> t, tr;
+  std::vector<int> it;
+  for (auto _ : state) {
+    t.clear();
+    tr.clear();
+    it.clear();
+    std::mt19937 rng(3000 + N);
+    for (int k = 0; k < count; ++k) {
+      const Instance<N> in = make_instance<N>(rng, true);
+      const auto t0 = std::chrono::steady_clock::now();
+      const auto s = grip::solve_constrained(in.grasp, in.w_ext);
+      const auto t1 = std::chrono::steady_clock::now();
+      benchmark::DoNotOptimize(s.forces.data());
+      const auto r = grip::solve_range_space(in.grasp, in.w_ext);
+      const auto t2 = std::chrono::steady_clock::now();
+      benchmark::DoNotOptimize(r.forces.data());
+      t.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
+      tr.push_back(std::chrono::duration<double, std::micro>(t2 - t1).count());
+      it.push_back(s.iterations);
+    }
+  }
+  const auto at = [](std::vector<double> v, double q) {
+    std::sort(v.begin(), v.end());
+    return v[std::size_t(q * double(v.size() - 1))];
+  };
+  std::vector<double> itd(it.begin(), it.end());
+  const double med = at(t, 0.5), worst = at(t, 1.0);
+  state.counters["median_us"] = med;
+  state.counters["p99_us"] = at(t, 0.99);
+  state.counters["p999_us"] = at(t, 0.999);
+  state.counters["worst_us"] = worst;
+  state.counters["worst_over_median"] = worst / med;
+  state.counters["median_iter"] = at(itd, 0.5);
+  state.counters["worst_iter"] = at(itd, 1.0);
+  state.counters["range_median_us"] = at(tr, 0.5);
+  state.counters["median_over_range"] = med / at(tr, 0.5);
+}
+
+#define GRIP_BENCH_N(N)                                              \
+  BENCHMARK_TEMPLATE(Constrained, N);                                \
+  BENCHMARK_TEMPLATE(RangeSpace, N, true);                           \
+  BENCHMARK_TEMPLATE(ConstrainedWarm, N);                            \
+  BENCHMARK_TEMPLATE(FastPath, N);                                   \
+  BENCHMARK_TEMPLATE(RangeSpace, N, false);                          \
+  BENCHMARK_TEMPLATE(Distribution, N)->Iterations(1)->Unit(benchmark::kMillisecond)
+
+GRIP_BENCH_N(3);
+GRIP_BENCH_N(5);
+GRIP_BENCH_N(10);
+GRIP_BENCH_N(15);
+GRIP_BENCH_N(20);
+GRIP_BENCH_N(32);
+GRIP_BENCH_N(64);
+
+}  // namespace

@@ -1,0 +1,529 @@
+#pragma once
+/// \file
+/// The exact optimum of the weighted F2 with every contact force inside its exact friction
+/// cone (the paper's section 4 problem, eq. 3-5 with eq. 7), in O(n) per iteration.
+///
+/// Problem: minimise F2(x) = 1/2 sum_i w_i |x_i - t_i|^2 subject to G x + w_ext = 0 and
+/// x_i in K_i, with K_i = ExactConeT<Model, Scalar> of contact i (Coulomb cone for a hard
+/// finger, the elliptic soft-finger cone, f_n >= 0 for a frictionless point).
+///
+/// Method: semi-smooth Newton ascent on the 6-dimensional dual. For multipliers lambda the
+/// Lagrangian L(x, lambda) = F2(x) - lambda.(G x + w_ext) is minimised over the cones by
+/// x_i(lambda) = P_i(v_i), v_i = t_i + w_i^-1 G_i^T lambda (P_i: Euclidean projection onto
+/// K_i; the weight is a scalar, so the weighted projection is the Euclidean one). The dual
+/// function q(lambda) = L(x(lambda), lambda) is concave and C^1 with gradient
+/// -(G x(lambda) + w_ext); its generalised Hessian is -sum_i w_i^-1 G_i J_i G_i^T with J_i a
+/// generalised Jacobian of P_i (projection_jacobian.hpp). Each iteration: one pass over the
+/// contacts for the 6x6 matrix, a regularised 6x6 Cholesky solve, and an Armijo line search on
+/// q (one pass per trial). Every x(lambda) lies in the cones and satisfies stationarity and
+/// complementarity exactly; only the equilibrium residual is driven to zero.
+
+#include <cmath>
+#include <limits>
+
+#include "grip/contact/contact.hpp"
+#include "grip/contact/exact_cone.hpp"
+#include "grip/grasp/grasp.hpp"
+#include "grip/solve/constrained_settings.hpp"
+#include "grip/solve/projection_jacobian.hpp"
+#include "grip/solve/solution.hpp"
+#include "grip/solve/solve_range_space.hpp"
+#include "grip/solve/symmetric_solve.hpp"
+
+namespace grip {
+
+/// What solve_constrained returns: a Solution plus the numbers that certify it.
+///
+/// Every number is finite whatever the status; `forces` always lie inside their cones
+/// (they are projections), except under InvalidInput, where everything is zero.
+template <class GraspT>
+struct ConstrainedSolution : Solution<GraspT> {
+  using Scalar = typename GraspT::ScalarType;
+  /// Infeasible: a unit 6-vector y with G_i^T y in the dual cone K_i^* for every contact (its
+  /// distance to K_i^* at most ConstrainedSettings::certificate_tolerance (1 + |r_i|)) and
+  /// y.w_ext > 0. It proves that no forces in
+  /// the cones balance w_ext: for x_i in K_i, y.(G x) >= 0, so y.(G x + w_ext) > 0. Zero otherwise.
+  Wrench<Scalar> certificate{Wrench<Scalar>::Zero()};
+  /// F2 at `forces`: 1/2 sum_i w_i |x_i - t_i|^2.
+  Scalar objective{0};
+  /// The dual function q at `multipliers`, F2(x) - lambda.(G x + w_ext): a lower bound on the
+  /// optimum whenever the problem is feasible.
+  Scalar dual_objective{0};
+  /// True when the unconstrained optimum was strictly inside every cone and was returned at once.
+  bool fast_path{false};
+};
+
+namespace detail {
+
+/// Per-pass sums of solve_constrained.
+template <class Scalar>
+struct ConstrainedPass {
+  Wrench<Scalar> residual;  ///< G x + w_ext
+  Scalar f2{0};             ///< F2(x)
+  Scalar scale{0};          ///< |w_ext| + |x|: the scale of the equilibrium tolerance
+  Scalar dual{0};           ///< q = F2 - lambda.residual
+};
+
+/// The cone's own projection, except a Coulomb cone with mu = 0 (the ray {f_n a, f_n >= 0}):
+/// there CoulombCone::project keeps f = f_n a with f_n < 0 (reported to the cone's owner), so
+/// the ray's projection max(f.a, 0) a is used.
+template <class Cone, class V>
+V project_onto(const Cone& k, const V& v) {
+  return k.project(v);
+}
+template <class Scalar>
+Vector3<Scalar> project_onto(const CoulombCone<Scalar>& k, const Vector3<Scalar>& v) {
+  if (k.mu > Scalar(0)) return k.project(v);
+  const Scalar n = v.dot(k.normal);
+  return n > Scalar(0) && detail::cone_input_valid(v) ? Vector3<Scalar>(n * k.normal) : Vector3<Scalar>::Zero();
+}
+
+/// x_i = P_i(t_i + w_i^-1 G_i^T lambda) for every contact, with the sums of ConstrainedPass.
+template <class GraspT, class Vec>
+ConstrainedPass<typename GraspT::ScalarType> constrained_pass(const GraspT& grasp,
+                                                              const Wrench<typename GraspT::ScalarType>& w_ext,
+                                                              const Wrench<typename GraspT::ScalarType>& lambda,
+                                                              Vec& x) {
+  using S = typename GraspT::ScalarType;
+  using M = typename GraspT::ModelType;
+  using Cone = ExactConeT<M, S>;
+  using CV = typename GraspT::ContactVector;
+  constexpr int d = GraspT::dim;
+  ConstrainedPass<S> p;
+  p.residual = w_ext;
+  S xx = S(0);
+  for (int i = 0; i < grasp.size(); ++i) {
+    const auto& c = grasp.contact(i);
+    const CV t = M::target(c);
+    const CV v = t + (S(1) / c.weight) * M::wrench_transpose(c, lambda);
+    const CV xi = project_onto(Cone::from_contact(c), v);
+    x.template segment<d>(i * d) = xi;
+    p.residual += M::wrench(c, xi);
+    p.f2 += S(0.5) * c.weight * (xi - t).squaredNorm();
+    xx += xi.squaredNorm();
+  }
+  p.scale = w_ext.norm() + std::sqrt(xx);
+  p.dual = p.f2 - lambda.dot(p.residual);
+  return p;
+}
+
+/// sum_i w_i^-1 G_i J_i G_i^T at lambda, x = x(lambda): minus the dual's generalised Hessian.
+template <class GraspT, class Vec>
+Matrix6<typename GraspT::ScalarType> constrained_hessian(const GraspT& grasp,
+                                                        const Wrench<typename GraspT::ScalarType>& lambda,
+                                                        const Vec& x) {
+  using S = typename GraspT::ScalarType;
+  using M = typename GraspT::ModelType;
+  using Cone = ExactConeT<M, S>;
+  using CV = typename GraspT::ContactVector;
+  constexpr int d = GraspT::dim;
+  GramAccumulator<S> acc;
+  for (int i = 0; i < grasp.size(); ++i) {
+    const auto& c = grasp.contact(i);
+    const S k = S(1) / c.weight;
+    const CV v = M::target(c) + k * M::wrench_transpose(c, lambda);
+    const CV xi = x.template segment<d>(i * d);
+    const auto j = projection_jacobian(Cone::from_contact(c), v, xi);
+    if (j.region == ProjectionRegion::Interior) {
+      M::accumulate(acc, c, k);
+    } else if (j.region == ProjectionRegion::Boundary) {
+      const Eigen::Matrix<S, 6, d> g = M::basis(c);
+      const Eigen::Matrix<S, 6, d> gj = k * (g * j.matrix);
+      acc.extra.noalias() += gj * g.transpose();
+    }
+  }
+  return acc.matrix();
+}
+
+/// True when y (unit) certifies infeasibility: y.w_ext > 0 and G_i^T y in K_i^* for all i, up
+/// to `tol`: the distance from G_i^T y to K_i^* is at most tol (1 + |r_i|) (|r_i| in m: the
+/// scale of G_i^T y for a unit y).
+template <class GraspT>
+bool is_infeasibility_certificate(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
+                                  const Wrench<typename GraspT::ScalarType>& y,
+                                  typename GraspT::ScalarType tol) {
+  using S = typename GraspT::ScalarType;
+  using M = typename GraspT::ModelType;
+  using Cone = ExactConeT<M, S>;
+  if (!(y.dot(w_ext) > tol * w_ext.norm())) return false;
+  for (int i = 0; i < grasp.size(); ++i) {
+    const auto& c = grasp.contact(i);
+    const typename GraspT::ContactVector z = M::wrench_transpose(c, y);
+    const auto dual = Cone::from_contact(c).dual();
+    if (!((z - dual.project(z)).norm() <= tol * (S(1) + c.position.norm()))) return false;
+  }
+  return true;
+}
+
+/// Solves A y = b for a symmetric 6x6 A known to satisfy A >= floor I (here: a Jacobi-scaled
+/// M + el I) by Cholesky with every pivot raised to at least `floor`, so that round-off can
+/// neither break the factorisation nor hide the directions that only the floor keeps.
+template <class Scalar>
+Wrench<Scalar> solve_floored_6x6(const Matrix6<Scalar>& a, const Wrench<Scalar>& b, Scalar floor) {
+  Matrix6<Scalar> l = a;
+  for (int j = 0; j < 6; ++j) {
+    Scalar p = l(j, j);
+    for (int k = 0; k < j; ++k) p -= l(j, k) * l(j, k);
+    if (!(p > floor)) p = floor;
+    p = std::sqrt(p);
+    l(j, j) = p;
+    for (int i = j + 1; i < 6; ++i) {
+      Scalar t = l(i, j);
+      for (int k = 0; k < j; ++k) t -= l(i, k) * l(j, k);
+      l(i, j) = t / p;
+    }
+  }
+  Wrench<Scalar> z = b;
+  for (int i = 0; i < 6; ++i) {
+    for (int k = 0; k < i; ++k) z(i) -= l(i, k) * z(k);
+    z(i) /= l(i, i);
+  }
+  for (int i = 5; i >= 0; --i) {
+    for (int k = i + 1; k < 6; ++k) z(i) -= l(k, i) * z(k);
+    z(i) /= l(i, i);
+  }
+  return z;
+}
+
+/// Phase 1: forces in the cones that come closest to equilibrium. Solves
+///   min over x in the cones of 1/2 |G x + w_ext|^2 + delta/2 sum_i w_i |x_i - t_i|^2
+/// (delta small: the least residual, ties broken by F2) through its strongly concave dual
+///   phi(l) = -1/2 |l|^2 + l.(G x(l) + w_ext) + delta F2(x(l)), x_i(l) = P_i(t_i - G_i^T l/(delta w_i)),
+/// by the same semi-smooth Newton method (Hessian -(I + sum G_i J_i G_i^T/(delta w_i))). At its
+/// maximiser l = G x + w_ext. For ANY l, x_i(l) is a projection, so G_i^T l + delta w_i (x_i - t_i)
+/// lies in K_i^* exactly: l/|l| is an infeasibility certificate up to delta w_i |x_i - t_i| / |l|.
+/// Writes the forces into x, the multipliers into lambda, and returns the iterations used (at
+/// most settings.max_iterations).
+template <class GraspT, class Vec>
+int least_residual(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
+                   typename GraspT::ScalarType delta, const ConstrainedSettings<typename GraspT::ScalarType>& settings,
+                   Vec& x, Wrench<typename GraspT::ScalarType>& lambda, typename GraspT::ScalarType& f2) {
+  using S = typename GraspT::ScalarType;
+  const S eps = std::numeric_limits<S>::epsilon();
+  Vec xt(x.size());
+  lambda.setZero();
+  // Continuation: delta starts at delta_max (a well-scaled problem) and drops 100-fold each
+  // time the current problem is solved, down to the requested delta (warm-started each time).
+  S dl = delta;
+  const S delta_max = delta / settings.least_residual_weight;
+  while (dl * S(100) <= delta_max) dl *= S(100);
+  const auto phi = [&](const ConstrainedPass<S>& p, const Wrench<S>& l) {
+    return -S(0.5) * l.squaredNorm() + l.dot(p.residual) + dl * p.f2;
+  };
+  ConstrainedPass<S> cur = constrained_pass(grasp, w_ext, Wrench<S>(-lambda / dl), x);
+  S cur_phi = phi(cur, lambda);
+  int it = 0;
+  for (; it < settings.max_iterations; ++it) {
+    const Wrench<S> g = cur.residual - lambda;  // grad phi
+    if (g.norm() <= settings.tolerance * cur.scale || (dl > delta && g.norm() <= S(1e-3f) * cur.scale)) {
+      if (!(dl > delta)) break;
+      dl = dl / S(100) < delta ? delta : dl / S(100);
+      cur = constrained_pass(grasp, w_ext, Wrench<S>(-lambda / dl), x);
+      cur_phi = phi(cur, lambda);
+      continue;
+    }
+    Matrix6<S> h = constrained_hessian(grasp, Wrench<S>(-lambda / dl), x);
+    h.diagonal().array() += dl;
+    const Wrench<S> e = h.diagonal().cwiseSqrt().cwiseInverse();
+    const Matrix6<S> hs = e.asDiagonal() * h * e.asDiagonal();
+    const Wrench<S> dir = e.cwiseProduct(solve_floored_6x6(hs, Wrench<S>(dl * e.cwiseProduct(g)), S(16) * eps));
+    const S slope = g.dot(dir);
+    if (dir.norm() <= S(4) * eps * (lambda.norm() + cur.scale) || !(slope > S(0))) {  // at round-off
+      if (!(dl > delta)) break;
+      dl = dl / S(100) < delta ? delta : dl / S(100);
+      cur = constrained_pass(grasp, w_ext, Wrench<S>(-lambda / dl), x);
+      cur_phi = phi(cur, lambda);
+      continue;
+    }
+    if (!(slope > S(0)) || !dir.allFinite()) break;
+    bool accepted = false;
+    S alpha = S(1);
+    Wrench<S> lt;
+    ConstrainedPass<S> trial;
+    S trial_phi = cur_phi;
+    for (int ls = 0; ls < settings.max_line_search; ++ls, alpha *= S(0.5)) {
+      lt = lambda + alpha * dir;
+      trial = constrained_pass(grasp, w_ext, Wrench<S>(-lt / dl), xt);
+      trial_phi = phi(trial, lt);
+      const S slack = S(16) * eps * (std::abs(cur_phi) + std::abs(trial_phi) + lt.squaredNorm());
+      if (trial_phi >= cur_phi + S(1e-4f) * alpha * slope - slack) {
+        accepted = true;
+        break;
+      }
+    }
+    if (!accepted) {
+      if (!(dl > delta)) break;
+      dl = dl / S(100) < delta ? delta : dl / S(100);
+      cur = constrained_pass(grasp, w_ext, Wrench<S>(-lambda / dl), x);
+      cur_phi = phi(cur, lambda);
+      continue;
+    }
+    lambda = lt;
+    x = xt;
+    cur = trial;
+    cur_phi = trial_phi;
+  }
+  f2 = cur.f2;
+  return it;
+}
+
+template <class Scalar>
+bool valid_settings(const ConstrainedSettings<Scalar>& s) {
+  const auto pos = [](Scalar v) { return std::isfinite(v) && v > Scalar(0); };
+  return pos(s.tolerance) && pos(s.gap_tolerance) && pos(s.regularisation) && pos(s.certificate_tolerance) &&
+         pos(s.least_residual_weight) &&
+         s.max_iterations >= 1 && s.max_line_search >= 1;
+}
+
+template <class GraspT>
+void fill_invalid(ConstrainedSolution<GraspT>& sol, int unknowns) {
+  sol.forces.setZero(unknowns);
+  sol.multipliers.setZero();
+  sol.status = Status::InvalidInput;
+  sol.residual = std::numeric_limits<typename GraspT::ScalarType>::max();
+  sol.iterations = 0;
+}
+
+/// The fast path: the unconstrained optimum (solve_range_space's), returned as the answer when
+/// it is strictly inside every cone. Writes it into `sol` and its multipliers into `lambda`;
+/// returns true if it is the answer (status Ok, fast_path true).
+template <class GraspT>
+bool constrained_fast_path(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
+                           ConstrainedSolution<GraspT>& sol, Wrench<typename GraspT::ScalarType>& lambda,
+                           Wrench<typename GraspT::ScalarType>& jacobi) {
+  using S = typename GraspT::ScalarType;
+  using M = typename GraspT::ModelType;
+  using Cone = ExactConeT<M, S>;
+  using CV = typename GraspT::ContactVector;
+  constexpr int d = GraspT::dim;
+  GramAccumulator<S> acc;
+  Wrench<S> rhs = -w_ext;
+  for (int i = 0; i < grasp.size(); ++i) {
+    const auto& c = grasp.contact(i);
+    M::accumulate(acc, c, S(1) / c.weight);
+    rhs -= M::wrench(c, M::target(c));
+  }
+  const Matrix6<S> m = acc.matrix();
+  jacobi = m.diagonal();
+  const Status st = solve_symmetric_6x6(m, rhs, lambda);
+  if (st != Status::Ok) return false;
+  bool inside = true;
+  Wrench<S> r = w_ext;
+  S f2 = S(0);
+  for (int i = 0; i < grasp.size(); ++i) {
+    const auto& c = grasp.contact(i);
+    const CV t = M::target(c);
+    const CV x = t + (S(1) / c.weight) * M::wrench_transpose(c, lambda);
+    if (!(Cone::from_contact(c).margin(x) > S(0))) {
+      inside = false;
+      break;
+    }
+    sol.forces.template segment<d>(i * d) = x;
+    r += M::wrench(c, x);
+    f2 += S(0.5) * c.weight * (x - t).squaredNorm();
+  }
+  if (!inside) return false;
+  sol.multipliers = lambda;
+  sol.residual = r.norm();
+  sol.objective = f2;
+  sol.dual_objective = f2 - lambda.dot(r);
+  sol.status = Status::Ok;
+  sol.iterations = 0;
+  sol.fast_path = true;
+  return true;
+}
+
+template <class GraspT>
+ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
+                                                   const Wrench<typename GraspT::ScalarType>& w_ext,
+                                                   const ConstrainedSettings<typename GraspT::ScalarType>& settings,
+                                                   const Wrench<typename GraspT::ScalarType>* warm) {
+  using S = typename GraspT::ScalarType;
+  using M = typename GraspT::ModelType;
+  using FV = typename GraspT::ForceVector;
+  const int m = grasp.unknowns();
+  ConstrainedSolution<GraspT> sol;
+  fill_invalid(sol, m);
+  if (!grasp.complete() || validate(w_ext) != Status::Ok || !valid_settings(settings)) return sol;
+  if (warm != nullptr && !(detail::all_in_range(*warm))) return sol;
+
+  const S eps = std::numeric_limits<S>::epsilon();
+  if (grasp.size() == 0) {  // nothing can push: feasible only for w_ext = 0
+    sol.residual = w_ext.norm();
+    if (sol.residual == S(0)) {
+      sol.status = Status::Ok;
+    } else {
+      sol.status = Status::Infeasible;
+      sol.certificate = w_ext / sol.residual;
+    }
+    return sol;
+  }
+
+  // Start: the unconstrained optimum (returned at once if strictly inside), or the warm start.
+  Wrench<S> lambda = Wrench<S>::Zero();
+  Wrench<S> jacobi;
+  if (warm == nullptr) {
+    if (constrained_fast_path(grasp, w_ext, sol, lambda, jacobi)) return sol;
+    if (!lambda.allFinite()) lambda.setZero();
+  } else {
+    lambda = *warm;
+    GramAccumulator<S> acc;
+    for (int i = 0; i < grasp.size(); ++i) M::accumulate(acc, grasp.contact(i), S(1) / grasp.contact(i).weight);
+    jacobi = acc.matrix().diagonal();
+  }
+  // Jacobi scaling D of the Levenberg-Marquardt term: the unconstrained Gram diagonal, floored.
+  const S jmax = jacobi.maxCoeff();
+  for (int k = 0; k < 6; ++k) jacobi(k) = std::fmax(jacobi(k), S(1e-6f) * jmax);
+  const Wrench<S> dinv = jacobi.cwiseSqrt().cwiseInverse();
+
+  FV x(m), xt(m);
+  ConstrainedPass<S> cur = constrained_pass(grasp, w_ext, lambda, x);
+  const S armijo = S(1e-4f);
+  const S reg = settings.regularisation;
+  S damping = S(1);  // Levenberg-Marquardt state: /10 after a full step, *4 after a cut one
+  Status status = Status::IterationLimit;
+  int it = 0;
+  int stall = 0;
+  bool phase1_done = false;
+  // Phase 1: the least-residual forces; Infeasible (with those forces and multipliers) if the
+  // direction of its multipliers checks out as a certificate.
+  const auto decide_infeasible = [&]() {
+    Wrench<S> y;
+    S f2 = S(0);
+    const S delta = settings.least_residual_weight * jacobi.maxCoeff();
+    const int used = least_residual(grasp, w_ext, delta, settings, xt, y, f2);
+    it += used;
+    const Wrench<S> r = grasp.wrench(xt) + w_ext;
+    const S rn = y.norm();
+    // y is (to delta) the least residual: a feasible problem leaves only round-off there.
+    if (!(rn > S(1000) * settings.tolerance * w_ext.norm())) return false;
+    const Wrench<S> cert = y / rn;
+    if (!is_infeasibility_certificate(grasp, w_ext, cert, settings.certificate_tolerance)) return false;
+    status = Status::Infeasible;
+    sol.certificate = cert;
+    x = xt;
+    lambda = y;
+    cur.residual = r;
+    cur.f2 = f2;
+    cur.dual = f2 - lambda.dot(r);
+    return true;
+  };
+  for (;; ++it) {
+    const S rn = cur.residual.norm();
+    const S floor = S(16) * eps * cur.scale;
+    if (rn <= floor ||
+        (rn <= settings.tolerance * cur.scale && std::abs(lambda.dot(cur.residual)) <= settings.gap_tolerance * cur.f2)) {
+      status = Status::Ok;
+      break;
+    }
+    if (it >= settings.max_iterations) break;
+    // Newton direction: (H + mu D) d = -r, H = sum w^-1 G J G^T, solved Jacobi-scaled;
+    // mu = min(damping, |r|/scale) + reg: quadratic convergence near the optimum, and steps
+    // that grow geometrically along a direction of unbounded ascent (infeasible problems).
+    Matrix6<S> h = constrained_hessian(grasp, lambda, x);
+    const S rel = cur.scale > S(0) ? rn / cur.scale : S(1);
+    const S mu = (damping < rel ? damping : rel) + reg;
+    h.diagonal() += mu * jacobi;
+    const Matrix6<S> hs = dinv.asDiagonal() * h * dinv.asDiagonal();
+    const Wrench<S> dir = dinv.cwiseProduct(solve_floored_6x6(hs, Wrench<S>(-dinv.cwiseProduct(cur.residual)), mu));
+    const S slope = -cur.residual.dot(dir);  // q'(0) along dir, > 0
+    bool accepted = false;
+    ConstrainedPass<S> trial;
+    Wrench<S> lt;
+    int cuts = 0;
+    if (slope > S(0) && dir.allFinite()) {
+      S alpha = S(1);
+      for (; cuts < settings.max_line_search; ++cuts, alpha *= S(0.5)) {
+        lt = lambda + alpha * dir;
+        trial = constrained_pass(grasp, w_ext, lt, xt);
+        const S slack = S(16) * eps * (std::abs(trial.dual) + std::abs(cur.dual) + std::abs(cur.f2));
+        if (trial.dual >= cur.dual + armijo * alpha * slope - slack) {
+          accepted = true;
+          break;
+        }
+      }
+    }
+    if (!accepted) {  // no ascent left at round-off
+      if (rn <= settings.tolerance * cur.scale) status = Status::Ok;
+      break;
+    }
+    damping = cuts == 0 ? damping * S(0.1) : (damping * S(4) < S(1) ? damping * S(4) : S(1));
+    if (damping < reg) damping = reg;
+    lambda = lt;
+    x = xt;
+    const S rn_new = trial.residual.norm();
+    cur = trial;
+    // Slow progress (the residual no longer halves) suggests that no forces in the cones
+    // balance w_ext: decide it once by the least-residual problem.
+    stall = rn_new > S(0.5) * rn ? stall + 1 : 0;
+    if (stall >= 3 && !phase1_done) {
+      phase1_done = true;
+      if (decide_infeasible()) break;
+    }
+  }
+  if (status == Status::IterationLimit && !phase1_done) (void)decide_infeasible();
+  sol.forces = x;
+  sol.multipliers = lambda;
+  sol.residual = cur.residual.norm();
+  sol.objective = cur.f2;
+  sol.dual_objective = cur.dual;
+  sol.iterations = it;
+  sol.status = status;
+  if (!sol.forces.allFinite() || !sol.multipliers.allFinite() || !std::isfinite(sol.dual_objective)) {
+    sol.forces.setZero(m);
+    sol.multipliers.setZero();
+    sol.residual = w_ext.norm();
+    sol.objective = S(0);
+    sol.dual_objective = S(0);
+    if (sol.status == Status::Ok) sol.status = Status::IterationLimit;
+  }
+  return sol;
+}
+
+}  // namespace detail
+
+/// The exact optimum of min 1/2 sum_i w_i |x_i - t_i|^2 s.t. G x + w_ext = 0, x_i in K_i
+/// (K_i = ExactConeT<Model, Scalar>, see exact_cone.hpp), for any Grasp (fixed or Dynamic,
+/// any model, float or double). No heap, no exceptions; at most settings.max_iterations
+/// Newton iterations of O(n) each, each with at most settings.max_line_search O(n) passes, plus
+/// (only when infeasibility is suspected) as many again for the least-residual problem;
+/// `iterations` counts both.
+///
+/// Cold start (no warm multipliers): solve_range_space's unconstrained optimum; if it is
+/// strictly inside every cone it is the answer (status Ok, iterations 0, fast_path true).
+/// Warm start: pass the previous frame's `multipliers` (a 6-vector, so the contact count may
+/// change between frames); no fast-path test is made then.
+///
+/// Statuses and numbers:
+/// - Ok: |G x + w_ext| <= tolerance (|w_ext| + |x|) with duality gap |lambda.(G x + w_ext)| <=
+///   gap_tolerance F2 (or the residual is at round-off). `forces` are in their cones, the KKT
+///   conditions of every contact hold exactly (x_i is a projection), `objective` is F2.
+/// - Infeasible: no forces in the cones balance w_ext (the grasp slips). `certificate` holds y
+///   (see ConstrainedSolution). `forces` come closest: they solve (to its tolerance) the
+///   least-residual problem min |G x + w_ext|_2^2/2 + delta F2(x)/2 over the cones, delta =
+///   least_residual_weight times the largest Jacobi entry of G W^-1 G^T, i.e. the smallest
+///   equilibrium residual (Euclidean, N and N m mixed as in `residual`), ties broken by F2.
+///   `multipliers` are then that problem's (y = multipliers/|multipliers|).
+///   Decided when the Newton iteration stalls (the residual fails to halve 3 times in a row) or
+///   at its iteration bound; the least-residual solve has its own max_iterations bound.
+/// - IterationLimit: the bound was reached (or the line search stalled) before the tolerance;
+///   `forces` = x(lambda) of the last iterate (in the cones), `residual` what is left.
+/// - InvalidInput: incomplete grasp, bad w_ext, bad settings or a non-finite warm start: zeros.
+/// A grasp matrix of rank < 6 is not an error here: the answer is Ok if the wrench can still be
+/// balanced inside the cones, Infeasible (with a certificate) otherwise.
+template <class GraspT>
+ConstrainedSolution<GraspT> solve_constrained(
+    const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
+    const ConstrainedSettings<typename GraspT::ScalarType>& settings = ConstrainedSettings<typename GraspT::ScalarType>{}) {
+  return detail::solve_constrained_impl(grasp, w_ext, settings, nullptr);
+}
+
+/// As above, warm-started from `warm_multipliers` (the previous frame's solution.multipliers).
+template <class GraspT>
+ConstrainedSolution<GraspT> solve_constrained(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
+                                              const ConstrainedSettings<typename GraspT::ScalarType>& settings,
+                                              const Wrench<typename GraspT::ScalarType>& warm_multipliers) {
+  return detail::solve_constrained_impl(grasp, w_ext, settings, &warm_multipliers);
+}
+
+}  // namespace grip

@@ -1,0 +1,110 @@
+#pragma once
+// Helpers of the solve_constrained tests: the cvxopt reference data set (parsed from
+// constrained_reference.txt, found next to this file), and independent optimality checks
+// written from the cone definitions (not through the cone types the solver uses).
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <grip/grip.hpp>
+
+namespace grip_test {
+
+/// One instance of the reference file (see make_constrained_reference.py).
+struct ConstrainedReference {
+  char model{'H'};
+  bool feasible{true};
+  double objective{0};
+  grip::Wrench<double> w_ext{grip::Wrench<double>::Zero()};
+  std::vector<grip::Contact<double>> contacts;
+};
+
+/// Parses tests/solve/constrained_reference.txt (located from this header's own path).
+inline std::vector<ConstrainedReference> load_constrained_reference() {
+  std::string dir = __FILE__;
+  dir = dir.substr(0, dir.find_last_of("/\\") + 1);
+  std::ifstream in(dir + "constrained_reference.txt");
+  std::vector<ConstrainedReference> out;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream s(line);
+    std::string tag;
+    s >> tag;
+    if (tag == "instance") {
+      ConstrainedReference r;
+      int k = 0, n = 0;
+      std::string status;
+      double resid = 0;
+      s >> k >> r.model >> n >> status >> r.objective >> resid;
+      r.feasible = status == "optimal";
+      out.push_back(r);
+    } else if (tag == "w") {
+      for (int i = 0; i < 6; ++i) s >> out.back().w_ext(i);
+    } else if (tag == "c") {
+      grip::Contact<double> c;
+      s >> c.position.x() >> c.position.y() >> c.position.z() >> c.normal.x() >> c.normal.y() >> c.normal.z() >>
+          c.friction >> c.torsional_friction >> c.squeeze >> c.weight;
+      out.back().contacts.push_back(c);
+    }
+  }
+  return out;
+}
+
+template <class S>
+grip::Contact<S> cast_contact(const grip::Contact<double>& c) {
+  grip::Contact<S> o;
+  o.position = c.position.cast<S>();
+  o.normal = c.normal.cast<S>();
+  o.friction = S(c.friction);
+  o.torsional_friction = S(c.torsional_friction);
+  o.squeeze = S(c.squeeze);
+  o.weight = S(c.weight);
+  return o;
+}
+
+/// Normal part, tangential norm (and moment) of a contact unknown, for each model.
+struct ConeCoordinates {
+  double n{0}, t{0}, m{0};
+};
+template <class Model, class Vec>
+ConeCoordinates cone_coordinates(const grip::Contact<double>& c, const Vec& x) {
+  ConeCoordinates k;
+  if constexpr (Model::dim == 1) {
+    k.n = double(x(0));
+  } else {
+    const grip::Vector3<double> f(double(x(0)), double(x(1)), double(x(2)));
+    k.n = f.dot(c.normal);
+    k.t = (f - k.n * c.normal).norm();
+    if constexpr (Model::dim == 4) k.m = double(x(3));
+  }
+  return k;
+}
+
+/// How far x lies outside contact c's exact cone, in N (0 inside), from the definitions:
+/// hard |f_t| <= mu f_n; soft sqrt(|f_t|^2/mu^2 + m^2/mu_t^2) <= f_n, i.e.
+/// sqrt(mu_t^2 |f_t|^2 + mu^2 m^2) <= mu mu_t f_n; frictionless f_n >= 0.
+template <class Model, class Vec>
+double cone_violation(const grip::Contact<double>& c, const Vec& x) {
+  const ConeCoordinates k = cone_coordinates<Model>(c, x);
+  if constexpr (Model::dim == 1) return std::fmax(0.0, -k.n);
+  if constexpr (Model::dim == 3) return std::fmax(std::fmax(0.0, k.t - c.friction * k.n), -k.n);
+  const double mu = c.friction, mt = c.torsional_friction;
+  const double lhs = std::sqrt(mt * mt * k.t * k.t + mu * mu * k.m * k.m);
+  return std::fmax(std::fmax(0.0, (lhs - mu * mt * k.n) / std::fmax(mu * mt, 1e-300)), -k.n);
+}
+
+/// How far z lies outside the DUAL cone of contact c (0 inside), from the definitions:
+/// hard mu |z_t| <= z_n; soft sqrt(mu^2 |z_t|^2 + mu_t^2 z_m^2) <= z_n; frictionless z >= 0.
+template <class Model, class Vec>
+double dual_cone_violation(const grip::Contact<double>& c, const Vec& z) {
+  const ConeCoordinates k = cone_coordinates<Model>(c, z);
+  if constexpr (Model::dim == 1) return std::fmax(0.0, -k.n);
+  if constexpr (Model::dim == 3) return std::fmax(0.0, c.friction * k.t - k.n);
+  const double mu = c.friction, mt = c.torsional_friction;
+  return std::fmax(0.0, std::sqrt(mu * mu * k.t * k.t + mt * mt * k.m * k.m) - k.n);
+}
+
+}  // namespace grip_test

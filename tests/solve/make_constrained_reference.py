@@ -1,0 +1,212 @@
+#!/usr/bin/python3
+"""Reference data for grip::solve_constrained, from an independent conic solver.
+
+Solves seeded random instances of
+
+    minimise   1/2 sum_i w_i |x_i - t_i|^2
+    subject to G x + w_ext = 0,   x_i in K_i  (every contact inside its exact cone)
+
+with Debian's python3-cvxopt (interior point, coneqp), and writes them to
+constrained_reference.txt next to this script. The C++ test reads that file; it does
+not need Python. Run:  /usr/bin/python3 tests/solve/make_constrained_reference.py
+
+Cones (design.md conventions, normal a_i unit INTO the object):
+  H  hard finger,   x = f (3):      |f - (a.f) a| <= mu (a.f)              (eq. 4-5)
+  S  soft finger,   x = (f, m) (4): |f_t|^2/mu^2 + m^2/mu_t^2 <= (a.f)^2   (elliptic)
+  F  frictionless,  x = f_n (1):    f_n >= 0
+Targets: H: s a; S: (s a, 0); F: s.
+
+Feasibility is decided first by cvxopt's conelp on the feasibility problem (zero
+objective); it returns 'primal infeasible' with a certificate when no forces in the
+cones balance the wrench. Feasible instances are then solved by coneqp with tight
+tolerances; instances cvxopt does not solve to 'optimal' are discarded (and counted).
+
+File format (whitespace separated, '#' lines are comments):
+  instance <k> <H|S|F> <n> <optimal|infeasible> <objective (0 if infeasible)> <residual>
+  w <6 numbers: w_ext = (force; moment)>
+  c <px py pz  nx ny nz  mu  mu_t  squeeze  weight>      (n lines)
+All inputs are printed with 10 significant digits and the solver was given exactly the
+printed (rounded) values, so that the C++ side parses the very same instance.
+"""
+import os
+
+import numpy as np
+from cvxopt import matrix, solvers
+
+SEED = 20261121
+COUNT = 300
+# coneqp reaches status 'optimal' at 1e-10; a second run at 1e-12 usually stops with
+# 'unknown' (progress stalls at round-off) but with a better objective. We keep the second
+# objective when its residual is at round-off and it agrees with the first to 1e-9.
+LOOSE = {"show_progress": False, "abstol": 1e-10, "reltol": 1e-10, "feastol": 1e-10, "maxiters": 100}
+TIGHT = {"show_progress": False, "abstol": 1e-12, "reltol": 1e-12, "feastol": 1e-12, "maxiters": 100}
+
+
+def rnd(v):
+    return float("%.10g" % v)
+
+
+def skew(r):
+    return np.array([[0, -r[2], r[1]], [r[2], 0, -r[0]], [-r[1], r[0], 0]])
+
+
+def tangent_basis(a):
+    k = int(np.argmin(np.abs(a)))
+    e = np.zeros(3)
+    e[k] = 1.0
+    e1 = np.cross(a, e)
+    e1 /= np.linalg.norm(e1)
+    return e1, np.cross(a, e1)
+
+
+def random_contact(rng, axes, cap=None):
+    """A contact on the ellipsoid with semi-axes `axes`, inward normal; `cap`: only z > cap."""
+    while True:
+        u = rng.normal(size=3)
+        u /= np.linalg.norm(u)
+        if cap is None or u[2] > cap:
+            break
+    p = u / np.sqrt(np.sum((u / axes) ** 2))
+    nrm = -(p / axes ** 2)
+    nrm /= np.linalg.norm(nrm)
+    nrm = np.array([rnd(v) for v in nrm])
+    return dict(p=np.array([rnd(v) for v in p]), a=nrm, mu=rnd(rng.uniform(0.2, 1.0)),
+                mut=rnd(rng.uniform(0.002, 0.02)), s=rnd(rng.uniform(0.0, 3.0)), w=1.0)
+
+
+def build(model, contacts, w_ext):
+    """cvxopt data: P, q (objective), Gc, h, dims (cones), A, b (equilibrium)."""
+    d = {"H": 3, "S": 4, "F": 1}[model]
+    n = len(contacts)
+    m = n * d
+    P = np.zeros((m, m))
+    q = np.zeros(m)
+    A = np.zeros((6, m))
+    rows_l, rows_q, sizes = [], [], []
+    for i, c in enumerate(contacts):
+        o = i * d
+        a, r = c["a"], c["p"]
+        if model == "F":
+            t = np.array([c["s"]])
+            A[:3, o] = a
+            A[3:, o] = np.cross(r, a)
+            g = np.zeros(m)
+            g[o] = -1.0  # -x <= 0
+            rows_l.append(g)
+        else:
+            t = np.concatenate([c["s"] * a, np.zeros(d - 3)])
+            A[:3, o:o + 3] = np.eye(3)
+            A[3:, o:o + 3] = skew(r)
+            if d == 4:
+                A[3:, o + 3] = a
+            e1, e2 = tangent_basis(a)
+            g = np.zeros(m)
+            g[o:o + 3] = -a  # a.f >= 0 (needed for mu = 0; redundant otherwise)
+            rows_l.append(g)
+            blk = np.zeros((d, m))
+            if d == 3:  # (mu a.f, e1.f, e2.f) in Q3
+                blk[0, o:o + 3] = -c["mu"] * a
+                blk[1, o:o + 3] = -e1
+                blk[2, o:o + 3] = -e2
+            else:  # (a.f, e1.f/mu, e2.f/mu, m/mu_t) in Q4
+                blk[0, o:o + 3] = -a
+                blk[1, o:o + 3] = -e1 / c["mu"]
+                blk[2, o:o + 3] = -e2 / c["mu"]
+                blk[3, o + 3] = -1.0 / c["mut"]
+            rows_q.append(blk)
+            sizes.append(d)
+        P[o:o + d, o:o + d] = c["w"] * np.eye(d)
+        q[o:o + d] = -c["w"] * t
+    Gc = np.vstack(rows_l + rows_q)
+    dims = {"l": len(rows_l), "q": sizes, "s": []}
+    return P, q, Gc, np.zeros(Gc.shape[0]), dims, A, -np.asarray(w_ext)
+
+
+def objective(model, contacts, x):
+    d = {"H": 3, "S": 4, "F": 1}[model]
+    f = 0.0
+    for i, c in enumerate(contacts):
+        xi = x[i * d:(i + 1) * d]
+        t = np.array([c["s"]]) if model == "F" else np.concatenate([c["s"] * c["a"], np.zeros(d - 3)])
+        f += 0.5 * c["w"] * np.sum((xi - t) ** 2)
+    return f
+
+
+def solve(model, contacts, w_ext):
+    P, q, Gc, h, dims, A, b = build(model, contacts, w_ext)
+    if np.linalg.matrix_rank(A) < 6:
+        return None
+    M = lambda z: matrix(np.ascontiguousarray(z, dtype=float))
+    try:
+        feas = solvers.conelp(M(np.zeros(P.shape[0])), M(Gc), M(h), dims, M(A), M(b),
+                              options={"show_progress": False})  # default tolerances
+        if feas["status"] == "primal infeasible":  # certificate found
+            return ("infeasible", 0.0, 0.0)
+        if feas["status"] != "optimal":
+            return None
+        sol = solvers.coneqp(M(P), M(q), M(Gc), M(h), dims, M(A), M(b), options=LOOSE)
+        if sol["status"] != "optimal":
+            return None
+        x = np.array(sol["x"]).ravel()
+        best = (objective(model, contacts, x), float(np.linalg.norm(A @ x - b)))
+        sol2 = solvers.coneqp(M(P), M(q), M(Gc), M(h), dims, M(A), M(b), options=TIGHT)
+        x2 = np.array(sol2["x"]).ravel()
+        f2, r2 = objective(model, contacts, x2), float(np.linalg.norm(A @ x2 - b))
+        if r2 < 1e-12 * (1.0 + np.linalg.norm(b)) and abs(f2 - best[0]) <= 1e-9 * abs(best[0]):
+            best = (f2, r2)
+    except (ValueError, ArithmeticError):
+        return None
+    return ("optimal",) + best
+
+
+def main():
+    rng = np.random.default_rng(SEED)
+    out = []
+    skipped = 0
+    k = 0
+    while k < COUNT:
+        model = "HSF"[k % 3]
+        kind = rng.uniform()
+        n = int(rng.integers(7 if model == "F" else 3, 21))
+        axes = rng.uniform(0.02, 0.06, size=3)
+        if rng.uniform() < 0.3:
+            axes[:] = axes[0]  # a sphere
+        cap = 0.2 if kind < 0.1 else None  # contacts on an upper cap only: often infeasible
+        contacts = [random_contact(rng, axes, cap) for _ in range(n)]
+        if model == "H" and rng.uniform() < 0.1 and n >= 7:
+            for c in contacts:
+                c["mu"] = 0.0
+        if rng.uniform() < 0.5:
+            for c in contacts:
+                c["w"] = rnd(rng.uniform(0.5, 2.0))
+        force = rng.normal(size=3)
+        force *= 5.0 * rng.uniform(0.2, 3.0) / np.linalg.norm(force)
+        if cap is not None:
+            force[2] = -abs(force[2]) - 2.0  # pushes the object down onto its upper contacts
+        w_ext = np.concatenate([force, 0.05 * rng.normal(size=3)])
+        w_ext = np.array([rnd(v) for v in w_ext])
+        res = solve(model, contacts, w_ext)
+        if res is None:
+            skipped += 1
+            continue
+        status, obj, resid = res
+        out.append("instance %d %s %d %s %.17g %.3g" % (k, model, n, status, obj, resid))
+        out.append("w " + " ".join("%.10g" % v for v in w_ext))
+        for c in contacts:
+            vals = list(c["p"]) + list(c["a"]) + [c["mu"], c["mut"], c["s"], c["w"]]
+            out.append("c " + " ".join("%.10g" % v for v in vals))
+        k += 1
+    infeasible = sum(1 for line in out if line.startswith("instance") and " infeasible " in line)
+    head = ["# Generated by make_constrained_reference.py (cvxopt %s, seed %d): %d instances, "
+            "%d infeasible, %d candidates discarded (rank(G) < 6 or cvxopt not optimal)."
+            % (solvers.__dict__.get("__version__", "1.3"), SEED, COUNT, infeasible, skipped),
+            "# instance <k> <H|S|F> <n> <optimal|infeasible> <objective> <cvxopt residual |Gx+w|>",
+            "# w <w_ext: force; moment>", "# c <px py pz nx ny nz mu mu_t squeeze weight>"]
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "constrained_reference.txt")
+    with open(path, "w") as f:
+        f.write("\n".join(head + out) + "\n")
+    print("wrote %s: %d instances, %d infeasible, %d discarded" % (path, COUNT, infeasible, skipped))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,300 @@
+// solve_constrained: optimality certificates (KKT from the definitions), the fast path, warm
+// starts, hand-derived instances (a cone boundary, mu = 0, infeasible), bad input, no heap.
+#include <doctest/doctest.h>
+
+#include <random>
+
+#include <grip/solve/solve_constrained.hpp>
+
+#include "solve/constrained_support.hpp"
+#include "support/allocation_counter.hpp"
+#include "support/fixtures.hpp"
+
+using namespace grip;
+
+template struct grip::ConstrainedSolution<Grasp<3, HardFinger, double>>;
+template struct grip::ConstrainedSolution<Grasp<Dynamic, SoftFinger, float, 8>>;
+template struct grip::ConstrainedSettings<float>;
+
+namespace {
+
+template <class S>
+double tol_of(double d, double f) {
+  return std::is_same<S, float>::value ? f : d;
+}
+
+grip::Contact<double> as_double(const Contact<float>& c) {
+  Contact<double> o;
+  o.position = c.position.cast<double>();
+  o.normal = c.normal.cast<double>();
+  o.friction = c.friction;
+  o.torsional_friction = c.torsional_friction;
+  o.squeeze = c.squeeze;
+  o.weight = c.weight;
+  return o;
+}
+grip::Contact<double> as_double(const Contact<double>& c) { return c; }
+
+// KKT of min F2 s.t. G x + w = 0, x_i in K_i, checked from the definitions: x_i in K_i,
+// s_i = W_i (x_i - t_i) - G_i^T lambda in K_i^* (dual feasibility: -s_i in the normal cone at x_i),
+// s_i . x_i = 0 (complementarity), and G x + w = 0.
+template <class GraspT>
+void check_kkt(const GraspT& g, const Wrench<typename GraspT::ScalarType>& w,
+               const ConstrainedSolution<GraspT>& sol) {
+  using M = typename GraspT::ModelType;
+  constexpr int d = M::dim;
+  using S = typename GraspT::ScalarType;
+  const Wrench<double> l = sol.multipliers.template cast<double>();
+  double scale = w.template cast<double>().norm();
+  for (int i = 0; i < g.size(); ++i) scale += sol.forces.template segment<d>(i * d).template cast<double>().norm();
+  Wrench<double> r = w.template cast<double>();
+  for (int i = 0; i < g.size(); ++i) {
+    const Contact<double> c = as_double(g.contact(i));
+    const Eigen::Matrix<double, d, 1> x = sol.forces.template segment<d>(i * d).template cast<double>();
+    const Eigen::Matrix<double, d, 1> s = c.weight * (x - M::target(c)) - M::wrench_transpose(c, l);
+    CHECK(grip_test::cone_violation<M>(c, x) <= tol_of<S>(1e-10, 1e-5) * (1 + scale));
+    CHECK(grip_test::dual_cone_violation<M>(c, s) <= tol_of<S>(1e-9, 1e-3) * (1 + scale));
+    CHECK(std::abs(s.dot(x)) <= tol_of<S>(1e-9, 1e-3) * (1 + scale * scale));
+    r += M::wrench(c, x);
+  }
+  CHECK(r.norm() <= tol_of<S>(1e-10, 1e-4) * (1 + scale));
+}
+
+template <class Model, class S>
+void kkt_on_random_instances(int count) {
+  using GraspT = Grasp<Dynamic, Model, S, 16>;
+  std::mt19937 rng(4242 + Model::dim);
+  int checked = 0;
+  for (int k = 0; k < count; ++k) {
+    GraspT g = grip_test::random_grasp<GraspT>(rng, 16);
+    Wrench<S> w = grip_test::random_wrench<S>(rng);
+    const auto sol = solve_constrained(g, w);
+    CHECK(sol.residual < std::numeric_limits<S>::max());
+    if (sol.status != Status::Ok) {
+      // Random frictionless contacts on a sphere have radial normals (rank(G) = 3): mostly
+      // infeasible, and some undecided within the iteration bound.
+      CHECK((sol.status == Status::Infeasible || (Model::dim == 1 && sol.status == Status::IterationLimit)));
+      continue;
+    }
+    ++checked;
+    check_kkt(g, w, sol);
+  }
+  if (Model::dim > 1) CHECK(checked > count / 2);
+}
+
+}  // namespace
+
+TEST_CASE_TEMPLATE("solve_constrained optima satisfy the KKT conditions (all models)", S, double, float) {
+  kkt_on_random_instances<HardFinger, S>(40);
+  kkt_on_random_instances<SoftFinger, S>(40);
+  kkt_on_random_instances<FrictionlessPoint, S>(40);
+}
+
+TEST_CASE_TEMPLATE("solve_constrained: a pinch exactly on the cone's boundary (hand derivation)", S, double, float) {
+  // Two soft fingers at x = -/+3 cm pushing along +/-x with squeeze s = 4 N, mu = 0.5,
+  // w_ext = (0, 0, -W, 0, 0, 0) with W = 2 mu s = 4 N. By symmetry the unconstrained optimum is
+  // f_i = s a_i + (0, 0, W/2), m_i = 0 (the moments of the two W/2 cancel): |f_t| = 2 = mu f_n,
+  // exactly on the boundary, hence also the constrained optimum, with F2 = 2 * 1/2 (W/2)^2 = 4.
+  Grasp<2, SoftFinger, S> g;
+  Contact<S> c;
+  c.friction = S(0.5);
+  c.torsional_friction = S(0.01);
+  c.squeeze = S(4);
+  c.position << S(-0.03), S(0), S(0);
+  c.normal << S(1), S(0), S(0);
+  REQUIRE(g.set(0, c) == Status::Ok);
+  c.position << S(0.03), S(0), S(0);
+  c.normal << S(-1), S(0), S(0);
+  REQUIRE(g.set(1, c) == Status::Ok);
+  Wrench<S> w = Wrench<S>::Zero();
+  w(2) = S(-4);
+  const auto sol = solve_constrained(g, w);
+  REQUIRE(sol.status == Status::Ok);
+  Eigen::Matrix<S, 8, 1> expect;
+  expect << S(4), S(0), S(2), S(0), S(-4), S(0), S(2), S(0);
+  CHECK((sol.forces - expect).norm() <= S(tol_of<S>(1e-9, 1e-4)));
+  CHECK(sol.objective == doctest::Approx(4.0).epsilon(tol_of<S>(1e-10, 1e-5)));
+  check_kkt(g, w, sol);
+}
+
+TEST_CASE_TEMPLATE("solve_constrained: mu = 0 and an active apex (hand derivation, rank(G) < 6)", S, double, float) {
+  // Hard fingers with mu = 0 at x = -/+3 cm, normals +/-x, squeeze s: forces n_i a_i, n_i >= 0.
+  // w_ext = (5, 0, 0, 0, 0, 0): equilibrium n_1 - n_2 = -5. Minimise 1/2 ((n1 - s)^2 + (n2 - s)^2):
+  // s = 4: n1 = 1.5, n2 = 6.5, F2 = 6.25 (interior); s = 1: n1 = -1.5 < 0 -> n1 = 0 (apex), n2 = 5,
+  // F2 = 1/2 (1 + 16) = 8.5. G has rank 2 here; that is no error while w_ext can be balanced.
+  for (const double s : {4.0, 1.0}) {
+    Grasp<Dynamic, HardFinger, S, 4> g;
+    Contact<S> c;
+    c.friction = S(0);
+    c.squeeze = S(s);
+    c.position << S(-0.03), S(0), S(0);
+    c.normal << S(1), S(0), S(0);
+    REQUIRE(g.add(c) == Status::Ok);
+    c.position << S(0.03), S(0), S(0);
+    c.normal << S(-1), S(0), S(0);
+    REQUIRE(g.add(c) == Status::Ok);
+    Wrench<S> w = Wrench<S>::Zero();
+    w(0) = S(5);
+    const auto sol = solve_constrained(g, w);
+    REQUIRE(sol.status == Status::Ok);
+    const double n1 = s > 2.5 ? s - 2.5 : 0.0, n2 = n1 + 5.0;
+    CHECK(double(sol.forces(0)) == doctest::Approx(n1).epsilon(tol_of<S>(1e-9, 1e-4)).scale(1.0));
+    CHECK(double(sol.forces(3)) == doctest::Approx(-n2).epsilon(tol_of<S>(1e-9, 1e-4)));
+    CHECK(sol.forces.template segment<2>(1).norm() <= S(tol_of<S>(1e-12, 1e-6)));  // no friction
+    CHECK(sol.objective == doctest::Approx(s > 2.5 ? 6.25 : 8.5).epsilon(tol_of<S>(1e-9, 1e-4)));
+    check_kkt(g, w, sol);
+  }
+}
+
+TEST_CASE_TEMPLATE("solve_constrained: infeasible wrenches get a checked certificate", S, double, float) {
+  // Three hard fingers on top of an object, pushing down (a = -z); the external wrench also
+  // pushes down: G f = -w_ext needs an upward force, but every cone has f.a >= 0, i.e. f_z <= 0.
+  // Farkas by hand: y = (0, 0, -1, 0, 0, 0) has G_i^T y = -e_z = a_i (inside K_i^*), y.w_ext > 0.
+  Grasp<3, HardFinger, S> g;
+  for (int i = 0; i < 3; ++i) {
+    Contact<S> c;
+    const double phi = 2.0943951023931953 * i;
+    c.position << S(0.02 * std::cos(phi)), S(0.02 * std::sin(phi)), S(0.03);
+    c.normal << S(0), S(0), S(-1);
+    c.friction = S(0.8);
+    c.squeeze = S(1);
+    REQUIRE(g.set(i, c) == Status::Ok);
+  }
+  Wrench<S> w = Wrench<S>::Zero();
+  w(2) = S(-5);
+  w(3) = S(0.01);
+  const auto sol = solve_constrained(g, w);
+  REQUIRE(sol.status == Status::Infeasible);
+  const Wrench<double> y = sol.certificate.template cast<double>();
+  CHECK(y.norm() == doctest::Approx(1.0).epsilon(1e-5));
+  CHECK(y.dot(w.template cast<double>()) > 0.0);
+  for (int i = 0; i < 3; ++i) {
+    const Contact<double> c = as_double(g.contact(i));
+    CHECK(grip_test::dual_cone_violation<HardFinger>(c, HardFinger::wrench_transpose(c, y)) <= tol_of<S>(1e-6, 1e-2));
+  }
+  // The closest forces: inside the cones; the least residual is |(0,0,-5)| pushed against
+  // (forces can only add -z), i.e. at least 5 N: the best is f = 0-ish with residual >= 5.
+  CHECK(sol.forces.allFinite());
+  CHECK(double(sol.residual) >= 5.0 - 1e-3);
+  for (int i = 0; i < 3; ++i)
+    CHECK(grip_test::cone_violation<HardFinger>(as_double(g.contact(i)), sol.forces.template segment<3>(3 * i)) <= 1e-5);
+  // An empty Dynamic grasp: only w_ext = 0 is balanced.
+  Grasp<Dynamic, HardFinger, S, 4> empty;
+  CHECK(solve_constrained(empty, w).status == Status::Infeasible);
+  CHECK(solve_constrained(empty, Wrench<S>(Wrench<S>::Zero())).status == Status::Ok);
+}
+
+TEST_CASE_TEMPLATE("solve_constrained: fast path returns solve_range_space's optimum", S, double, float) {
+  // Large squeeze, small load: the unconstrained optimum is strictly inside every cone.
+  std::mt19937 rng(77);
+  using GraspT = Grasp<10, HardFinger, S>;
+  GraspT g = grip_test::random_grasp<GraspT>(rng, 10);
+  for (int i = 0; i < 10; ++i) {
+    Contact<S> c = g.contact(i);
+    c.squeeze = S(20);
+    c.friction = S(1);
+    REQUIRE(g.set(i, c) == Status::Ok);
+  }
+  Wrench<S> w = grip_test::random_wrench<S>(rng) * S(0.1);
+  const auto sol = solve_constrained(g, w);
+  const auto ref = solve_range_space(g, w);
+  REQUIRE(sol.status == Status::Ok);
+  CHECK(sol.fast_path);
+  CHECK(sol.iterations == 0);
+  CHECK((sol.forces - ref.forces).norm() <= S(tol_of<S>(1e-12, 1e-5)) * (S(1) + ref.forces.norm()));
+  check_kkt(g, w, sol);
+}
+
+TEST_CASE_TEMPLATE("solve_constrained: warm starts of a slowly moving grasp", S, double, float) {
+  // 20 hard fingers on a 4 cm sphere, low squeeze (active cones); the object turns slowly and
+  // the load swings: each frame solved cold and warm-started from the previous multipliers.
+  using GraspT = Grasp<20, HardFinger, S>;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u01(0, 1);
+  double th[20], ph[20];
+  for (int i = 0; i < 20; ++i) {
+    th[i] = std::acos(1 - 2 * u01(rng));
+    ph[i] = 6.283185307179586 * u01(rng);
+  }
+  Wrench<S> warm = Wrench<S>::Zero();
+  int cold_total = 0, warm_total = 0;
+  for (int frame = 0; frame < 30; ++frame) {
+    GraspT g;
+    for (int i = 0; i < 20; ++i)
+      REQUIRE(g.set(i, grip_test::sphere_contact<S>(th[i] + 0.002 * frame, ph[i], 0.04, 0.5, 0.3)) == Status::Ok);
+    Wrench<S> w;
+    w << S(0.5 * std::sin(0.01 * frame)), S(0), S(-4.905), S(0), S(0.01 * std::cos(0.02 * frame)), S(0);
+    const auto cold = solve_constrained(g, w);
+    REQUIRE(cold.status == Status::Ok);
+    if (frame > 0) {
+      const auto hot = solve_constrained(g, w, ConstrainedSettings<S>{}, warm);
+      REQUIRE(hot.status == Status::Ok);
+      CHECK(hot.objective == doctest::Approx(double(cold.objective)).epsilon(tol_of<S>(1e-9, 1e-4)));
+      CHECK((hot.forces - cold.forces).norm() <= S(tol_of<S>(1e-7, 1e-2)) * (S(1) + cold.forces.norm()));
+      cold_total += cold.iterations;
+      warm_total += hot.iterations;
+    }
+    warm = cold.multipliers;
+  }
+  MESSAGE("iterations over 29 frames: cold ", cold_total, ", warm ", warm_total);
+  CHECK(warm_total < cold_total);
+}
+
+TEST_CASE_TEMPLATE("solve_constrained: bad input gives InvalidInput and zeros", S, double, float) {
+  std::mt19937 rng(9);
+  using GraspT = Grasp<Dynamic, HardFinger, S, 6>;
+  GraspT g = grip_test::random_grasp<GraspT>(rng, 5);
+  Wrench<S> w = grip_test::random_wrench<S>(rng);
+  const auto check_invalid = [&](const ConstrainedSolution<GraspT>& s) {
+    CHECK(s.status == Status::InvalidInput);
+    CHECK(s.forces.size() == g.unknowns());
+    CHECK(s.forces.isZero(S(0)));
+    CHECK(s.multipliers.isZero(S(0)));
+  };
+  Wrench<S> bad = w;
+  bad(4) = std::numeric_limits<S>::quiet_NaN();
+  check_invalid(solve_constrained(g, bad));
+  bad(4) = std::numeric_limits<S>::infinity();
+  check_invalid(solve_constrained(g, bad));
+  check_invalid(solve_constrained(g, w, ConstrainedSettings<S>{}, bad));  // non-finite warm start
+  ConstrainedSettings<S> st;
+  st.tolerance = S(-1);
+  check_invalid(solve_constrained(g, w, st));
+  st = ConstrainedSettings<S>{};
+  st.max_iterations = 0;
+  check_invalid(solve_constrained(g, w, st));
+  Grasp<3, HardFinger, S> incomplete;  // slots never set
+  CHECK(solve_constrained(incomplete, w).status == Status::InvalidInput);
+  // A tiny iteration bound on a problem with active cones: IterationLimit, forces still in cones.
+  st = ConstrainedSettings<S>{};
+  st.max_iterations = 1;
+  GraspT low;
+  for (int i = 0; i < 5; ++i) REQUIRE(low.add(grip_test::sphere_contact<S>(0.5 + i, 1.3 * i, 0.04, 0.3, 0.1)) == Status::Ok);
+  Wrench<S> load = Wrench<S>::Zero();
+  load(0) = S(3);
+  load(2) = S(-4);
+  const auto lim = solve_constrained(low, load, st);
+  CHECK((lim.status == Status::IterationLimit || lim.status == Status::Ok || lim.status == Status::Infeasible));
+  CHECK(lim.forces.allFinite());
+  CHECK(lim.iterations <= 2 * st.max_iterations);
+}
+
+TEST_CASE("solve_constrained allocates nothing (fixed, Dynamic, every model, infeasible too)") {
+  std::mt19937 rng(31);
+  Grasp<20, HardFinger, double> h = grip_test::random_grasp<Grasp<20, HardFinger, double>>(rng, 20);
+  Grasp<Dynamic, SoftFinger, float, 12> s = grip_test::random_grasp<Grasp<Dynamic, SoftFinger, float, 12>>(rng, 12);
+  Grasp<Dynamic, FrictionlessPoint, double, 12> f =
+      grip_test::random_grasp<Grasp<Dynamic, FrictionlessPoint, double, 12>>(rng, 12);
+  const Wrench<double> w = grip_test::random_wrench<double>(rng);
+  Wrench<double> big = w * 1e3;
+  grip_test::NoHeapScope scope;
+  const auto a = solve_constrained(h, w);
+  const auto b = solve_constrained(s, Wrench<float>(w.cast<float>()));
+  const auto c = solve_constrained(f, big);
+  const auto d = solve_constrained(h, w, ConstrainedSettings<double>{}, a.multipliers);
+  CHECK(scope.allocations() == 0);
+  CHECK(a.status != Status::InvalidInput);
+  CHECK(b.status != Status::InvalidInput);
+  CHECK(c.status != Status::InvalidInput);
+  CHECK(d.status == a.status);
+}
