@@ -22,6 +22,9 @@
 #include "grip/solve/symmetric_solve.hpp"
 #include "grip/solve/solve_range_space.hpp"
 #include "grip/solve/solve_kkt.hpp"
+#include "grip/solve/constrained_settings.hpp"
+#include "grip/solve/projection_jacobian.hpp"
+#include "grip/solve/solve_constrained.hpp"
 
 #include "grip/monitor/grasp_state.hpp"
 #include "grip/monitor/stability_monitor.hpp"

@@ -384,6 +384,7 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
   Status status = Status::IterationLimit;
   int it = 0;
   int stall = 0;
+  int phase1_iterations = 0;  // counted apart: the Newton budget stays max_iterations
   bool phase1_done = false;
   // Phase 1: the least-residual forces; Infeasible (with those forces and multipliers) if the
   // direction of its multipliers checks out as a certificate.
@@ -391,8 +392,7 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
     Wrench<S> y;
     S f2 = S(0);
     const S delta = settings.least_residual_weight * jacobi.maxCoeff();
-    const int used = least_residual(grasp, w_ext, delta, settings, xt, y, f2);
-    it += used;
+    phase1_iterations = least_residual(grasp, w_ext, delta, settings, xt, y, f2);
     const Wrench<S> r = grasp.wrench(xt) + w_ext;
     const S rn = y.norm();
     // y is (to delta) the least residual: a feasible problem leaves only round-off there.
@@ -467,7 +467,7 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
   sol.residual = cur.residual.norm();
   sol.objective = cur.f2;
   sol.dual_objective = cur.dual;
-  sol.iterations = it;
+  sol.iterations = it + phase1_iterations;
   sol.status = status;
   if (!sol.forces.allFinite() || !sol.multipliers.allFinite() || !std::isfinite(sol.dual_objective)) {
     sol.forces.setZero(m);
