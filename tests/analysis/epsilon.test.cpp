@@ -1,0 +1,156 @@
+// Ferrari-Canny epsilon: a symmetric grasp derived by hand, a brute-force facet enumeration.
+#include <doctest/doctest.h>
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include <grip/analysis/epsilon.hpp>
+
+#include "support/allocation_counter.hpp"
+#include "support/fixtures.hpp"
+
+using namespace grip;
+
+namespace {
+
+// Six soft fingers at the face centres of a cube (half side 3 cm), pushing in, mu = 0 and
+// torsional coefficient mu_t = rho, torque scale rho. Each contact is on its own normal line
+// (r x a = 0), so its primitive wrenches are [a; 0] and [a; +-a] (moment mu_t a / rho = +-a).
+// Over the six faces: the twelve points +-e_fi +- e_mi. In the orthonormal basis
+// p_i = (e_fi + e_mi)/sqrt2, q_i = (e_fi - e_mi)/sqrt2 they are +-sqrt2 p_i, +-sqrt2 q_i: a
+// regular cross-polytope of circumradius sqrt2, whose facets are at distance sqrt2/sqrt6:
+//   epsilon_L1 = 1/sqrt3.
+// L-infinity: the two contacts on the x faces give, in the (f_x, m_x) plane, the sets
+// conv{0, (-1,-1), (-1,1)} and conv{0, (1,1), (1,-1)}; the support of their sum along
+// (cos t, sin t) is 0 + cos t + |sin t| >= 1 near t = 0, and by symmetry >= 1 everywhere:
+// each plane's support is >= |u_plane|, so h(u) >= sum_k |u_k| >= 1, with equality for a
+// pure force along an axis: epsilon_inf = 1.
+template <class S>
+Grasp<6, SoftFinger, S> cube_grasp(double rho) {
+  Grasp<6, SoftFinger, S> g;
+  for (int f = 0; f < 6; ++f) {
+    Vector3<S> out = Vector3<S>::Zero();
+    out(f / 2) = f % 2 ? S(-1) : S(1);
+    Contact<S> c;
+    c.position = S(0.03) * out;
+    c.normal = -out;
+    c.friction = S(0);
+    c.torsional_friction = S(rho);
+    REQUIRE(g.set(f, c) == Status::Ok);
+  }
+  return g;
+}
+
+// Independent method: every 6-subset of the points (and the origin) spans a hyperplane; the
+// ones with all points on one side are the facet planes; epsilon = smallest facet distance.
+double brute_force_epsilon(const std::vector<Eigen::Matrix<double, 6, 1>>& pts) {
+  const std::size_t m = pts.size();
+  double best = 1e300;
+  std::array<std::size_t, 6> idx{0, 1, 2, 3, 4, 5};
+  while (true) {
+    Eigen::Matrix<double, 6, 5> e;
+    for (std::size_t k = 1; k < 6; ++k) e.col(static_cast<Eigen::Index>(k) - 1) = pts[idx[k]] - pts[idx[0]];
+    Eigen::FullPivLU<Eigen::Matrix<double, 6, 5>> lu(e);
+    if (lu.rank() == 5) {
+      Eigen::HouseholderQR<Eigen::Matrix<double, 6, 5>> qr(e);
+      Eigen::Matrix<double, 6, 1> n = qr.householderQ() * Eigen::Matrix<double, 6, 1>::Unit(5);
+      double b = n.dot(pts[idx[0]]);
+      double lo = 1e300, hi = -1e300;
+      for (const auto& p : pts) {
+        lo = std::min(lo, n.dot(p) - b);
+        hi = std::max(hi, n.dot(p) - b);
+      }
+      if (hi <= 1e-12) best = std::min(best, b);        // all on the negative side: normal outward
+      else if (lo >= -1e-12) best = std::min(best, -b);  // flipped
+    }
+    std::size_t k = 6;
+    while (k > 0 && idx[k - 1] == m - 7 + k) --k;
+    if (k == 0) break;
+    ++idx[k - 1];
+    for (std::size_t j = k; j < 6; ++j) idx[j] = idx[j - 1] + 1;
+  }
+  return std::max(best, 0.0);
+}
+
+}  // namespace
+
+TEST_CASE_TEMPLATE("epsilon of the symmetric cube grasp, derived by hand", S, double, float) {
+  const double rho = 0.02;
+  const auto g = cube_grasp<S>(rho);
+  auto ws = std::make_unique<EpsilonWorkspace<S>>();
+  Epsilon<S> e1, einf;
+  {
+    grip_test::NoHeapScope scope;
+    e1 = ferrari_canny_epsilon<4>(g, EpsilonNorm::L1, S(rho), *ws);
+    einf = ferrari_canny_epsilon<4>(g, EpsilonNorm::LInfinity, S(rho), *ws);
+    CHECK(scope.allocations() == 0);
+  }
+  const double tol = std::is_same<S, float>::value ? 1e-3 : 1e-9;
+  REQUIRE(e1.status == Status::Ok);
+  CHECK(e1.closure);
+  CHECK(double(e1.epsilon) == doctest::Approx(1.0 / std::sqrt(3.0)).epsilon(tol));
+  CHECK(double(e1.upper) == doctest::Approx(1.0 / std::sqrt(3.0)).epsilon(tol));
+  REQUIRE(einf.status == Status::Ok);
+  CHECK(double(einf.epsilon) == doctest::Approx(1.0).epsilon(tol));
+  // Without torsion (mu_t = 0, mu = 0) nothing resists a moment: epsilon = 0, no closure.
+  const auto g0 = cube_grasp<S>(0.0);
+  const auto e0 = ferrari_canny_epsilon<4>(g0, EpsilonNorm::L1, S(rho), *ws);
+  CHECK(e0.status == Status::Ok);
+  CHECK_FALSE(e0.closure);
+  CHECK(e0.epsilon == S(0));
+  CHECK(double(e0.direction.template head<3>().norm()) <= tol);  // the weak direction is a moment
+}
+
+TEST_CASE_TEMPLATE("epsilon L1 equals a brute-force facet enumeration; L-inf brackets", S, double, float) {
+  std::mt19937 rng(31);
+  auto ws = std::make_unique<EpsilonWorkspace<S>>();
+  const double rho = 0.05;
+  int closures = 0;
+  for (int rep = 0; rep < 12; ++rep) {
+    const auto g = grip_test::random_grasp<Grasp<3, HardFinger, S>>(rng, 3);
+    std::vector<Eigen::Matrix<double, 6, 1>> pts{Eigen::Matrix<double, 6, 1>::Zero()};
+    for (int i = 0; i < 3; ++i) {
+      Wrench<S> w[4];
+      contact_primitives<HardFinger, 4>(g.contact(i), S(rho), w);
+      for (const auto& x : w) pts.push_back(x.template cast<double>());
+    }
+    const double expect = brute_force_epsilon(pts);
+    const auto e1 = ferrari_canny_epsilon<4>(g, EpsilonNorm::L1, S(rho), *ws);
+    REQUIRE(e1.status == Status::Ok);
+    const double tol = std::is_same<S, float>::value ? 2e-3 : 1e-8;
+    CHECK(double(e1.epsilon) == doctest::Approx(expect).epsilon(tol).scale(1.0));
+    closures += e1.closure ? 1 : 0;
+    // L-infinity: W_1 in W_inf in 3 W_1, and epsilon <= h(u) for random unit u.
+    const auto ei = ferrari_canny_epsilon<4>(g, EpsilonNorm::LInfinity, S(rho), *ws);
+    REQUIRE(ei.status == Status::Ok);
+    CHECK(double(ei.epsilon) >= double(e1.epsilon) - tol);
+    CHECK(double(ei.epsilon) <= 3 * double(e1.epsilon) + tol);
+    std::normal_distribution<double> n01(0.0, 1.0);
+    for (int t = 0; t < 50; ++t) {
+      Eigen::Matrix<double, 6, 1> u;
+      for (int k = 0; k < 6; ++k) u(k) = n01(rng);
+      u.normalize();
+      double h = 0;
+      for (int i = 0; i < 3; ++i) {
+        double best = 0;
+        for (int k = 0; k < 4; ++k) best = std::max(best, u.dot(pts[static_cast<std::size_t>(1 + 4 * i + k)]));
+        h += best;
+      }
+      CHECK(double(ei.epsilon) <= h + tol);
+    }
+  }
+  CHECK(closures > 0);
+}
+
+TEST_CASE_TEMPLATE("epsilon: bad input", S, double, float) {
+  Grasp<3, HardFinger, S> g;
+  CHECK(ferrari_canny_epsilon<4>(g, EpsilonNorm::L1, S(1)).status == Status::InvalidInput);
+  std::mt19937 rng(2);
+  g = grip_test::random_grasp<Grasp<3, HardFinger, S>>(rng, 3);
+  CHECK(ferrari_canny_epsilon<4>(g, EpsilonNorm::L1, S(0)).status == Status::InvalidInput);
+  CHECK(ferrari_canny_epsilon<4>(g, EpsilonNorm::L1, std::numeric_limits<S>::infinity()).status == Status::InvalidInput);
+}
+
+template struct grip::Epsilon<float>;
+template struct grip::EpsilonWorkspace<double, 64, 256>;

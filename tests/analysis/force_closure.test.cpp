@@ -1,0 +1,212 @@
+// Force closure with exact cones: hand-derived cases, Nguyen's two-finger test, certificates.
+#include <doctest/doctest.h>
+
+#include <grip/analysis/force_closure.hpp>
+#include <grip/analysis/max_wrench.hpp>
+
+#include "support/allocation_counter.hpp"
+#include "support/fixtures.hpp"
+
+using namespace grip;
+
+namespace {
+
+constexpr double kPi = 3.141592653589793;
+
+// True if u is (to tol) a certificate: G_i^T u in the dual cone K_i^* for every contact,
+// checked with the dual cone written out by hand: v_n >= sqrt(mu^2 |v_t|^2 + mu_t^2 v_m^2).
+template <class GraspT>
+bool dual_certificate(const GraspT& g, const Wrench<typename GraspT::ScalarType>& u, double tol) {
+  using M = typename GraspT::ModelType;
+  for (int i = 0; i < g.size(); ++i) {
+    const auto& c = g.contact(i);
+    const auto v = M::wrench_transpose(c, u).template cast<double>().eval();
+    if constexpr (GraspT::dim == 1) {
+      if (v(0) < -tol) return false;
+    } else {
+      const Vector3<double> a = c.normal.template cast<double>();
+      const double vn = a.dot(v.template head<3>());
+      const double vt = (v.template head<3>() - vn * a).norm();
+      double q = double(c.friction) * double(c.friction) * vt * vt;
+      if constexpr (GraspT::dim == 4) q += double(c.torsional_friction) * double(c.torsional_friction) * v(3) * v(3);
+      if (vn < std::sqrt(q) - tol) return false;
+    }
+  }
+  return double(u.norm()) > 0.5;
+}
+
+// True if x_i - t a_i lies in the exact cone (to tol) for all i: x_n - t >= sqrt(|x_t|^2/mu^2 + m^2/mu_t^2).
+template <class GraspT>
+bool inside_cones(const GraspT& g, const typename GraspT::ForceVector& x, double t, double tol) {
+  for (int i = 0; i < g.size(); ++i) {
+    const auto& c = g.contact(i);
+    const auto xi = x.segment(i * GraspT::dim, GraspT::dim).template cast<double>().eval();
+    const Vector3<double> a = c.normal.template cast<double>();
+    const double xn = a.dot(xi.template head<3>());
+    const double xt = (xi.template head<3>() - xn * a).norm();
+    double q = xt * xt / (double(c.friction) * double(c.friction));
+    if constexpr (GraspT::dim == 4) q += xi(3) * xi(3) / (double(c.torsional_friction) * double(c.torsional_friction));
+    if (xn - t < std::sqrt(q) - tol) return false;
+  }
+  return true;
+}
+
+template <class S>
+Contact<S> on_sphere(double theta, double phi, double mu, double mut = 0.0) {
+  Contact<S> c = grip_test::sphere_contact<S>(theta, phi, 0.05, mu);
+  c.torsional_friction = S(mut);
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE_TEMPLATE("three hard fingers at 120 degrees, mu = 0.5: closure with margin 1/3", S, double, float) {
+  // Hand derivation: t <= x_n,i for every i and sum x_n,i = 1, so t <= 1/3; the equal
+  // squeeze x_i = a_i / 3 is internal (sum a_i = 0, r_i x a_i = 0) and has margin 1/3.
+  Grasp<3, HardFinger, S> g;
+  for (int i = 0; i < 3; ++i) REQUIRE(g.set(i, on_sphere<S>(kPi / 2, 2 * kPi / 3 * i, 0.5)) == Status::Ok);
+  ForceClosure<Grasp<3, HardFinger, S>> fc;
+  {
+    grip_test::NoHeapScope scope;
+    fc = force_closure(g);
+    CHECK(scope.allocations() == 0);
+  }
+  REQUIRE(fc.status == Status::Ok);
+  CHECK(fc.closure);
+  CHECK(fc.rank == 6);
+  CHECK(double(fc.margin) == doctest::Approx(1.0 / 3.0).epsilon(std::is_same<S, float>::value ? 2e-3 : 1e-7));
+  CHECK(double(fc.residual) <= (std::is_same<S, float>::value ? 1e-3 : 1e-7));
+  CHECK(inside_cones(g, fc.internal_force, double(fc.margin), std::is_same<S, float>::value ? 2e-3 : 1e-6));
+  CHECK(fc.unresisted.norm() == S(0));
+}
+
+TEST_CASE_TEMPLATE("not in closure: frictionless antipodal, mu = 0 on a sphere, two hard fingers", S, double, float) {
+  const double tol = std::is_same<S, float>::value ? 1e-3 : 1e-7;
+  // Two frictionless antipodal contacts: G has rank 1 (only the force along the line).
+  Grasp<2, FrictionlessPoint, S> p;
+  REQUIRE(p.set(0, on_sphere<S>(kPi / 2, 0, 0)) == Status::Ok);
+  REQUIRE(p.set(1, on_sphere<S>(kPi / 2, kPi, 0)) == Status::Ok);
+  const auto fp = force_closure(p);
+  CHECK(fp.status == Status::Ok);
+  CHECK_FALSE(fp.closure);
+  CHECK(fp.rank == 1);
+  CHECK(dual_certificate(p, fp.unresisted, tol));
+  // mu = 0, any number of hard fingers on a sphere: every normal passes through the centre,
+  // so no moment can be produced: rank <= 3 and the certificate is a pure moment.
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  for (int n = 3; n <= 10; ++n) {
+    Grasp<Dynamic, HardFinger, S, 10> h;
+    for (int i = 0; i < n; ++i) REQUIRE(h.add(on_sphere<S>(std::acos(1 - 2 * u01(rng)), 2 * kPi * u01(rng), 0.0)) == Status::Ok);
+    const auto f = force_closure(h);
+    CHECK(f.status == Status::Ok);
+    CHECK_FALSE(f.closure);
+    CHECK(f.rank <= 3);
+    CHECK(double(f.unresisted.template head<3>().norm()) <= tol);
+    CHECK(dual_certificate(h, f.unresisted, tol));
+  }
+  // Two hard fingers (any mu): no moment about the line through them; rank 5.
+  Grasp<2, HardFinger, S> two;
+  REQUIRE(two.set(0, on_sphere<S>(kPi / 3, 0.4, 1.5)) == Status::Ok);
+  REQUIRE(two.set(1, on_sphere<S>(2 * kPi / 3, 0.4 + kPi, 1.5)) == Status::Ok);
+  const auto ft = force_closure(two);
+  CHECK_FALSE(ft.closure);
+  CHECK(ft.rank == 5);
+  const Vector3<S> line = (two.contact(1).position - two.contact(0).position).normalized();
+  CHECK(double(std::abs(ft.unresisted.template tail<3>().dot(line))) == doctest::Approx(1.0).epsilon(tol));
+}
+
+TEST_CASE_TEMPLATE("two soft fingers: closure iff the line lies in both cones (Nguyen)", S, double, float) {
+  // Contacts at polar angles 0 and alpha on a sphere: the line between them makes the angle
+  // beta = pi/2 - alpha/2 with each inward normal (isosceles triangle with the centre), so
+  // closure holds iff mu > tan(beta) = cot(alpha/2). alpha = 120 deg: mu* = 1/sqrt(3).
+  const double alpha = 2 * kPi / 3, mu_star = 1.0 / std::tan(alpha / 2);
+  auto closure_at = [&](double mu) {
+    Grasp<2, SoftFinger, S> g;
+    REQUIRE(g.set(0, on_sphere<S>(0.0, 0.0, mu, 0.01)) == Status::Ok);
+    REQUIRE(g.set(1, on_sphere<S>(alpha, 0.3, mu, 0.01)) == Status::Ok);
+    return force_closure(g);
+  };
+  const double tol = std::is_same<S, float>::value ? 1e-3 : 1e-7;
+  const auto yes = closure_at(0.8);
+  CHECK(yes.status == Status::Ok);
+  CHECK(yes.closure);
+  CHECK(yes.rank == 6);
+  const auto no = closure_at(0.4);
+  CHECK(no.status == Status::Ok);
+  CHECK_FALSE(no.closure);
+  Grasp<2, SoftFinger, S> gno;
+  REQUIRE(gno.set(0, on_sphere<S>(0.0, 0.0, 0.4, 0.01)) == Status::Ok);
+  REQUIRE(gno.set(1, on_sphere<S>(alpha, 0.3, 0.4, 0.01)) == Status::Ok);
+  CHECK(dual_certificate(gno, no.unresisted, tol));
+  // The boundary in mu by bisection, to tolerance.
+  double lo = 0.3, hi = 1.0;
+  for (int k = 0; k < 16; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (closure_at(mid).closure ? hi : lo) = mid;
+  }
+  CHECK(0.5 * (lo + hi) == doctest::Approx(mu_star).epsilon(std::is_same<S, float>::value ? 2e-2 : 1e-4));
+}
+
+TEST_CASE_TEMPLATE("random grasps: the returned internal force or certificate checks out", S, double, float) {
+  std::mt19937 rng(29);
+  const double tol = std::is_same<S, float>::value ? 5e-3 : 1e-6;
+  int yes = 0, no = 0;
+  for (int rep = 0; rep < 30; ++rep) {
+    const auto g = grip_test::random_grasp<Grasp<Dynamic, HardFinger, S, 6>>(rng, 2 + rep % 4);
+    const auto f = force_closure(g);
+    REQUIRE(f.status == Status::Ok);
+    if (f.closure) {
+      ++yes;
+      CHECK(double(f.residual) <= 10 * tol);
+      CHECK(inside_cones(g, f.internal_force, double(f.margin), 10 * tol));
+    } else {
+      ++no;
+      CHECK(dual_certificate(g, f.unresisted, 10 * tol));
+    }
+  }
+  CHECK(yes > 0);
+  CHECK(no > 0);
+}
+
+TEST_CASE_TEMPLATE("largest resistible wrench along a direction, by hand", S, double, float) {
+  // Three equatorial hard fingers, mu = 0.5, budget B on the sum of normal forces, load along
+  // z: |sum f_z| <= sum mu f_n <= mu B, attained by f_n = B/3, f_z = mu B / 3 each (normals
+  // cancel; moments sum to (sum r_i) x f_z z = 0). So s* = mu B = 5 for B = 10.
+  Grasp<3, HardFinger, S> g;
+  for (int i = 0; i < 3; ++i) REQUIRE(g.set(i, on_sphere<S>(kPi / 2, 2 * kPi / 3 * i, 0.5)) == Status::Ok);
+  Wrench<S> d = Wrench<S>::Zero();
+  d(2) = S(-1);
+  ResistibleWrench<Grasp<3, HardFinger, S>> r;
+  {
+    grip_test::NoHeapScope scope;
+    r = max_resistible_wrench(g, d, S(10));
+    CHECK(scope.allocations() == 0);
+  }
+  REQUIRE(r.status == Status::Ok);
+  const double rel = std::is_same<S, float>::value ? 2e-3 : 1e-6;
+  CHECK(double(r.scale) == doctest::Approx(5.0).epsilon(rel));
+  // The forces are the barrier's primal estimate: coarse in float (a few % of the load).
+  CHECK(double(r.residual) <= (std::is_same<S, float>::value ? 0.5 : 1e-4));
+  CHECK(inside_cones(g, r.forces, 0.0, 10 * rel));
+  // Two frictionless antipodal contacts, force along the line: s* = B (one finger pushes B).
+  Grasp<2, FrictionlessPoint, S> p;
+  REQUIRE(p.set(0, on_sphere<S>(kPi / 2, 0, 0)) == Status::Ok);
+  REQUIRE(p.set(1, on_sphere<S>(kPi / 2, kPi, 0)) == Status::Ok);
+  Wrench<S> dx = Wrench<S>::Zero();
+  dx(0) = S(1);
+  CHECK(double(max_resistible_wrench(p, dx, S(4)).scale) == doctest::Approx(4.0).epsilon(rel));
+  // ... and nothing along y.
+  Wrench<S> dy = Wrench<S>::Zero();
+  dy(1) = S(1);
+  CHECK(double(max_resistible_wrench(p, dy, S(4)).scale) <= 10 * rel);
+  // Bad input.
+  CHECK(max_resistible_wrench(g, Wrench<S>(Wrench<S>::Zero()), S(1)).status == Status::InvalidInput);
+  CHECK(max_resistible_wrench(g, d, S(-1)).status == Status::InvalidInput);
+  Grasp<3, HardFinger, S> empty;
+  CHECK(force_closure(empty).status == Status::InvalidInput);
+}
+
+template struct grip::ForceClosure<Grasp<Dynamic, SoftFinger, float, 5>>;
+template struct grip::ResistibleWrench<Grasp<4, FrictionlessPoint, double>>;
+template struct grip::ConicAnalysisSettings<float>;
