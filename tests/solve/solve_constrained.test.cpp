@@ -27,10 +27,10 @@ grip::Contact<double> as_double(const Contact<float>& c) {
   Contact<double> o;
   o.position = c.position.cast<double>();
   o.normal = c.normal.cast<double>();
-  o.friction = c.friction;
-  o.torsional_friction = c.torsional_friction;
-  o.squeeze = c.squeeze;
-  o.weight = c.weight;
+  o.friction = double(c.friction);
+  o.torsional_friction = double(c.torsional_friction);
+  o.squeeze = double(c.squeeze);
+  o.weight = double(c.weight);
   return o;
 }
 grip::Contact<double> as_double(const Contact<double>& c) { return c; }

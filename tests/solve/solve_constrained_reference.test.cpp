@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <type_traits>
+#include <vector>
 #include <string>
 
 #include <grip/solve/solve_constrained.hpp>
@@ -22,7 +24,9 @@ void check_against_reference(const std::vector<grip_test::ConstrainedReference>&
   const ConstrainedSettings<S> settings;
   int count = 0, infeasible = 0, worst_iter = 0;
   double worst_obj = 0, worst_res = 0, worst_cone = 0;
+  int index = -1;
   for (const auto& ref : data) {
+    ++index;
     if (ref.model != tag) continue;
     GraspT g;
     for (const auto& c : ref.contacts) REQUIRE(g.add(grip_test::cast_contact<S>(c)) == Status::Ok);
@@ -46,7 +50,7 @@ void check_against_reference(const std::vector<grip_test::ConstrainedReference>&
     for (const auto& c : ref.contacts) (void)gd.add(c);
     const double res = (gd.wrench(xd) + ref.w_ext).norm();
     if (ref.feasible) {
-      CHECK_MESSAGE(sol.status == Status::Ok, "instance model ", tag, " n ", g.size(), " status ", std::string(to_string(sol.status)));
+      CHECK_MESSAGE(sol.status == Status::Ok, "instance ", index, " model ", tag, " n ", g.size(), " status ", std::string(to_string(sol.status)));
       // F2 recomputed in double from the definition.
       double f2 = 0;
       for (int i = 0; i < gd.size(); ++i) {
@@ -61,7 +65,7 @@ void check_against_reference(const std::vector<grip_test::ConstrainedReference>&
       CHECK(res <= res_tol);
     } else {
       ++infeasible;
-      CHECK_MESSAGE(sol.status == Status::Infeasible, "model ", tag, " n ", g.size(), " status ", std::string(to_string(sol.status)));
+      CHECK_MESSAGE(sol.status == Status::Infeasible, "instance ", index, " model ", tag, " n ", g.size(), " status ", std::string(to_string(sol.status)));
       if (sol.status == Status::Infeasible) {
         // Farkas: y.w_ext > 0 and G_i^T y in K_i^* for every contact (checked from the definitions).
         const Wrench<double> y = sol.certificate.template cast<double>();

@@ -25,8 +25,10 @@ struct ConstrainedSettings {
   /// Smallest Levenberg-Marquardt regularisation of the Jacobi-scaled 6x6 Newton matrix (the
   /// regularisation follows the residual down to it near the optimum).
   Scalar regularisation{is_float ? Scalar(1e-6f) : Scalar(1e-13)};
-  /// Relative slack of the infeasibility certificate: y is accepted when y.w_ext > 0 and every
-  /// G_i^T y lies in the dual cone up to certificate_tolerance * |G_i^T y|.
+  /// Relative slack of the infeasibility certificate: a unit y is accepted when every G_i^T y
+  /// lies in the dual cone up to certificate_tolerance * (1 + |r_i|) and y.w_ext exceeds
+  /// certificate_tolerance * |w_ext| (float: a tenth of it, so that nearly feasible grasps,
+  /// whose genuine certificates have small y.w_ext, are still decided).
   Scalar certificate_tolerance{is_float ? Scalar(2e-3f) : Scalar(1e-5)};
   /// Weight delta (relative to the largest Jacobi entry of G W^-1 G^T) of F2 in the
   /// least-residual problem min |G x + w_ext|^2/2 + delta F2(x)/2 over the cones, solved when

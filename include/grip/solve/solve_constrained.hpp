@@ -145,7 +145,12 @@ bool is_infeasibility_certificate(const GraspT& grasp, const Wrench<typename Gra
   using S = typename GraspT::ScalarType;
   using M = typename GraspT::ModelType;
   using Cone = ExactConeT<M, S>;
-  if (!(y.dot(w_ext) > tol * w_ext.norm())) return false;
+  // The guard y.w_ext > tol |w_ext| keeps round-off directions out. In float it is tol/10
+  // (2e-4 |w_ext|, still 1000 times float round-off): a nearly feasible grasp (cvxopt reference
+  // instance 195: least residual 8e-4 |w_ext|) has a genuine certificate with y.w_ext of
+  // 7.5e-4 |w_ext|, below the float tol of 2e-3.
+  const S wtol = ConstrainedSettings<S>::is_float ? tol * S(0.1) : tol;
+  if (!(y.dot(w_ext) > wtol * w_ext.norm())) return false;
   for (int i = 0; i < grasp.size(); ++i) {
     const auto& c = grasp.contact(i);
     const typename GraspT::ContactVector z = M::wrench_transpose(c, y);
@@ -387,27 +392,66 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
   int phase1_iterations = 0;  // counted apart: the Newton budget stays max_iterations
   bool phase1_done = false;
   // Phase 1: the least-residual forces; Infeasible (with those forces and multipliers) if the
-  // direction of its multipliers checks out as a certificate.
+  // direction of its multipliers checks out as a certificate. The verdict is kept pending in
+  // `p_*` and applied by apply_infeasible().
+  Wrench<S> p_cert = Wrench<S>::Zero(), p_y = Wrench<S>::Zero(), p_r = Wrench<S>::Zero();
+  S p_f2 = S(0);
+  FV p_x(m);
   const auto decide_infeasible = [&]() {
     Wrench<S> y;
     S f2 = S(0);
-    const S delta = settings.least_residual_weight * jacobi.maxCoeff();
-    phase1_iterations = least_residual(grasp, w_ext, delta, settings, xt, y, f2);
-    const Wrench<S> r = grasp.wrench(xt) + w_ext;
-    const S rn = y.norm();
-    // y is (to delta) the least residual: a feasible problem leaves only round-off there.
-    if (!(rn > S(1000) * settings.tolerance * w_ext.norm())) return false;
-    const Wrench<S> cert = y / rn;
-    if (!is_infeasibility_certificate(grasp, w_ext, cert, settings.certificate_tolerance)) return false;
-    status = Status::Infeasible;
-    sol.certificate = cert;
-    x = xt;
-    lambda = y;
-    cur.residual = r;
-    cur.f2 = f2;
-    cur.dual = f2 - lambda.dot(r);
+    S delta = settings.least_residual_weight * jacobi.maxCoeff();
+    // y is (to delta) the least residual: a feasible problem leaves only round-off there. The
+    // bar is 1000 tolerance |w_ext| in double, but 10 tolerance |w_ext| (1e-4 relative) in
+    // float: there least residuals of 1e-3 |w_ext| (below 1000 tolerance = 1e-2) are genuine
+    // (cvxopt reference instances), while round-off stays near 1e-6.
+    const S bar = (ConstrainedSettings<S>::is_float ? S(10) : S(1000)) * settings.tolerance * w_ext.norm();
+    bool ok = false;
+    // The certificate's error is delta w_i |x_i - t_i| / |y|; nearly infeasible grasps need large
+    // least-residual forces, so in float (where delta is 1e-6) the solve is retried with delta
+    // 100 and 10^4 times smaller when the first certificate misses the tolerance.
+    const int tries = ConstrainedSettings<S>::is_float ? 3 : 1;
+    phase1_iterations = 0;
+    // The tries share one budget of settings.max_iterations iterations.
+    ConstrainedSettings<S> budget = settings;
+    for (int k = 0; k < tries && !ok && phase1_iterations < settings.max_iterations; ++k, delta *= S(0.01)) {
+      budget.max_iterations = settings.max_iterations - phase1_iterations;
+      phase1_iterations += least_residual(grasp, w_ext, delta, budget, p_x, y, f2);
+      const S rn = y.norm();
+      if (rn > bar) {
+        p_cert = y / rn;
+        ok = is_infeasibility_certificate(grasp, w_ext, p_cert, settings.certificate_tolerance);
+      }
+    }
+    // Second candidate: the direction -lambda of the diverging Newton multipliers. x_i(lambda) is a
+    // projection, so -G_i^T lambda lies in K_i^* up to w_i |x_i - t_i| / |lambda|: a certificate
+    // when |lambda| has grown large (float phase-1 solves can stop short of the tolerance).
+    const S ln = lambda.norm();
+    // Used in float only: the double results are validated with the phase-1 certificate alone.
+    if (ConstrainedSettings<S>::is_float && !ok && ln > S(0) && lambda.allFinite()) {
+      p_cert = -lambda / ln;
+      ok = is_infeasibility_certificate(grasp, w_ext, p_cert, settings.certificate_tolerance);
+    }
+    if (!ok) return false;
+    p_y = y;
+    p_f2 = f2;
+    p_r = grasp.wrench(p_x) + w_ext;
     return true;
   };
+  const auto apply_infeasible = [&]() {
+    status = Status::Infeasible;
+    sol.certificate = p_cert;
+    x = p_x;
+    lambda = p_y;
+    cur.residual = p_r;
+    cur.f2 = p_f2;
+    cur.dual = p_f2 - lambda.dot(p_r);
+  };
+  // Float only: a certificate found on a stall is applied only if Newton has not converged
+  // within `grace` more iterations (a nearly infeasible feasible instance can stall early and
+  // pass the float certificate tolerance, 2e-3). Double keeps the immediate verdict.
+  bool pending = false;
+  int grace = ConstrainedSettings<S>::is_float ? 12 : 0;
   for (;; ++it) {
     const S rn = cur.residual.norm();
     const S floor = S(16) * eps * cur.scale;
@@ -458,10 +502,17 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
     stall = rn_new > S(0.5) * rn ? stall + 1 : 0;
     if (stall >= 3 && !phase1_done) {
       phase1_done = true;
-      if (decide_infeasible()) break;
+      if (decide_infeasible()) {
+        pending = true;
+        if (grace <= 0) break;
+      }
+    } else if (pending && --grace <= 0) {
+      break;
     }
   }
-  if (status == Status::IterationLimit && !phase1_done) (void)decide_infeasible();
+  if (status == Status::IterationLimit) {
+    if (pending || (!phase1_done && decide_infeasible())) apply_infeasible();
+  }
   sol.forces = x;
   sol.multipliers = lambda;
   sol.residual = cur.residual.norm();
@@ -505,7 +556,11 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
 ///   equilibrium residual (Euclidean, N and N m mixed as in `residual`), ties broken by F2.
 ///   `multipliers` are then that problem's (y = multipliers/|multipliers|).
 ///   Decided when the Newton iteration stalls (the residual fails to halve 3 times in a row) or
-///   at its iteration bound; the least-residual solve has its own max_iterations bound.
+///   at its iteration bound; the least-residual solve has its own max_iterations bound. In
+///   float the least-residual solve is retried with a 100 and 10^4 times smaller delta (within
+///   that one bound) if its certificate misses the tolerance, the direction of the diverging
+///   Newton multipliers is tried as a second certificate, and a certificate found on a stall is
+///   used only if Newton has not converged within 12 more iterations.
 /// - IterationLimit: the bound was reached (or the line search stalled) before the tolerance;
 ///   `forces` = x(lambda) of the last iterate (in the cones), `residual` what is left.
 /// - InvalidInput: incomplete grasp, bad w_ext, bad settings or a non-finite warm start: zeros.
