@@ -1,6 +1,8 @@
 // solve_range_space and solve_kkt: equilibrium, agreement, optimality, hand-solved cases.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+
 #include <Eigen/Dense>
 #include <grip/grasp/objective.hpp>
 #include <grip/solve/solve_kkt.hpp>
@@ -259,4 +261,40 @@ TEST_CASE("no heap on any solver path, fixed and bounded, Ok and Singular") {
   CHECK(d.ok());
   CHECK(e.status == Status::Singular);
   CHECK(f.status == Status::Singular);
+}
+
+TEST_CASE_TEMPLATE("two hard fingers are always Singular, however they are placed", S, double, float) {
+  // Rank 5 by construction (no moment about the line through the contacts); a rank test
+  // without pivoting let a few of these through as Ok with multipliers of 1e11 and more.
+  std::mt19937 rng(61);
+  int singular = 0;
+  for (int k = 0; k < 3000; ++k) {
+    const auto g = grip_test::random_grasp<Grasp<2, HardFinger, S>>(rng, 2, true, 0.5);
+    const auto sol = solve_range_space(g, grip_test::random_wrench<S>(rng));
+    singular += sol.status == Status::Singular;
+    CHECK(sol.multipliers.allFinite());
+  }
+  CHECK(singular == 3000);
+}
+
+TEST_CASE_TEMPLATE("the 6x6 Jacobi eigen-decomposition matches Eigen's solver", S, double, float) {
+  std::mt19937 rng(71);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  for (int k = 0; k < 200; ++k) {
+    Eigen::Matrix<double, 6, 6> b;
+    for (int i = 0; i < 36; ++i) b(i) = n01(rng);
+    Eigen::Matrix<double, 6, 6> a = b * b.transpose();
+    if (k % 3 == 0) a = b.leftCols(4) * b.leftCols(4).transpose();  // rank 4
+    Wrench<S> ev;
+    Matrix6<S> v;
+    detail::symmetric_eigen_6x6(Matrix6<S>(a.cast<S>()), ev, v);
+    Eigen::Matrix<double, 6, 1> mine = ev.template cast<double>();
+    std::sort(mine.data(), mine.data() + 6);
+    const Eigen::Matrix<double, 6, 1> ref = Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>>(a).eigenvalues();
+    CHECK((mine - ref).norm() <= double(tight<S>()) * 10.0 * a.norm());
+    // Orthonormal vectors that rebuild the matrix.
+    CHECK((v.transpose() * v - Matrix6<S>::Identity()).norm() <= tight<S>() * S(10));
+    const Matrix6<S> rebuilt = v * ev.asDiagonal() * v.transpose();
+    CHECK((rebuilt.template cast<double>() - a).norm() <= double(tight<S>()) * 10.0 * a.norm());
+  }
 }
