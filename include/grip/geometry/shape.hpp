@@ -220,7 +220,7 @@ class Shape {
   Scalar distance(const Vector3<Scalar>& p, Vector3<Scalar>& normal) const {
     Scalar best = Scalar(1e9);
     normal = Vector3<Scalar>::UnitZ();
-    Vector3<Scalar> g;
+    Vector3<Scalar> g = Vector3<Scalar>::UnitZ();
     for (int i = 0; i < count_; ++i) {
       const Scalar d = prims_[static_cast<std::size_t>(i)].distance(p, g);
       if (d < best) {
@@ -232,7 +232,7 @@ class Shape {
   }
   /// Signed distance (m) of object-frame point p.
   Scalar distance(const Vector3<Scalar>& p) const {
-    Vector3<Scalar> g;
+    Vector3<Scalar> g = Vector3<Scalar>::UnitZ();
     return distance(p, g);
   }
 
