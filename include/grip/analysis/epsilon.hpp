@@ -24,7 +24,7 @@
 /// its facets as a flat list of 5-simplices. Take the facet of Q nearest the origin
 /// (normal u, offset b); query the support point p of W along u. If h_W(u) - b <= tolerance,
 /// then epsilon = b: b = dist(0, dQ) <= dist(0, dW) <= h_W(u) (Q inside W). Otherwise p
-/// is a new vertex of W beyond that facet: add it (remove the facets that see it, close
+/// is a further vertex of W beyond that facet: add it (remove the facets that see it, close
 /// the hole with the horizon). W has finitely many vertices, so this ends; it touches only
 /// the facets near the origin, never the whole hull. Support of W_inf is the sum of the
 /// per-contact supports, O(n K), so the exponentially large Minkowski sum is never built.

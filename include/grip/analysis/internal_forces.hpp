@@ -117,14 +117,14 @@ InternalForceBasis<GraspT> internal_force_basis(const GraspT& grasp) {
 ///
 /// The F2 optimum for any w_ext is x* = t + W^-1 G^T lambda*, whose internal part is exactly
 /// the internal part of t: whatever the load, the optimum squeezes with `kept` and never
-/// with `lost`. `kept_fraction` = |t_int|_W / |t|_W in [0, 1] (1 when t is all internal,
+/// with `lost`. `kept_fraction` = |t_int|_w / |t|_w (W-norms) in [0, 1] (1 when t is all internal,
 /// e.g. equal squeezes at contacts whose normals sum to zero with zero moment; 0 when t = 0).
 template <class GraspT>
 struct SqueezeSplit {
   typename GraspT::ForceVector asked;  ///< t (grasp.unknowns()).
   typename GraspT::ForceVector kept;   ///< t_int, in null(G).
   typename GraspT::ForceVector lost;   ///< t_ext = t - t_int.
-  typename GraspT::ScalarType kept_fraction{0};  ///< |t_int|_W / |t|_W, 0 if t = 0.
+  typename GraspT::ScalarType kept_fraction{0};  ///< |t_int|_w / |t|_w, 0 if t = 0.
   Status status{Status::InvalidInput};          ///< as decompose_forces.
 };
 
