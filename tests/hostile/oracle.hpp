@@ -1,9 +1,11 @@
 #pragma once
 // The hostile-input oracle, shared by the property test (hostile_input.test.cpp) and the
 // libFuzzer target (tests/fuzz/fuzz_solvers.cpp): an independent statement of which inputs
-// are valid, and a check of every public solver on one grasp against the contract of
+// are valid, and a check of every public solver (and the monitor, the resolution step and
+// solve_constrained) on one grasp against the contract of
 // status.hpp / solution.hpp (status matches the input, every output finite, least squares
 // never worse than doing nothing). No doctest here, no heap: a failure is a message.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <type_traits>
@@ -154,11 +156,82 @@ const char* check_solution(const GraspT& g, const grip::Wrench<typename GraspT::
   return nullptr;
 }
 
+/// The monitor (evaluate and classify, exact cone), resolve() and sticking_grasp() on forces x
+/// of g: statuses that match the input, finite numbers, consistent counts.
+template <class GraspT, class Vec>
+const char* check_monitor(const GraspT& g, const Vec& x, const grip::Wrench<typename GraspT::ScalarType>& w) {
+  const bool valid_x = x.size() == g.unknowns() && [&] {
+    for (Eigen::Index i = 0; i < x.size(); ++i)
+      if (!value_ok(x(i))) return false;
+    return true;
+  }();
+  const bool valid = g.complete() && valid_x;
+  const grip::StabilityMonitor<GraspT> monitor;
+  const grip::GraspState<GraspT> st = monitor.evaluate(g, x);
+  const grip::GraspModes<GraspT> modes = monitor.classify(g, x);
+  if (st.ok() != valid || modes.ok() != valid) return "monitor status does not match the input";
+  if (!std::isfinite(st.min_margin)) return "monitor min_margin not finite";
+  const int n = valid ? g.size() : 0;
+  if (st.size() != n || modes.size() != n) return "monitor size";
+  if (st.sticking_count + st.sliding_count + st.separating_count != n ||
+      modes.sticking_count + modes.sliding_count + modes.separating_count != n)
+    return "monitor counts do not add up";
+  for (int i = 0; i < n; ++i) {
+    const auto& c = st.contact(i);
+    if (!std::isfinite(c.margin) || !std::isfinite(c.relative_margin) || !std::isfinite(c.normal_force) ||
+        !finite(c.tangential_force) || !std::isfinite(c.moment))
+      return "monitor contact state not finite";
+    if (c.mode != st.mode(i)) return "monitor modes inconsistent";
+  }
+  const grip::Resolution<GraspT> r = grip::resolve(g, x, st, w);
+  if (r.ok() != (valid && wrench_valid(w))) return "resolve status does not match the input";
+  if (!finite(r.transmitted) || !finite(r.unbalanced) || !finite(r.released_wrench)) return "resolve output not finite";
+  const auto sub = grip::sticking_grasp(g, st);
+  if (sub.status == grip::Status::Ok && sub.grasp.size() != st.sticking_count) return "sticking_grasp size";
+  return nullptr;
+}
+
+/// solve_constrained, cold and warm-started from the range-space multipliers: status matches
+/// the input, every number finite, forces in their cones (they are projections).
+template <class GraspT>
+const char* check_constrained(const GraspT& g, const grip::Wrench<typename GraspT::ScalarType>& w,
+                              const grip::Wrench<typename GraspT::ScalarType>& warm) {
+  using S = typename GraspT::ScalarType;
+  using Cone = grip::ExactConeT<typename GraspT::ModelType, S>;
+  constexpr int d = GraspT::dim;
+  const grip::ConstrainedSettings<S> settings;
+  for (int k = 0; k < 2; ++k) {
+    const grip::ConstrainedSolution<GraspT> sol =
+        k == 0 ? grip::solve_constrained(g, w, settings) : grip::solve_constrained(g, w, settings, warm);
+    const bool valid = g.complete() && wrench_valid(w) && (k == 0 || wrench_valid(warm));
+    if ((sol.status == grip::Status::InvalidInput) == valid) return "solve_constrained status does not match the input";
+    if (!finite(sol.forces) || !finite(sol.multipliers) || !finite(sol.certificate) || !std::isfinite(sol.residual) ||
+        !std::isfinite(sol.objective) || !std::isfinite(sol.dual_objective))
+      return "solve_constrained output not finite";
+    if (sol.status == grip::Status::InvalidInput) continue;
+    if (sol.forces.size() != g.unknowns()) return "solve_constrained forces size";
+    for (int i = 0; i < g.size(); ++i) {
+      const Eigen::Matrix<S, d, 1> xi = sol.forces.template segment<d>(i * d);
+      // Round-off, plus the normal's own tolerance: the cone's axis is unit only to
+      // normal_tolerance, so a force on it (mu = 0) shows |f_t| ~ normal_tolerance |f|. Margins
+      // are in N of tangential load, mu f_n - ...: the round-off of f_n counts mu times.
+      const S tol = (S(16) * std::numeric_limits<S>::epsilon() + S(4) * grip::ScalarTraits<S>::normal_tolerance) *
+                    (S(1) + xi.norm());
+      if (!(Cone::from_contact(g.contact(i)).margin(xi) >= -tol * (S(1) + g.contact(i).friction)))
+        return "solve_constrained force outside its cone";
+    }
+    if (sol.status == grip::Status::Infeasible && !(std::abs(sol.certificate.norm() - S(1)) <= S(1e-3f)))
+      return "solve_constrained certificate not a unit vector";
+  }
+  return nullptr;
+}
+
 /// Runs every public solver entry point on (g, w) and checks each; nullptr when all keep
-/// the contract. Allocates nothing (callers check that around it).
+/// the contract. Allocates nothing (callers check that around it). `with_constrained` false
+/// skips solve_constrained (iterative, by far the slowest on hostile input).
 template <class GraspT>
 const char* check_solvers(const GraspT& g, const grip::Wrench<typename GraspT::ScalarType>& w,
-                          const Expect& e) {
+                          const Expect& e, bool with_constrained = true) {
   using S = typename GraspT::ScalarType;
   const grip::Solution<GraspT> rs = grip::solve_range_space(g, w);
   if (const char* m = check_solution(g, w, e, rs)) return m;
@@ -168,7 +241,18 @@ const char* check_solvers(const GraspT& g, const grip::Wrench<typename GraspT::S
     // Two methods, one optimum.
     const double dx = (rs.forces - kkt.forces).template cast<double>().norm();
     const double eps = static_cast<double>(std::numeric_limits<S>::epsilon());
-    if (!(dx <= 1e4 * eps * (1 + rs.forces.template cast<double>().norm()))) return "range-space and KKT disagree";
+    // Two backward-stable methods agree to about cond(A) eps, A = D G W^-1 G^T D the unit-free
+    // Gram matrix (three contacts can be nearly collinear even in a clean grasp).
+    const grip::Matrix6<double> gram = grip::weighted_gram(g).template cast<double>();
+    const double len = static_cast<double>(grip::detail::lever_arm(g));
+    grip::Wrench<double> dd;
+    dd << 1, 1, 1, 1 / len, 1 / len, 1 / len;
+    grip::Wrench<double> ev;
+    grip::Matrix6<double> vecs;
+    grip::detail::symmetric_eigen_6x6(grip::Matrix6<double>(dd.asDiagonal() * gram * dd.asDiagonal()), ev, vecs);
+    const double cond = ev.minCoeff() > 0 ? ev.maxCoeff() / ev.minCoeff() : 1e300;
+    if (!(dx <= std::max(1e4, 10 * cond) * eps * (1 + rs.forces.template cast<double>().norm())))
+      return "range-space and KKT disagree";
   }
   if (e.contacts_valid && g.complete()) {
     const grip::Matrix6<S> m = grip::weighted_gram(g);
@@ -179,6 +263,9 @@ const char* check_solvers(const GraspT& g, const grip::Wrench<typename GraspT::S
     if (st != grip::Status::Ok && st != grip::Status::Singular) return "solve_symmetric_6x6 status";
     if (e.must_be_singular && st != grip::Status::Singular) return "singular Gram matrix not Singular";
   }
+  if (const char* m = check_monitor(g, rs.forces, w)) return m;
+  if (with_constrained)
+    if (const char* m = check_constrained(g, w, rs.multipliers)) return m;
   return nullptr;
 }
 

@@ -192,3 +192,100 @@ TEST_CASE_TEMPLATE("Monitor: bad input is InvalidInput with a finite reset state
   CHECK(e.min_margin_index == -1);
   CHECK(scope.allocations() == 0);
 }
+
+namespace {
+
+// classify() must give exactly evaluate()'s modes and counts; evaluate() into reused storage
+// must give exactly the by-value state. Modes are compared off the slack boundary only, where
+// the square-root-free test and the margin test could round differently.
+template <class Cone, class G>
+void check_classify_matches(std::mt19937& rng, int trials, int n, double fn_low) {
+  using S = typename G::ScalarType;
+  const StabilityMonitor<G, Cone> monitor;
+  GraspState<G> reused;
+  GraspModes<G> modes;
+  int disagreements = 0, checked = 0, kinds[3] = {0, 0, 0};
+  for (int trial = 0; trial < trials; ++trial) {
+    const G g = grip_test::random_grasp<G>(rng, n);
+    typename G::ForceVector x(g.unknowns());
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    for (int i = 0; i < g.size(); ++i) {
+      if constexpr (G::dim == 1) {
+        x(i) = S(fn_low + (5.0 - fn_low) * u01(rng));
+      } else {
+        x.template segment<3>(G::dim * i) =
+            grip_test::random_force(rng, g.contact(i).normal.template cast<double>(), fn_low, 5.0, 5.0).template cast<S>();
+        if constexpr (G::dim == 4) x(G::dim * i + 3) = S(0.02 * (u01(rng) - 0.5));
+      }
+    }
+    grip_test::NoHeapScope scope;
+    monitor.evaluate(g, x, reused);
+    monitor.classify(g, x, modes);
+    CHECK(scope.allocations() == 0);
+    const auto fresh = monitor.evaluate(g, x);
+    REQUIRE(modes.ok());
+    REQUIRE(reused.ok());
+    CHECK(modes.size() == fresh.size());
+    CHECK(reused.min_margin == fresh.min_margin);
+    CHECK(reused.min_margin_index == fresh.min_margin_index);
+    for (int i = 0; i < g.size(); ++i) {
+      CHECK(reused.mode(i) == fresh.mode(i));
+      CHECK(reused.contact(i).mode == fresh.mode(i));
+      CHECK(reused.contact(i).margin == fresh.contact(i).margin);
+      ++kinds[static_cast<int>(fresh.mode(i))];
+      const typename Cone::Vector xi = x.template segment<G::dim>(G::dim * i);
+      const S slack = monitor.settings().relative_tolerance * xi.template lpNorm<1>();
+      if (std::abs(fresh.contact(i).margin + slack) <= S(100) * grip_test::rel_tol<S>() * (S(1) + xi.norm())) continue;
+      ++checked;
+      disagreements += modes.mode(i) != fresh.mode(i);
+    }
+    if (disagreements == 0) {
+      CHECK(modes.sticking_count == fresh.sticking_count);
+      CHECK(modes.sliding_count == fresh.sliding_count);
+      CHECK(modes.separating_count == fresh.separating_count);
+      CHECK(modes.stable == fresh.stable);
+    }
+  }
+  CHECK(disagreements == 0);
+  CHECK(checked > trials * n / 2);
+  CHECK(kinds[0] > 0);
+  CHECK((kinds[1] > 0) == (G::dim > 1));  // a frictionless contact cannot slide
+  CHECK(kinds[2] > 0);
+}
+
+}  // namespace
+
+TEST_CASE_TEMPLATE("Monitor: classify() gives evaluate()'s modes; evaluate() into reused storage", S, double, float) {
+  std::mt19937 rng(73);
+  check_classify_matches<CoulombCone<S>, Grasp<Dynamic, HardFinger, S, 20>>(rng, 200, 20, -2.0);
+  check_classify_matches<PyramidCone<8, S>, Grasp<Dynamic, HardFinger, S, 20>>(rng, 100, 20, -2.0);
+  check_classify_matches<SoftFingerCone<S>, Grasp<Dynamic, SoftFinger, S, 20>>(rng, 100, 20, -2.0);
+  check_classify_matches<CompressionCone<S>, Grasp<Dynamic, FrictionlessPoint, S, 20>>(rng, 50, 20, -2.0);
+
+  // Reuse after a valid call: invalid input resets the storage to the documented state.
+  using G = Grasp<Dynamic, HardFinger, S, 20>;
+  const G g = grip_test::random_grasp<G>(rng, 6);
+  typename G::ForceVector x = solve_range_space(g, grip_test::random_wrench<S>(rng)).forces;
+  const StabilityMonitor<G> monitor;
+  GraspState<G> st;
+  GraspModes<G> modes;
+  monitor.evaluate(g, x, st);
+  monitor.classify(g, x, modes);
+  REQUIRE(st.ok());
+  REQUIRE(modes.size() == 6);
+  x(4) = std::numeric_limits<S>::quiet_NaN();
+  monitor.evaluate(g, x, st);
+  monitor.classify(g, x, modes);
+  const GraspModes<G>* both[2] = {&st, &modes};
+  for (const GraspModes<G>* m : both) {
+    CHECK(m->status == Status::InvalidInput);
+    CHECK(m->size() == 0);
+    CHECK_FALSE(m->stable);
+    CHECK(m->sticking_count + m->sliding_count + m->separating_count == 0);
+  }
+  CHECK(st.min_margin == cone_margin_floor<S>());
+  CHECK(st.min_margin_index == -1);
+  // The one-call forms.
+  CHECK(classify_grasp(g, x).status == Status::InvalidInput);
+  CHECK(classify_grasp<PyramidCone<4, S>>(g, x).status == Status::InvalidInput);
+}

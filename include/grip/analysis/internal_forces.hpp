@@ -56,7 +56,7 @@ ForceDecomposition<GraspT> decompose_forces(const GraspT& grasp, const Eigen::Ma
   const Status st = solve_symmetric_6x6(weighted_gram(grasp), gx, lambda);
   for (int i = 0; i < grasp.size(); ++i) {
     const auto& c = grasp.contact(i);
-    const typename GraspT::ContactVector xe = (S(1) / c.weight) * M::wrench_transpose(c, lambda);
+    const typename GraspT::ContactVector xe = grasp.inverse_weight(i) * M::wrench_transpose(c, lambda);
     out.external.template segment<d>(i * d) = xe;
     out.internal.template segment<d>(i * d) = x.template segment<d>(i * d) - xe;
   }

@@ -8,7 +8,10 @@
 /// - `target(c)`: the dim-vector t_i that F2 pulls x_i towards (eq. 7);
 /// - `wrench(c, x)`: G_i x, the wrench the contact applies on the object;
 /// - `wrench_transpose(c, l)`: G_i^T l, for a 6-vector l;
-/// - `accumulate(acc, c, k)`: adds k G_i G_i^T to a GramAccumulator (closed forms).
+/// - `accumulate(acc, c, k)`: adds k G_i G_i^T to a GramAccumulator (closed forms);
+/// - `identity_force_block`: true when accumulate() leaves the force rows in the closed form
+///   [[k0 I, -[s1]x], [[s1]x, ...]] (GramAccumulator::extra only in the moment block), so that
+///   solvers can eliminate the force rows in closed form and factor a 3x3 Schur complement.
 
 #include "grip/contact/contact.hpp"
 #include "grip/core/types.hpp"
@@ -67,6 +70,7 @@ struct GramAccumulator {
 /// Unknown: the normal magnitude x (N); f = x a. G_i = [a; r x a] (6x1). Target t_i = s_i.
 struct FrictionlessPoint {
   static constexpr int dim = 1;
+  static constexpr bool identity_force_block = false;  ///< the whole block is in `extra`
   template <class Scalar>
   using Vector = Eigen::Matrix<Scalar, dim, 1>;
 
@@ -100,6 +104,7 @@ struct FrictionlessPoint {
 /// Unknown: f_i (N, 3). G_i = [I3; R_i], R_i = [r_i]x (eq. 3). Target t_i = s_i a_i.
 struct HardFinger {
   static constexpr int dim = 3;
+  static constexpr bool identity_force_block = true;
   template <class Scalar>
   using Vector = Eigen::Matrix<Scalar, dim, 1>;
 
@@ -143,6 +148,7 @@ struct HardFinger {
 /// Target t_i = (s_i a_i, 0): no torsion is asked for.
 struct SoftFinger {
   static constexpr int dim = 4;
+  static constexpr bool identity_force_block = true;  ///< torsion adds to the moment block only
   template <class Scalar>
   using Vector = Eigen::Matrix<Scalar, dim, 1>;
 

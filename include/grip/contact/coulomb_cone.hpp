@@ -62,6 +62,14 @@ struct CoulombCone {
     return relative_of(fn, (f - fn * normal).norm());
   }
 
+  /// The monitor's slip test: margin(f) < -slack, for a valid f with f_n > 0 and slack >= 0
+  /// (N), decided without a square root as |f_t|^2 > (mu f_n + slack)^2.
+  bool slips(const Vector& f, Scalar slack) const {
+    const Scalar fn = normal_part(f);
+    const Scalar lim = mu * fn + slack;
+    return (lim < Scalar(0)) | ((f - fn * normal).squaredNorm() > lim * lim);  // no branch
+  }
+
   /// normal_part, tangential_part, margin and relative_margin of f in one pass.
   ConeMeasure<Scalar> measure(const Vector& f) const {
     ConeMeasure<Scalar> m;

@@ -44,6 +44,9 @@ struct CompressionCone {
     if (!detail::cone_input_valid(x) || x(0) < Scalar(0)) return cone_margin_floor<Scalar>();
     return x(0) > Scalar(0) ? Scalar(1) : Scalar(0);
   }
+  /// The monitor's slip test: margin(x) < -slack, for a valid x with f_n > 0 and slack >= 0 (N).
+  bool slips(const Vector& x, Scalar slack) const { return margin(x) < -slack; }
+
   /// normal_part, margin and relative_margin of x in one pass (tangential parts are 0).
   ConeMeasure<Scalar> measure(const Vector& x) const {
     ConeMeasure<Scalar> m;

@@ -106,6 +106,9 @@ class PyramidCone {
     return relative_of(fn, face_load(f), fn <= Scalar(0) && tangential_norm(f) == Scalar(0));
   }
 
+  /// The monitor's slip test: margin(x) < -slack, for a valid x with f_n > 0 and slack >= 0 (N).
+  bool slips(const Vector& x, Scalar slack) const { return margin(x) < -slack; }
+
   /// normal_part, tangential_part, margin and relative_margin of f in one pass.
   ConeMeasure<Scalar> measure(const Vector& f) const {
     ConeMeasure<Scalar> m;

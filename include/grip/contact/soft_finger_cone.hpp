@@ -89,6 +89,9 @@ struct SoftFingerCone {
     return relative_of(fn, (x.template head<3>() - fn * normal).norm(), std::abs(x(3)));
   }
 
+  /// The monitor's slip test: margin(x) < -slack, for a valid x with f_n > 0 and slack >= 0 (N).
+  bool slips(const Vector& x, Scalar slack) const { return margin(x) < -slack; }
+
   /// normal_part, tangential_part, moment, margin and relative_margin of x in one pass.
   ConeMeasure<Scalar> measure(const Vector& x) const {
     ConeMeasure<Scalar> m;
@@ -122,13 +125,14 @@ struct SoftFingerCone {
     const Vector3<Scalar> ftv = tangential_part(x);
     const Scalar t = ftv.norm(), q = x(3);
     Scalar s2 = 0, t2 = 0, q2 = 0;
-    if (!(mu > Scalar(0)) && !(mu_t > Scalar(0))) {
+    const bool has_mu = positive(mu), has_mu_t = positive(mu_t);  // denormal: 0 (see positive())
+    if (!has_mu && !has_mu_t) {
       s2 = s > Scalar(0) ? s : Scalar(0);
-    } else if (!(mu > Scalar(0))) {
+    } else if (!has_mu) {
       Scalar qa;
       detail::project_2d_cone(s, std::abs(q), mu_t, s2, qa);
       q2 = q < Scalar(0) ? -qa : qa;
-    } else if (!(mu_t > Scalar(0))) {
+    } else if (!has_mu_t) {
       detail::project_2d_cone(s, t, mu, s2, t2);
     } else if (Norm == SoftFingerNorm::Elliptic) {
       project_elliptic(s, t, q, s2, t2, q2);
@@ -166,26 +170,31 @@ struct SoftFingerCone {
   }
 
  private:
+  /// A coefficient counts as positive only when its square does not underflow (a denormal mu
+  /// is treated as 0: the formulas divide by mu and mu^2; the difference is below mu |x|).
+  static bool positive(Scalar c) { return c * c >= std::numeric_limits<Scalar>::min(); }
+
   Scalar margin_of(Scalar fn, Scalar t, Scalar q) const {
+    const bool has_mu = positive(mu), has_mu_t = positive(mu_t);
     Scalar m;
-    if (mu > Scalar(0) && mu_t > Scalar(0)) {
+    if (has_mu && has_mu_t) {
       m = mu * (fn - combine(t / mu, q / mu_t));
-    } else if (mu > Scalar(0)) {
+    } else if (has_mu) {
       const Scalar c = mu * fn - t;
       m = q == Scalar(0) ? c : (c < Scalar(0) ? c : Scalar(0)) - q;
-    } else if (mu_t > Scalar(0)) {
+    } else if (has_mu_t) {
       m = q <= mu_t * fn ? -t : -t - (q / mu_t - fn);
     } else {
       m = -t - q;
     }
+    if (!(m >= cone_margin_floor<Scalar>())) m = cone_margin_floor<Scalar>();  // overflow: keep it finite
     return detail::pull_corrected(m, fn);
   }
 
   Scalar relative_of(Scalar fn, Scalar t, Scalar q) const {
     if (fn <= Scalar(0))
       return (fn == Scalar(0) && t == Scalar(0) && q == Scalar(0)) ? Scalar(0) : cone_margin_floor<Scalar>();
-    if ((t > Scalar(0) && !(mu > Scalar(0))) || (q > Scalar(0) && !(mu_t > Scalar(0))))
-      return cone_margin_floor<Scalar>();
+    if ((t > Scalar(0) && !positive(mu)) || (q > Scalar(0) && !positive(mu_t))) return cone_margin_floor<Scalar>();
     const Scalar a = t > Scalar(0) ? t / mu : Scalar(0);
     const Scalar b = q > Scalar(0) ? q / mu_t : Scalar(0);
     return detail::relative_from(combine(a, b), fn);

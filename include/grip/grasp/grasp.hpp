@@ -21,7 +21,8 @@ namespace grip {
 ///   for `capacity` contacts lives inside the object.
 /// - `Model`: FrictionlessPoint, HardFinger (default, the paper's) or SoftFinger.
 ///
-/// Invariants: every stored contact satisfies validate(); `size() <= capacity`.
+/// Invariants: every stored contact satisfies validate(); `size() <= capacity`;
+/// inverse_weight(i) == 1 / contact(i).weight for every set slot.
 /// With a fixed N the grasp is `complete()` once each of the N slots has been set;
 /// solvers answer InvalidInput for an incomplete grasp.
 template <int N, class Model = HardFinger, class Scalar = double, int MaxN = N>
@@ -60,11 +61,14 @@ class Grasp {
   /// grasp already holds `capacity` contacts (always, for a fixed N: its N slots exist from
   /// the start; use set()); the grasp is then unchanged.
   Status add(const ContactType& c) {
-    if (count_ >= capacity) return Status::InvalidInput;
+    const int n = count_;  // a local bound check the optimiser can see through (-Warray-bounds)
+    if (n < 0 || n >= capacity) return Status::InvalidInput;
     if (validate(c) != Status::Ok) return Status::InvalidInput;
-    contacts_[static_cast<std::size_t>(count_)] = c;
-    is_set_[static_cast<std::size_t>(count_)] = true;
-    ++count_;
+    const auto k = static_cast<std::size_t>(n);
+    contacts_[k] = c;
+    inverse_weights_[k] = Scalar(1) / c.weight;
+    is_set_[k] = true;
+    count_ = n + 1;
     ++set_count_;
     return Status::Ok;
   }
@@ -72,10 +76,11 @@ class Grasp {
   /// Replaces contact i (0 <= i < size()). InvalidInput for a bad index or contact; the
   /// grasp is then unchanged.
   Status set(int i, const ContactType& c) {
-    if (i < 0 || i >= size()) return Status::InvalidInput;
-    if (validate(c) != Status::Ok) return Status::InvalidInput;
+    if (i < 0 || i >= size() || i >= capacity) return Status::InvalidInput;  // size() <= capacity; the
+    if (validate(c) != Status::Ok) return Status::InvalidInput;               // bound is for -Warray-bounds
     const auto k = static_cast<std::size_t>(i);
     contacts_[k] = c;
+    inverse_weights_[k] = Scalar(1) / c.weight;
     if (!is_set_[k]) {
       is_set_[k] = true;
       ++set_count_;
@@ -98,6 +103,9 @@ class Grasp {
   bool complete() const { return set_count_ == count_; }
   /// Contact i, 0 <= i < size() (unchecked, like Eigen's operator()).
   const ContactType& contact(int i) const { return contacts_[static_cast<std::size_t>(i)]; }
+  /// 1 / contact(i).weight, kept when the contact is stored so that solvers multiply instead
+  /// of dividing per contact and frame (0 <= i < size(), unchecked; 0 for a slot never set).
+  Scalar inverse_weight(int i) const { return inverse_weights_[static_cast<std::size_t>(i)]; }
 
   /// The grasp matrix G (6 x n*dim): column block i is Model::basis(contact(i)).
   /// For HardFinger this is eq. 3: G = [I3 ... I3; R_1 ... R_n].
@@ -152,6 +160,7 @@ class Grasp {
 
  private:
   std::array<ContactType, static_cast<std::size_t>(capacity)> contacts_{};
+  std::array<Scalar, static_cast<std::size_t>(capacity)> inverse_weights_{};
   std::array<bool, static_cast<std::size_t>(capacity)> is_set_{};
   int count_{N == Dynamic ? 0 : N};
   int set_count_{0};

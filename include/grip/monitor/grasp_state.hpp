@@ -39,24 +39,22 @@ struct ContactState {
   Scalar moment{0};  ///< torsional moment about a (N m): soft finger only, else 0
 };
 
-/// The monitor's report on a whole grasp of type GraspT; fixed storage, no heap.
+/// The contact modes of a grasp under given forces, without margins: what
+/// StabilityMonitor::classify() reports, the first part of a GraspState, and all that
+/// resolve() and sticking_grasp() read. Fixed storage, no heap.
 ///
-/// Invariant: every number is finite. Under Status::InvalidInput, size() is 0, stable is false,
-/// the counts are 0 and min_margin is cone_margin_floor().
+/// Invariant: under Status::InvalidInput, size() is 0, stable is false and the counts are 0;
+/// otherwise sticking_count + sliding_count + separating_count == size().
 template <class GraspT>
-struct GraspState {
-  using Scalar = typename GraspT::ScalarType;
+struct GraspModes {
   static constexpr int capacity = GraspT::capacity;  ///< most contacts reported
 
-  /// Per-contact states; entries [0, size()) are meaningful.
-  std::array<ContactState<Scalar>, static_cast<std::size_t>(capacity)> contacts{};
+  /// Per-contact modes; entries [0, size()) are meaningful.
+  std::array<ContactMode, static_cast<std::size_t>(capacity)> modes{};
   int count{0};             ///< number of contacts reported (the grasp's size())
   int sticking_count{0};    ///< contacts in ContactMode::Sticking
   int sliding_count{0};     ///< contacts in ContactMode::Sliding
   int separating_count{0};  ///< contacts in ContactMode::Separating
-  /// Smallest margin over the contacts (N); cone_margin_floor() when there are none.
-  Scalar min_margin{cone_margin_floor<Scalar>()};
-  int min_margin_index{-1};  ///< the contact with min_margin, -1 when there are none
   /// True when status is Ok, there is at least one contact and every contact sticks: the
   /// paper's conditions 4 and 5 hold at every contact.
   bool stable{false};
@@ -64,10 +62,8 @@ struct GraspState {
 
   /// Number of contacts reported.
   int size() const { return count; }
-  /// The state of contact i (0 <= i < size(), unchecked).
-  const ContactState<Scalar>& contact(int i) const { return contacts[static_cast<std::size_t>(i)]; }
-  /// The mode of contact i.
-  ContactMode mode(int i) const { return contact(i).mode; }
+  /// The mode of contact i (0 <= i < size(), unchecked).
+  ContactMode mode(int i) const { return modes[static_cast<std::size_t>(i)]; }
   /// True if contact i slides.
   bool is_sliding(int i) const { return mode(i) == ContactMode::Sliding; }
   /// True if contact i separates.
@@ -76,6 +72,26 @@ struct GraspState {
   bool is_sticking(int i) const { return mode(i) == ContactMode::Sticking; }
   /// True when status == Status::Ok.
   bool ok() const { return status == Status::Ok; }
+};
+
+/// The monitor's full report on a whole grasp of type GraspT: the modes (GraspModes) plus,
+/// per contact, margins and the parts of the force. Fixed storage, no heap.
+///
+/// Invariant: every number is finite; contact(i).mode == mode(i) for i < size(). Under
+/// Status::InvalidInput, size() is 0, stable is false, the counts are 0 and min_margin is
+/// cone_margin_floor().
+template <class GraspT>
+struct GraspState : GraspModes<GraspT> {
+  using Scalar = typename GraspT::ScalarType;
+
+  /// Per-contact states; entries [0, size()) are meaningful.
+  std::array<ContactState<Scalar>, static_cast<std::size_t>(GraspT::capacity)> contacts{};
+  /// Smallest margin over the contacts (N); cone_margin_floor() when there are none.
+  Scalar min_margin{cone_margin_floor<Scalar>()};
+  int min_margin_index{-1};  ///< the contact with min_margin, -1 when there are none
+
+  /// The state of contact i (0 <= i < size(), unchecked).
+  const ContactState<Scalar>& contact(int i) const { return contacts[static_cast<std::size_t>(i)]; }
 };
 
 }  // namespace grip

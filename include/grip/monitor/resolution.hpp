@@ -36,14 +36,15 @@ struct Resolution {
   bool ok() const { return status == Status::Ok; }
 };
 
-/// Resolves `forces` of `grasp` given the monitor's `state` of them (same grasp, same forces)
+/// Resolves `forces` of `grasp` given the monitor's modes of them (a GraspState or the GraspModes of
+/// StabilityMonitor::classify(); same grasp, same forces)
 /// and the external wrench w_ext, projecting sliding forces onto the cone policy `Cone`
 /// (default: the grasp model's exact cone; use the monitor's cone). O(n), no heap.
 /// InvalidInput if state is not Ok, its size differs from the grasp's, forces.size() differs
 /// from grasp.unknowns(), or w_ext is invalid.
 template <class GraspT, class Cone = ExactConeT<typename GraspT::ModelType, typename GraspT::ScalarType>>
 Resolution<GraspT> resolve(const GraspT& grasp, const typename GraspT::ForceVector& forces,
-                           const GraspState<GraspT>& state, const Wrench<typename GraspT::ScalarType>& w_ext) {
+                           const GraspModes<GraspT>& state, const Wrench<typename GraspT::ScalarType>& w_ext) {
   using S = typename GraspT::ScalarType;
   using M = typename GraspT::ModelType;
   constexpr int d = GraspT::dim;
@@ -101,14 +102,14 @@ struct StickingGrasp {
   }
 };
 
-/// The sticking contacts of `grasp` per `state` (the monitor's report on it). A typical
+/// The sticking contacts of `grasp` per `state` (the monitor's modes: GraspState or GraspModes). A typical
 /// re-solve after a slip:
 ///     auto res = resolve(grasp, x, state, w_ext);
 ///     auto sub = sticking_grasp(grasp, state);
 ///     auto sol = solve_range_space(sub.grasp, w_ext + res.released_wrench);
 ///     auto x2 = res.transmitted; sub.scatter(sol.forces, x2);
 template <class GraspT>
-StickingGrasp<GraspT> sticking_grasp(const GraspT& grasp, const GraspState<GraspT>& state) {
+StickingGrasp<GraspT> sticking_grasp(const GraspT& grasp, const GraspModes<GraspT>& state) {
   StickingGrasp<GraspT> out;
   out.original_index.fill(-1);
   if (!state.ok() || state.size() != grasp.size()) return out;

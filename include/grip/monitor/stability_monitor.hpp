@@ -18,8 +18,10 @@ namespace grip {
 /// Tolerances of a StabilityMonitor.
 template <class Scalar>
 struct MonitorSettings {
-  /// A force counts as inside its cone when margin >= -(absolute_tolerance + relative_tolerance
-  /// (|f_n| + |f_t| + |m|)) (m: soft-finger moment, else 0): solvers that put a force exactly on the cone leave round-off on either side.
+  /// A force x with f_n > 0 counts as inside its cone when
+  /// margin(x) >= -(absolute_tolerance + relative_tolerance |x|_1), |x|_1 the sum of the
+  /// absolute values of the contact's unknowns (N, and N m for a soft finger's moment): solvers
+  /// that put a force exactly on the cone leave round-off on either side.
   Scalar absolute_tolerance{0};                                      ///< N
   Scalar relative_tolerance{ScalarTraits<Scalar>::default_tolerance};  ///< dimensionless
 };
@@ -29,18 +31,27 @@ struct MonitorSettings {
 /// with the interface of cone_support.hpp and `Cone::dim == GraspT::dim` fits, e.g.
 /// PyramidCone<8, double> for a hard-finger grasp.
 ///
-/// Classification of contact i with unknown x_i and normal part f_n:
+/// Classification of contact i with unknowns x_i and normal part f_n:
 /// - Separating if f_n <= 0 (a zero force too: eq. 5 asks f.a > 0);
-/// - else Sliding if margin(x_i) < -(absolute_tolerance + relative_tolerance (|f_n| + |f_t| + |m|));
+/// - else Sliding if Cone::slips(x_i, slack), i.e. margin(x_i) < -slack with
+///   slack = absolute_tolerance + relative_tolerance |x_i|_1;
 /// - else Sticking.
-/// Cost: one Cone::measure per contact (CoulombCone: ~20 flops, one square root, one
-/// division), no heap.
+///
+/// Two entry points with the same modes:
+/// - evaluate(): the full GraspState (modes, margins, relative margins, force parts, smallest
+///   margin); one Cone::measure per contact (CoulombCone: one square root, one division).
+/// - classify(): the modes only (GraspModes), for the per-frame decision of a real-time loop;
+///   no square root or division per contact for CoulombCone and PyramidCone.
+/// Both have an overload that writes into caller-owned storage, so that a loop keeps one
+/// result object and pays no construction per frame. No heap.
 template <class GraspT, class Cone = ExactConeT<typename GraspT::ModelType, typename GraspT::ScalarType>>
 class StabilityMonitor {
  public:
   using Scalar = typename GraspT::ScalarType;
   using ConeType = Cone;
   using State = GraspState<GraspT>;
+  using Modes = GraspModes<GraspT>;
+  using ForceVector = typename GraspT::ForceVector;
   static_assert(Cone::dim == GraspT::dim, "the cone must act on the contact model's unknowns");
   static_assert(std::is_same<typename Cone::ScalarType, Scalar>::value, "cone and grasp scalars differ");
 
@@ -51,54 +62,107 @@ class StabilityMonitor {
   /// The tolerances in use.
   const MonitorSettings<Scalar>& settings() const { return settings_; }
 
-  /// The state of `grasp` under the stacked contact unknowns `forces` (grasp.unknowns() values,
-  /// e.g. Solution::forces of any solver).
+  /// Writes into `out` the state of `grasp` under the stacked contact unknowns `forces`
+  /// (grasp.unknowns() values, e.g. Solution::forces of any solver); every field of `out` that
+  /// GraspState documents as meaningful is overwritten.
   /// Status InvalidInput (and the reset state documented at GraspState) when the grasp is
   /// incomplete, forces.size() != grasp.unknowns(), or a force is NaN, Inf or beyond
   /// ScalarTraits::max_magnitude; Ok otherwise.
-  State evaluate(const GraspT& grasp, const typename GraspT::ForceVector& forces) const {
-    State st;
-    constexpr int d = GraspT::dim;
-    if (!grasp.complete() || forces.size() != grasp.unknowns() || !detail::cone_input_valid(forces)) return st;
-    st.count = grasp.size();
+  void evaluate(const GraspT& grasp, const ForceVector& forces, State& out) const {
+    out.min_margin = cone_margin_floor<Scalar>();
+    out.min_margin_index = -1;
+    if (!start(grasp, forces, out)) return;
+    int counts[3] = {0, 0, 0};
     for (int i = 0; i < grasp.size(); ++i) {
       const Cone cone = Cone::from_contact(grasp.contact(i));
-      const typename Cone::Vector x = forces.template segment<d>(i * d);
-      ContactState<Scalar>& cs = st.contacts[static_cast<std::size_t>(i)];
+      const typename Cone::Vector x = forces.template segment<GraspT::dim>(i * GraspT::dim);
+      ContactState<Scalar>& cs = out.contacts[static_cast<std::size_t>(i)];
       const ConeMeasure<Scalar> m = cone.measure(x);
       cs.normal_force = m.normal_force;
       cs.tangential_force = m.tangential_force;
       cs.moment = m.moment;
       cs.margin = m.margin;
       cs.relative_margin = m.relative_margin;
-      const Scalar slack = settings_.absolute_tolerance +
-                           settings_.relative_tolerance * (std::abs(m.normal_force) + m.tangential_norm + std::abs(m.moment));
-      if (!(cs.normal_force > Scalar(0))) {
-        cs.mode = ContactMode::Separating;
-        ++st.separating_count;
-      } else if (cs.margin < -slack) {
-        cs.mode = ContactMode::Sliding;
-        ++st.sliding_count;
-      } else {
-        cs.mode = ContactMode::Sticking;
-        ++st.sticking_count;
-      }
-      if (st.min_margin_index < 0 || cs.margin < st.min_margin) {
-        st.min_margin = cs.margin;
-        st.min_margin_index = i;
+      cs.mode = mode_of(!(m.normal_force > Scalar(0)), m.margin < -slack(x));
+      out.modes[static_cast<std::size_t>(i)] = cs.mode;
+      ++counts[static_cast<int>(cs.mode)];
+      if (i == 0 || cs.margin < out.min_margin) {
+        out.min_margin = cs.margin;
+        out.min_margin_index = i;
       }
     }
-    st.status = Status::Ok;
-    st.stable = st.count > 0 && st.sticking_count == st.count;
+    finish(counts, out);
+  }
+
+  /// The state of `grasp` under `forces`, by value (see the overload that writes into storage).
+  State evaluate(const GraspT& grasp, const ForceVector& forces) const {
+    State st;
+    evaluate(grasp, forces, st);
     return st;
   }
 
   /// Same as evaluate().
-  State operator()(const GraspT& grasp, const typename GraspT::ForceVector& forces) const {
-    return evaluate(grasp, forces);
+  State operator()(const GraspT& grasp, const ForceVector& forces) const { return evaluate(grasp, forces); }
+
+  /// Writes into `out` the modes of the contacts of `grasp` under `forces`: the same modes,
+  /// counts, `stable` and status as evaluate(), without margins.
+  void classify(const GraspT& grasp, const ForceVector& forces, Modes& out) const {
+    if (!start(grasp, forces, out)) return;
+    int sliding_count = 0, separating_count = 0;
+    for (int i = 0; i < grasp.size(); ++i) {
+      const Cone cone = Cone::from_contact(grasp.contact(i));
+      const typename Cone::Vector x = forces.template segment<GraspT::dim>(i * GraspT::dim);
+      // Branch-free: modes of neighbouring contacts are not predictable.
+      const bool separating = !(cone.normal_part(x) > Scalar(0));
+      const bool sliding = cone.slips(x, slack(x));
+      out.modes[static_cast<std::size_t>(i)] = mode_of(separating, sliding);
+      separating_count += int(separating);
+      sliding_count += int(sliding & !separating);
+    }
+    const int counts[3] = {grasp.size() - sliding_count - separating_count, sliding_count, separating_count};
+    finish(counts, out);
+  }
+
+  /// The modes of the contacts of `grasp` under `forces`, by value.
+  Modes classify(const GraspT& grasp, const ForceVector& forces) const {
+    Modes m;
+    classify(grasp, forces, m);
+    return m;
   }
 
  private:
+  /// The tolerance of the slip test for contact unknowns x (N).
+  Scalar slack(const typename Cone::Vector& x) const {
+    return settings_.absolute_tolerance + settings_.relative_tolerance * x.template lpNorm<1>();
+  }
+
+  /// Separating wins over sliding.
+  static ContactMode mode_of(bool separating, bool sliding) {
+    return static_cast<ContactMode>(separating ? static_cast<int>(ContactMode::Separating)
+                                               : static_cast<int>(sliding) * static_cast<int>(ContactMode::Sliding));
+  }
+
+  /// Resets the modes part of `out` to the InvalidInput state; true when the input is valid
+  /// (and then count = grasp.size()).
+  static bool start(const GraspT& grasp, const ForceVector& forces, Modes& out) {
+    out.count = 0;
+    out.sticking_count = out.sliding_count = out.separating_count = 0;
+    out.stable = false;
+    out.status = Status::InvalidInput;
+    if (!grasp.complete() || forces.size() != grasp.unknowns() || !detail::cone_input_valid(forces)) return false;
+    out.count = grasp.size();
+    return true;
+  }
+
+  /// Stores the counts (indexed by ContactMode) and the verdict.
+  static void finish(const int (&counts)[3], Modes& out) {
+    out.sticking_count = counts[static_cast<int>(ContactMode::Sticking)];
+    out.sliding_count = counts[static_cast<int>(ContactMode::Sliding)];
+    out.separating_count = counts[static_cast<int>(ContactMode::Separating)];
+    out.status = Status::Ok;
+    out.stable = out.count > 0 && out.sticking_count == out.count;
+  }
+
   MonitorSettings<Scalar> settings_{};
 };
 
@@ -115,6 +179,20 @@ template <class GraspT>
 GraspState<GraspT> monitor_grasp(const GraspT& grasp, const typename GraspT::ForceVector& forces,
                                  const MonitorSettings<typename GraspT::ScalarType>& settings = {}) {
   return StabilityMonitor<GraspT>(settings).evaluate(grasp, forces);
+}
+
+/// StabilityMonitor<GraspT, Cone>(settings).classify(grasp, forces): the modes only, cone first.
+template <class Cone, class GraspT>
+GraspModes<GraspT> classify_grasp(const GraspT& grasp, const typename GraspT::ForceVector& forces,
+                                  const MonitorSettings<typename GraspT::ScalarType>& settings = {}) {
+  return StabilityMonitor<GraspT, Cone>(settings).classify(grasp, forces);
+}
+
+/// The exact-cone classification of the grasp's model: classify_grasp<ExactConeT<Model, Scalar>>.
+template <class GraspT>
+GraspModes<GraspT> classify_grasp(const GraspT& grasp, const typename GraspT::ForceVector& forces,
+                                  const MonitorSettings<typename GraspT::ScalarType>& settings = {}) {
+  return StabilityMonitor<GraspT>(settings).classify(grasp, forces);
 }
 
 }  // namespace grip

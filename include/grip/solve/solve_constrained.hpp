@@ -49,7 +49,7 @@ struct ConstrainedSolution : Solution<GraspT> {
   /// The dual function q at `multipliers`, F2(x) - lambda.(G x + w_ext): a lower bound on the
   /// optimum whenever the problem is feasible.
   Scalar dual_objective{0};
-  /// True when the unconstrained optimum was strictly inside every cone and was returned at once.
+  /// True when the unconstrained optimum was inside every cone (f_n > 0) and was returned at once.
   bool fast_path{false};
 };
 
@@ -95,7 +95,7 @@ ConstrainedPass<typename GraspT::ScalarType> constrained_pass(const GraspT& gras
   for (int i = 0; i < grasp.size(); ++i) {
     const auto& c = grasp.contact(i);
     const CV t = M::target(c);
-    const CV v = t + (S(1) / c.weight) * M::wrench_transpose(c, lambda);
+    const CV v = t + grasp.inverse_weight(i) * M::wrench_transpose(c, lambda);
     const CV xi = project_onto(Cone::from_contact(c), v);
     x.template segment<d>(i * d) = xi;
     p.residual += M::wrench(c, xi);
@@ -120,7 +120,7 @@ Matrix6<typename GraspT::ScalarType> constrained_hessian(const GraspT& grasp,
   GramAccumulator<S> acc;
   for (int i = 0; i < grasp.size(); ++i) {
     const auto& c = grasp.contact(i);
-    const S k = S(1) / c.weight;
+    const S k = grasp.inverse_weight(i);
     const CV v = M::target(c) + k * M::wrench_transpose(c, lambda);
     const CV xi = x.template segment<d>(i * d);
     const auto j = projection_jacobian(Cone::from_contact(c), v, xi);
@@ -290,49 +290,28 @@ void fill_invalid(ConstrainedSolution<GraspT>& sol, int unknowns) {
 }
 
 /// The fast path: the unconstrained optimum (solve_range_space's), returned as the answer when
-/// it is strictly inside every cone. Writes it into `sol` and its multipliers into `lambda`;
-/// returns true if it is the answer (status Ok, fast_path true).
+/// every force is in its cone with f_n > 0 (a feasible minimiser of the relaxed problem solves
+/// the constrained one). Writes it into `sol` and its multipliers into `lambda`; returns true
+/// if it is the answer (status Ok, fast_path true). One solve_range_space plus one
+/// square-root-free cone test per contact (Cone::slips with zero slack).
 template <class GraspT>
 bool constrained_fast_path(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
-                           ConstrainedSolution<GraspT>& sol, Wrench<typename GraspT::ScalarType>& lambda,
-                           Wrench<typename GraspT::ScalarType>& jacobi) {
+                           ConstrainedSolution<GraspT>& sol, Wrench<typename GraspT::ScalarType>& lambda) {
   using S = typename GraspT::ScalarType;
-  using M = typename GraspT::ModelType;
-  using Cone = ExactConeT<M, S>;
-  using CV = typename GraspT::ContactVector;
+  using Cone = ExactConeT<typename GraspT::ModelType, S>;
   constexpr int d = GraspT::dim;
-  GramAccumulator<S> acc;
-  Wrench<S> rhs = -w_ext;
-  for (int i = 0; i < grasp.size(); ++i) {
-    const auto& c = grasp.contact(i);
-    M::accumulate(acc, c, S(1) / c.weight);
-    rhs -= M::wrench(c, M::target(c));
-  }
-  const Matrix6<S> m = acc.matrix();
-  jacobi = m.diagonal();
-  const Status st = solve_symmetric_6x6(m, rhs, lambda);
-  if (st != Status::Ok) return false;
-  bool inside = true;
-  Wrench<S> r = w_ext;
-  S f2 = S(0);
-  for (int i = 0; i < grasp.size(); ++i) {
-    const auto& c = grasp.contact(i);
-    const CV t = M::target(c);
-    const CV x = t + (S(1) / c.weight) * M::wrench_transpose(c, lambda);
-    if (!(Cone::from_contact(c).margin(x) > S(0))) {
-      inside = false;
-      break;
-    }
-    sol.forces.template segment<d>(i * d) = x;
-    r += M::wrench(c, x);
-    f2 += S(0.5) * c.weight * (x - t).squaredNorm();
+  Wrench<S> rhs, res;
+  if (!range_space_solve(grasp, w_ext, sol, rhs, res)) return false;
+  lambda = sol.multipliers;
+  bool inside = sol.status == Status::Ok;
+  for (int i = 0; i < grasp.size() && inside; ++i) {
+    const Cone cone = Cone::from_contact(grasp.contact(i));
+    const typename Cone::Vector x = sol.forces.template segment<d>(i * d);
+    inside = cone.normal_part(x) > S(0) && !cone.slips(x, S(0));
   }
   if (!inside) return false;
-  sol.multipliers = lambda;
-  sol.residual = r.norm();
-  sol.objective = f2;
-  sol.dual_objective = f2 - lambda.dot(r);
-  sol.status = Status::Ok;
+  sol.objective = S(0.5) * lambda.dot(rhs + res);  // 1/2 lambda^T M lambda = F2(x)
+  sol.dual_objective = sol.objective - lambda.dot(res);
   sol.iterations = 0;
   sol.fast_path = true;
   return true;
@@ -366,14 +345,13 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
 
   // Start: the unconstrained optimum (returned at once if strictly inside), or the warm start.
   Wrench<S> lambda = Wrench<S>::Zero();
+  if (constrained_fast_path(grasp, w_ext, sol, lambda)) return sol;
+  fill_invalid(sol, m);
+  lambda = warm != nullptr ? *warm : (lambda.allFinite() ? lambda : Wrench<S>::Zero());
   Wrench<S> jacobi;
-  if (warm == nullptr) {
-    if (constrained_fast_path(grasp, w_ext, sol, lambda, jacobi)) return sol;
-    if (!lambda.allFinite()) lambda.setZero();
-  } else {
-    lambda = *warm;
+  {
     GramAccumulator<S> acc;
-    for (int i = 0; i < grasp.size(); ++i) M::accumulate(acc, grasp.contact(i), S(1) / grasp.contact(i).weight);
+    for (int i = 0; i < grasp.size(); ++i) M::accumulate(acc, grasp.contact(i), grasp.inverse_weight(i));
     jacobi = acc.matrix().diagonal();
   }
   // Jacobi scaling D of the Levenberg-Marquardt term: the unconstrained Gram diagonal, floored.
@@ -540,10 +518,11 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
 /// (only when infeasibility is suspected) as many again for the least-residual problem;
 /// `iterations` counts both.
 ///
-/// Cold start (no warm multipliers): solve_range_space's unconstrained optimum; if it is
-/// strictly inside every cone it is the answer (status Ok, iterations 0, fast_path true).
-/// Warm start: pass the previous frame's `multipliers` (a 6-vector, so the contact count may
-/// change between frames); no fast-path test is made then.
+/// Fast path, always tried first: solve_range_space's unconstrained optimum; if every force is
+/// in its cone with f_n > 0 it is the answer (status Ok, iterations 0, fast_path true).
+/// Otherwise the iteration starts from that optimum's multipliers (cold start), or from the
+/// previous frame's `multipliers` when given (warm start: a 6-vector, so the contact count may
+/// change between frames).
 ///
 /// Statuses and numbers:
 /// - Ok: |G x + w_ext| <= tolerance (|w_ext| + |x|) with duality gap |lambda.(G x + w_ext)| <=

@@ -15,6 +15,108 @@ namespace grip {
 
 namespace detail {
 
+/// LDL^T of a small symmetric N x N matrix `a` (full storage; the strict lower triangle is
+/// overwritten by L, unit lower triangular) in the order given by `perm` (P^T A P = L D L^T,
+/// perm[i] = the row of A that is row i of P^T A). With `pivot` true each step eliminates the largest
+/// remaining diagonal entry, so |L| <= 1 and a pivot that is zero in exact arithmetic stays at
+/// round-off size (rank revealing, like LAPACK's pstrf); `perm` is then filled in. With
+/// `pivot` false `perm` must hold the identity and is kept. The diagonal of `a` keeps D and
+/// `inv_d` receives 1 / D.
+/// Returns false as soon as a pivot is not above `min_pivot` (or NaN). No square roots; one
+/// division per pivot.
+template <int N, class Scalar>
+bool ldlt_factor(Scalar (&a)[N][N], Scalar (&inv_d)[N], int (&perm)[N], Scalar min_pivot, bool pivot) {
+  for (int j = 0; j < N; ++j) {
+    if (pivot) {
+      int p = j;
+      for (int i = j + 1; i < N; ++i)
+        if (a[i][i] > a[p][p]) p = i;
+      if (p != j) {  // symmetric swap of rows and columns j and p (L's finished rows move too)
+        for (int k = 0; k < N; ++k) std::swap(a[j][k], a[p][k]);
+        for (int k = 0; k < N; ++k) std::swap(a[k][j], a[k][p]);
+        std::swap(perm[j], perm[p]);
+      }
+    }
+    if (!(a[j][j] > min_pivot)) return false;
+    const Scalar inv = Scalar(1) / a[j][j];
+    inv_d[j] = inv;
+    for (int i = j + 1; i < N; ++i) {  // trailing block -= w w^T / d_j, w = column j
+      const Scalar lij = a[i][j] * inv;
+      for (int k = j + 1; k <= i; ++k) {
+        a[i][k] -= lij * a[k][j];
+        if (pivot) a[k][i] = a[i][k];  // keep both triangles for later swaps
+      }
+    }
+    for (int i = j + 1; i < N; ++i) a[i][j] *= inv;  // column j of L
+  }
+  return true;
+}
+
+/// Solves P L D L^T P^T x = b in place from ldlt_factor's output.
+template <int N, class Scalar>
+void ldlt_substitute(const Scalar (&a)[N][N], const Scalar (&inv_d)[N], const int (&perm)[N], Scalar (&x)[N]) {
+  Scalar z[N];
+  for (int i = 0; i < N; ++i) {  // L w = P^T b
+    z[i] = x[perm[i]];
+    for (int k = 0; k < i; ++k) z[i] -= a[i][k] * z[k];
+  }
+  for (int i = 0; i < N; ++i) z[i] *= inv_d[i];  // D v = w
+  for (int i = N - 1; i >= 0; --i) {  // L^T u = v
+    for (int k = i + 1; k < N; ++k) z[i] -= a[k][i] * z[k];
+    x[perm[i]] = z[i];
+  }
+}
+
+/// The LDL^T factorisation of a small symmetric positive semi-definite N x N matrix A whose
+/// diagonal entries are at most `ref` > 0, kept for several solves (iterative refinement).
+/// factor() succeeds when A is numerically of full rank: diagonally pivoted LDL^T
+/// (ldlt_factor with pivoting) finds every pivot above tol * ref.
+///
+/// Fast path with the same verdict: the factorisation in natural order (no pivot search on the
+/// critical path) is accepted when its pivots satisfy prod_j (d_j / ref) > tol. The pivots of
+/// the pivoted factorisation multiply to the same det A and none exceeds ref (Schur complements
+/// of a PSD matrix have smaller diagonals), so its smallest pivot is >= det A / ref^(N-1) >
+/// tol * ref: it would accept too. Otherwise the pivoted factorisation decides.
+template <int N, class Scalar>
+struct SmallLdlt {
+  Scalar f[N][N];  ///< L below the diagonal, D on it
+  Scalar inv_d[N];  ///< 1 / D
+  int perm[N];      ///< row i of P^T A is row perm[i] of A
+
+  /// Factors `a` (full storage, both triangles; not modified). False: rank deficient.
+  bool factor(const Scalar (&a)[N][N], Scalar ref, Scalar tol) {
+    copy(a);
+    if (ldlt_factor<N>(f, inv_d, perm, Scalar(0), false)) {
+      const Scalar inv_ref = Scalar(1) / ref;
+      Scalar det_ratio(1);
+      for (int j = 0; j < N; ++j) det_ratio *= f[j][j] * inv_ref;
+      if (det_ratio > tol) return true;
+    }
+    copy(a);
+    return ldlt_factor<N>(f, inv_d, perm, tol * ref, true);
+  }
+  /// Solves A x = b in place (x: b on entry), after a successful factor().
+  void solve(Scalar (&x)[N]) const { ldlt_substitute<N>(f, inv_d, perm, x); }
+
+ private:
+  void copy(const Scalar (&a)[N][N]) {
+    for (int i = 0; i < N; ++i) {
+      perm[i] = i;
+      for (int k = 0; k < N; ++k) f[i][k] = a[i][k];
+    }
+  }
+};
+
+/// Solves A x = b in place with SmallLdlt (see there: `ref` bounds the diagonal, the rank test
+/// is at tol * ref). Returns false, x unspecified, when A is numerically rank deficient.
+template <int N, class Scalar>
+bool ldlt_solve(const Scalar (&a)[N][N], Scalar (&x)[N], Scalar ref, Scalar tol) {
+  SmallLdlt<N, Scalar> ldlt;
+  if (!ldlt.factor(a, ref, tol)) return false;
+  ldlt.solve(x);
+  return true;
+}
+
 /// Eigen-decomposition of a symmetric 6x6 matrix by cyclic Jacobi rotations: a = v diag(ev) v^T.
 /// Fixed size, no heap, no static state (Eigen's SelfAdjointEigenSolver pulls dynamic-size
 /// Householder code and an allocator into a microcontroller build). At most `max_sweeps`
@@ -64,15 +166,15 @@ void symmetric_eigen_6x6(Matrix6<Scalar> a, Wrench<Scalar>& ev, Matrix6<Scalar>&
 
 }  // namespace detail
 
-/// Solves M y = r for a symmetric positive semi-definite 6x6 M = G W^-1 G^T by Cholesky on
-/// the unit-free matrix A = D M D, D = diag(1, 1, 1, 1/L, 1/L, 1/L), where `length` L (m) is a
+/// Solves M y = r for a symmetric positive semi-definite 6x6 M = G W^-1 G^T by an LDL^T
+/// factorisation on the unit-free matrix A = D M D, D = diag(1, 1, 1, 1/L, 1/L, 1/L), where `length` L (m) is a
 /// characteristic lever arm of the grasp (e.g. the weighted RMS of |r_i|): force and moment rows
 /// of A then have comparable size, so the rank test does not depend on units, and round-off
 /// in a row that is zero in exact arithmetic (moments of contacts whose normals all pass
 /// through the centre) is not mistaken for information, as row-by-row scaling would.
 ///
-/// Cholesky with diagonal pivoting (rank revealing, like LAPACK's pstrf) on A.
-/// Ok: y solves the system. Singular: the largest remaining pivot fell below
+/// The factorisation pivots on the diagonal (rank revealing, like LAPACK's pstrf; see
+/// detail::ldlt_solve). Ok: y solves the system. Singular: the largest remaining pivot fell below
 /// ScalarTraits::rank_tolerance times the largest diagonal entry of A (or L is not positive); y = D u is then given by the
 /// minimum-norm least-squares solution u = A^+ D r, so |D (M y - r)| is smallest, with
 /// eigenvalues of A below rank_tolerance times the largest treated as zero. y is finite.
@@ -80,62 +182,29 @@ template <class Scalar>
 Status solve_symmetric_6x6(const Matrix6<Scalar>& m, const Wrench<Scalar>& r, Wrench<Scalar>& y,
                            Scalar length = Scalar(1)) {
   const Scalar tol = ScalarTraits<Scalar>::rank_tolerance;
+  const Scalar inv_length = length > Scalar(0) ? Scalar(1) / length : Scalar(0);
   Wrench<Scalar> d;
-  d << Scalar(1), Scalar(1), Scalar(1), Scalar(1) / length, Scalar(1) / length, Scalar(1) / length;
-  bool ok = length > Scalar(0) && std::isfinite(length) && d.allFinite();
-  Scalar ref(0);
+  d << Scalar(1), Scalar(1), Scalar(1), inv_length, inv_length, inv_length;
+  bool ok = length > Scalar(0) && std::isfinite(length) && std::isfinite(inv_length);
   if (ok) {
-    for (int j = 0; j < 6; ++j) ref = std::max(ref, m(j, j) * d(j) * d(j));
-    ok = ref > Scalar(0) && std::isfinite(ref);
-  }
-  if (ok) {
-    // Cholesky with diagonal pivoting (rank revealing): P^T A P = L L^T, lower triangle of l.
-    // Each step takes the largest remaining diagonal; when even that is below
-    // rank_tolerance * max diag(A), the rest of A is numerically zero: rank < 6.
-    Matrix6<Scalar> l = d.asDiagonal() * m * d.asDiagonal();
-    const Scalar min_pivot = tol * ref;
-    int perm[6] = {0, 1, 2, 3, 4, 5};
-    for (int j = 0; j < 6 && ok; ++j) {
-      int p = j;
-      for (int i = j + 1; i < 6; ++i)
-        if (l(i, i) > l(p, p)) p = i;
-      if (!(l(p, p) > min_pivot)) {
-        ok = false;
-        break;
-      }
-      if (p != j) {  // symmetric swap of rows and columns j, p
-        l.row(j).swap(l.row(p));
-        l.col(j).swap(l.col(p));
-        std::swap(perm[j], perm[p]);
-      }
-      const Scalar pivot = std::sqrt(l(j, j));
-      l(j, j) = pivot;
-      for (int i = j + 1; i < 6; ++i) l(i, j) /= pivot;
-      for (int k = j + 1; k < 6; ++k)  // update the trailing block (both triangles, for the swaps)
-        for (int i = k; i < 6; ++i) {
-          l(i, k) -= l(i, j) * l(k, j);
-          l(k, i) = l(i, k);
-        }
+    Scalar a[6][6];
+    Scalar x[6];
+    Scalar ref(0);
+    for (int k = 0; k < 6; ++k) {
+      for (int i = 0; i < 6; ++i) a[i][k] = d(i) * m(i, k) * d(k);
+      x[k] = d(k) * r(k);
+      ref = std::max(ref, a[k][k]);
     }
-    if (ok) {
-      Wrench<Scalar> z;
-      for (int i = 0; i < 6; ++i) z(i) = d(perm[i]) * r(perm[i]);  // z = P^T D r
-      for (int i = 0; i < 6; ++i) {  // forward: L w = z
-        for (int k = 0; k < i; ++k) z(i) -= l(i, k) * z(k);
-        z(i) /= l(i, i);
-      }
-      for (int i = 5; i >= 0; --i) {  // backward: L^T u = w
-        for (int k = i + 1; k < 6; ++k) z(i) -= l(k, i) * z(k);
-        z(i) /= l(i, i);
-      }
-      for (int i = 0; i < 6; ++i) y(perm[i]) = d(perm[i]) * z(i);  // y = D P u
+    ok = ref > Scalar(0) && std::isfinite(ref);
+    if (ok && detail::ldlt_solve<6>(a, x, ref, tol)) {
+      for (int i = 0; i < 6; ++i) y(i) = d(i) * x[i];
       if (y.allFinite()) return Status::Ok;
     }
   }
   // Rank deficient: minimum-norm least squares on the scaled system A u = D r, y = D u, so that
   // D (M y - r) is as small as possible.
   y.setZero();
-  if (!ok && !(length > Scalar(0) && std::isfinite(length))) d.setOnes();
+  if (!(length > Scalar(0) && std::isfinite(length) && std::isfinite(inv_length))) d.setOnes();
   const Matrix6<Scalar> a = d.asDiagonal() * m * d.asDiagonal();
   if (!a.allFinite()) return Status::Singular;
   Wrench<Scalar> ev;
