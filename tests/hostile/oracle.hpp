@@ -249,7 +249,8 @@ const char* check_solvers(const GraspT& g, const grip::Wrench<typename GraspT::S
     dd << 1, 1, 1, 1 / len, 1 / len, 1 / len;
     grip::Wrench<double> ev;
     grip::Matrix6<double> vecs;
-    grip::detail::symmetric_eigen_6x6(grip::Matrix6<double>(dd.asDiagonal() * gram * dd.asDiagonal()), ev, vecs);
+    grip::Matrix6<double> scaled = dd.asDiagonal() * gram * dd.asDiagonal();
+    grip::detail::symmetric_eigen_6x6(scaled, ev, vecs);
     const double cond = ev.minCoeff() > 0 ? ev.maxCoeff() / ev.minCoeff() : 1e300;
     if (!(dx <= std::max(1e4, 10 * cond) * eps * (1 + rs.forces.template cast<double>().norm())))
       return "range-space and KKT disagree";

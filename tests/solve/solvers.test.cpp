@@ -287,7 +287,8 @@ TEST_CASE_TEMPLATE("the 6x6 Jacobi eigen-decomposition matches Eigen's solver", 
     if (k % 3 == 0) a = b.leftCols(4) * b.leftCols(4).transpose();  // rank 4
     Wrench<S> ev;
     Matrix6<S> v;
-    detail::symmetric_eigen_6x6(Matrix6<S>(a.cast<S>()), ev, v);
+    Matrix6<S> work = a.cast<S>();
+    detail::symmetric_eigen_6x6(work, ev, v);
     Eigen::Matrix<double, 6, 1> mine = ev.template cast<double>();
     std::sort(mine.data(), mine.data() + 6);
     const Eigen::Matrix<double, 6, 1> ref = Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>>(a).eigenvalues();

@@ -53,7 +53,8 @@ ForceDecomposition<GraspT> decompose_forces(const GraspT& grasp, const Eigen::Ma
   if (!grasp.complete() || x.size() != grasp.unknowns() || !detail::all_in_range(x)) return out;
   const Wrench<S> gx = grasp.wrench(x);
   Wrench<S> lambda;
-  const Status st = solve_symmetric_6x6(weighted_gram(grasp), gx, lambda);
+  // Unit-balanced rank test (moment rows scaled by the lever arm), as in solve_range_space.
+  const Status st = solve_symmetric_6x6(weighted_gram(grasp), gx, lambda, detail::lever_arm(grasp));
   for (int i = 0; i < grasp.size(); ++i) {
     const auto& c = grasp.contact(i);
     const typename GraspT::ContactVector xe = grasp.inverse_weight(i) * M::wrench_transpose(c, lambda);

@@ -78,12 +78,34 @@ Vector3<Scalar> project_onto(const CoulombCone<Scalar>& k, const Vector3<Scalar>
   return n > Scalar(0) && detail::cone_input_valid(v) ? Vector3<Scalar>(n * k.normal) : Vector3<Scalar>::Zero();
 }
 
-/// x_i = P_i(t_i + w_i^-1 G_i^T lambda) for every contact, with the sums of ConstrainedPass.
+/// Adds k G_i J_i G_i^T to `acc`, J_i the generalised Jacobian of the projection P_i at v
+/// (xi = P_i(v)): the contact's block of minus the dual's generalised Hessian.
+template <class GraspT>
+void add_projected_block(GramAccumulator<typename GraspT::ScalarType>& acc, const typename GraspT::ContactType& c,
+                         typename GraspT::ScalarType k, const typename GraspT::ContactVector& v,
+                         const typename GraspT::ContactVector& xi) {
+  using S = typename GraspT::ScalarType;
+  using M = typename GraspT::ModelType;
+  constexpr int d = GraspT::dim;
+  const auto j = projection_jacobian(ExactConeT<M, S>::from_contact(c), v, xi);
+  if (j.region == ProjectionRegion::Interior) {
+    M::accumulate(acc, c, k);
+  } else if (j.region == ProjectionRegion::Boundary) {
+    const Eigen::Matrix<S, 6, d> g = M::basis(c);
+    const Eigen::Matrix<S, 6, d> gj = k * (g * j.matrix);
+    acc.extra.noalias() += gj * g.transpose();
+  }
+}
+
+/// x_i = P_i(t_i + w_i^-1 G_i^T lambda) for every contact, with the sums of ConstrainedPass;
+/// with `hessian` given, also sum_i w_i^-1 G_i J_i G_i^T at lambda in the same pass (so that an
+/// accepted line-search point needs no second pass for the next Newton step).
 template <class GraspT, class Vec>
 ConstrainedPass<typename GraspT::ScalarType> constrained_pass(const GraspT& grasp,
                                                               const Wrench<typename GraspT::ScalarType>& w_ext,
                                                               const Wrench<typename GraspT::ScalarType>& lambda,
-                                                              Vec& x) {
+                                                              Vec& x,
+                                                              GramAccumulator<typename GraspT::ScalarType>* hessian = nullptr) {
   using S = typename GraspT::ScalarType;
   using M = typename GraspT::ModelType;
   using Cone = ExactConeT<M, S>;
@@ -91,6 +113,7 @@ ConstrainedPass<typename GraspT::ScalarType> constrained_pass(const GraspT& gras
   constexpr int d = GraspT::dim;
   ConstrainedPass<S> p;
   p.residual = w_ext;
+  if (hessian != nullptr) *hessian = GramAccumulator<S>{};
   S xx = S(0);
   for (int i = 0; i < grasp.size(); ++i) {
     const auto& c = grasp.contact(i);
@@ -101,6 +124,7 @@ ConstrainedPass<typename GraspT::ScalarType> constrained_pass(const GraspT& gras
     p.residual += M::wrench(c, xi);
     p.f2 += S(0.5) * c.weight * (xi - t).squaredNorm();
     xx += xi.squaredNorm();
+    if (hessian != nullptr) add_projected_block<GraspT>(*hessian, c, grasp.inverse_weight(i), v, xi);
   }
   p.scale = w_ext.norm() + std::sqrt(xx);
   p.dual = p.f2 - lambda.dot(p.residual);
@@ -114,7 +138,6 @@ Matrix6<typename GraspT::ScalarType> constrained_hessian(const GraspT& grasp,
                                                         const Vec& x) {
   using S = typename GraspT::ScalarType;
   using M = typename GraspT::ModelType;
-  using Cone = ExactConeT<M, S>;
   using CV = typename GraspT::ContactVector;
   constexpr int d = GraspT::dim;
   GramAccumulator<S> acc;
@@ -122,15 +145,7 @@ Matrix6<typename GraspT::ScalarType> constrained_hessian(const GraspT& grasp,
     const auto& c = grasp.contact(i);
     const S k = grasp.inverse_weight(i);
     const CV v = M::target(c) + k * M::wrench_transpose(c, lambda);
-    const CV xi = x.template segment<d>(i * d);
-    const auto j = projection_jacobian(Cone::from_contact(c), v, xi);
-    if (j.region == ProjectionRegion::Interior) {
-      M::accumulate(acc, c, k);
-    } else if (j.region == ProjectionRegion::Boundary) {
-      const Eigen::Matrix<S, 6, d> g = M::basis(c);
-      const Eigen::Matrix<S, 6, d> gj = k * (g * j.matrix);
-      acc.extra.noalias() += gj * g.transpose();
-    }
+    add_projected_block<GraspT>(acc, c, k, v, CV(x.template segment<d>(i * d)));
   }
   return acc.matrix();
 }
@@ -360,7 +375,8 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
   const Wrench<S> dinv = jacobi.cwiseSqrt().cwiseInverse();
 
   FV x(m), xt(m);
-  ConstrainedPass<S> cur = constrained_pass(grasp, w_ext, lambda, x);
+  GramAccumulator<S> cur_h, trial_h;  // the Hessian sums at lambda and at the line-search point
+  ConstrainedPass<S> cur = constrained_pass(grasp, w_ext, lambda, x, &cur_h);
   const S armijo = S(1e-4f);
   const S reg = settings.regularisation;
   S damping = S(1);  // Levenberg-Marquardt state: /10 after a full step, *4 after a cut one
@@ -442,7 +458,7 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
     // Newton direction: (H + mu D) d = -r, H = sum w^-1 G J G^T, solved Jacobi-scaled;
     // mu = min(damping, |r|/scale) + reg: quadratic convergence near the optimum, and steps
     // that grow geometrically along a direction of unbounded ascent (infeasible problems).
-    Matrix6<S> h = constrained_hessian(grasp, lambda, x);
+    Matrix6<S> h = cur_h.matrix();
     const S rel = cur.scale > S(0) ? rn / cur.scale : S(1);
     const S mu = (damping < rel ? damping : rel) + reg;
     h.diagonal() += mu * jacobi;
@@ -457,7 +473,7 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
       S alpha = S(1);
       for (; cuts < settings.max_line_search; ++cuts, alpha *= S(0.5)) {
         lt = lambda + alpha * dir;
-        trial = constrained_pass(grasp, w_ext, lt, xt);
+        trial = constrained_pass(grasp, w_ext, lt, xt, &trial_h);
         const S slack = S(16) * eps * (std::abs(trial.dual) + std::abs(cur.dual) + std::abs(cur.f2));
         if (trial.dual >= cur.dual + armijo * alpha * slope - slack) {
           accepted = true;
@@ -473,6 +489,7 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
     if (damping < reg) damping = reg;
     lambda = lt;
     x = xt;
+    cur_h = trial_h;
     const S rn_new = trial.residual.norm();
     cur = trial;
     // Slow progress (the residual no longer halves) suggests that no forces in the cones

@@ -81,48 +81,77 @@ template <class S>
 bool solve_gram_by_schur(const GramAccumulator<S>& acc, const Wrench<S>& r, S length, Wrench<S>& y,
                          Wrench<S>& residual) {
   const S tol = ScalarTraits<S>::rank_tolerance;
-  if (!(acc.k0 > S(0)) || !(length > S(0)) || !std::isfinite(length)) return false;
-  const S inv_k0 = S(1) / acc.k0;
-  const Vector3<S> c = acc.s1;
-  Matrix3<S> sm = acc.s2;  // s2 holds its upper triangle only
-  sm(1, 0) = sm(0, 1);
-  sm(2, 0) = sm(0, 2);
-  sm(2, 1) = sm(1, 2);
-  sm += acc.extra.template bottomRightCorner<3, 3>();
-  S a[3][3];
-  S diag_max(0);
-  for (int i = 0; i < 3; ++i) {
-    diag_max = std::max(diag_max, sm(i, i));
-    for (int k = 0; k < 3; ++k) a[i][k] = sm(i, k) + c(i) * c(k) * inv_k0;
-    a[i][i] -= c.squaredNorm() * inv_k0;
-  }
+  const S k0 = acc.k0;
+  if (!(k0 > S(0)) || !(length > S(0)) || !std::isfinite(length)) return false;
+  const S inv_k0 = S(1) / k0;
+  const S cx = acc.s1.x(), cy = acc.s1.y(), cz = acc.s1.z();
+  // S (s2 keeps its upper triangle; extra may add to the moment block).
+  const S m00 = acc.s2(0, 0) + acc.extra(3, 3), m01 = acc.s2(0, 1) + acc.extra(3, 4),
+          m02 = acc.s2(0, 2) + acc.extra(3, 5), m11 = acc.s2(1, 1) + acc.extra(4, 4),
+          m12 = acc.s2(1, 2) + acc.extra(4, 5), m22 = acc.s2(2, 2) + acc.extra(5, 5);
   const S l2 = length * length;
-  const S ref = std::max(acc.k0, diag_max / l2);
-  if (!std::isfinite(ref) || !(acc.k0 > tol * ref)) return false;
+  const S ref = std::max(k0, std::max(m00, std::max(m11, m22)) / l2);  // largest diagonal of D M D
+  if (!std::isfinite(ref) || !(k0 > tol * ref)) return false;
+  // C / (ref L^2): the Schur complement on the scale of the rank test, entries <= 1.
+  const S u = S(1) / (ref * l2);
+  const S c2 = cx * cx + cy * cy + cz * cz;
+  const S a00 = (m00 + (cx * cx - c2) * inv_k0) * u, a01 = (m01 + cx * cy * inv_k0) * u,
+          a02 = (m02 + cx * cz * inv_k0) * u, a11 = (m11 + (cy * cy - c2) * inv_k0) * u,
+          a12 = (m12 + cy * cz * inv_k0) * u, a22 = (m22 + (cz * cz - c2) * inv_k0) * u;
+  // Straight-line solve by the adjugate when det > tol: as for SmallLdlt, the product of the
+  // pivots (det) then proves that diagonally pivoted LDL^T would accept; else SmallLdlt decides.
+  const S b00 = a11 * a22 - a12 * a12, b01 = a02 * a12 - a01 * a22, b02 = a01 * a12 - a02 * a11,
+          b11 = a00 * a22 - a02 * a02, b12 = a01 * a02 - a00 * a12, b22 = a00 * a11 - a01 * a01;
+  const S det = a00 * b00 + a01 * b01 + a02 * b02;
+  const bool by_adjugate = det > tol;
   SmallLdlt<3, S> ldlt;
-  if (!ldlt.factor(a, ref * l2, tol)) return false;
-  // y = M^-1 r by the block elimination; then one step of iterative refinement with the
-  // residual formed from the sums themselves, which recovers what forming C lost to
-  // cancellation when the contacts sit far from the reference point.
-  const auto eliminate = [&](const Wrench<S>& b) {
-    const Vector3<S> bf = b.template head<3>();
-    const Vector3<S> bm = b.template tail<3>() - inv_k0 * c.cross(bf);
-    S x[3] = {bm.x(), bm.y(), bm.z()};
-    ldlt.solve(x);
-    const Vector3<S> zm(x[0], x[1], x[2]);
-    Wrench<S> z;
-    z << inv_k0 * (bf + c.cross(zm)), zm;
-    return z;
+  if (!by_adjugate) {
+    const S a[3][3] = {{a00, a01, a02}, {a01, a11, a12}, {a02, a12, a22}};
+    if (!ldlt.factor(a, S(1), tol)) return false;
+  }
+  const S inv_det = by_adjugate ? S(1) / det : S(0);
+  // z = M^-1 b by the block elimination: z_m = C^-1 (b_m - c x b_f / k0), z_f = (b_f + c x z_m) / k0.
+  const auto eliminate = [&](const Wrench<S>& b, Wrench<S>& z) {
+    const S fx = b(0), fy = b(1), fz = b(2);
+    S x0 = (b(3) - (cy * fz - cz * fy) * inv_k0) * u, x1 = (b(4) - (cz * fx - cx * fz) * inv_k0) * u,
+      x2 = (b(5) - (cx * fy - cy * fx) * inv_k0) * u;
+    if (by_adjugate) {
+      const S y0 = (b00 * x0 + b01 * x1 + b02 * x2) * inv_det, y1 = (b01 * x0 + b11 * x1 + b12 * x2) * inv_det,
+              y2 = (b02 * x0 + b12 * x1 + b22 * x2) * inv_det;
+      x0 = y0;
+      x1 = y1;
+      x2 = y2;
+    } else {
+      S x[3] = {x0, x1, x2};
+      ldlt.solve(x);
+      x0 = x[0];
+      x1 = x[1];
+      x2 = x[2];
+    }
+    z(3) = x0;
+    z(4) = x1;
+    z(5) = x2;
+    z(0) = (fx + (cy * x2 - cz * x1)) * inv_k0;
+    z(1) = (fy + (cz * x0 - cx * x2)) * inv_k0;
+    z(2) = (fz + (cx * x1 - cy * x0)) * inv_k0;
   };
-  const auto times = [&](const Wrench<S>& z) {  // M z
-    const Vector3<S> zf = z.template head<3>(), zm = z.template tail<3>();
-    Wrench<S> out;
-    out << acc.k0 * zf - c.cross(zm), c.cross(zf) + sm * zm;
-    return out;
+  // residual = M z - b, from the sums: M = [[k0 I, -[c]x], [[c]x, S]].
+  const auto residual_of = [&](const Wrench<S>& z, const Wrench<S>& b, Wrench<S>& out) {
+    out(0) = k0 * z(0) - (cy * z(5) - cz * z(4)) - b(0);
+    out(1) = k0 * z(1) - (cz * z(3) - cx * z(5)) - b(1);
+    out(2) = k0 * z(2) - (cx * z(4) - cy * z(3)) - b(2);
+    out(3) = (cy * z(2) - cz * z(1)) + m00 * z(3) + m01 * z(4) + m02 * z(5) - b(3);
+    out(4) = (cz * z(0) - cx * z(2)) + m01 * z(3) + m11 * z(4) + m12 * z(5) - b(4);
+    out(5) = (cx * z(1) - cy * z(0)) + m02 * z(3) + m12 * z(4) + m22 * z(5) - b(5);
   };
-  y = eliminate(r);
-  y -= eliminate(Wrench<S>(times(y) - r));
-  residual = times(y) - r;
+  // One step of iterative refinement, with the residual formed from the sums themselves: it
+  // recovers what forming C lost to cancellation when the contacts sit far from the origin.
+  Wrench<S> dz;
+  eliminate(r, y);
+  residual_of(y, r, residual);
+  eliminate(residual, dz);
+  y -= dz;
+  residual_of(y, r, residual);
   return y.allFinite() && residual.allFinite();
 }
 

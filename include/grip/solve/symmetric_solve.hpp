@@ -83,27 +83,38 @@ struct SmallLdlt {
   Scalar inv_d[N];  ///< 1 / D
   int perm[N];      ///< row i of P^T A is row perm[i] of A
 
-  /// Factors `a` (full storage, both triangles; not modified). False: rank deficient.
-  bool factor(const Scalar (&a)[N][N], Scalar ref, Scalar tol) {
-    copy(a);
+  /// Factors A, written into `f` (full storage, both triangles) by `fill(f)`, which is called
+  /// again if the pivoted factorisation is needed (no copy of A is kept: small stacks).
+  /// False: rank deficient.
+  template <class Fill>
+  bool factor(const Fill& fill, Scalar ref, Scalar tol) {
+    reset(fill);
     if (ldlt_factor<N>(f, inv_d, perm, Scalar(0), false)) {
       const Scalar inv_ref = Scalar(1) / ref;
       Scalar det_ratio(1);
       for (int j = 0; j < N; ++j) det_ratio *= f[j][j] * inv_ref;
       if (det_ratio > tol) return true;
     }
-    copy(a);
+    reset(fill);
     return ldlt_factor<N>(f, inv_d, perm, tol * ref, true);
+  }
+  /// Factors the matrix `a` (full storage; not modified). False: rank deficient.
+  bool factor(const Scalar (&a)[N][N], Scalar ref, Scalar tol) {
+    return factor(
+        [&a](Scalar (&out)[N][N]) {
+          for (int i = 0; i < N; ++i)
+            for (int k = 0; k < N; ++k) out[i][k] = a[i][k];
+        },
+        ref, tol);
   }
   /// Solves A x = b in place (x: b on entry), after a successful factor().
   void solve(Scalar (&x)[N]) const { ldlt_substitute<N>(f, inv_d, perm, x); }
 
  private:
-  void copy(const Scalar (&a)[N][N]) {
-    for (int i = 0; i < N; ++i) {
-      perm[i] = i;
-      for (int k = 0; k < N; ++k) f[i][k] = a[i][k];
-    }
+  template <class Fill>
+  void reset(const Fill& fill) {
+    for (int i = 0; i < N; ++i) perm[i] = i;
+    fill(f);
   }
 };
 
@@ -117,12 +128,13 @@ bool ldlt_solve(const Scalar (&a)[N][N], Scalar (&x)[N], Scalar ref, Scalar tol)
   return true;
 }
 
-/// Eigen-decomposition of a symmetric 6x6 matrix by cyclic Jacobi rotations: a = v diag(ev) v^T.
+/// Eigen-decomposition of a symmetric 6x6 matrix by cyclic Jacobi rotations: a = v diag(ev) v^T
+/// (`a` is overwritten, its diagonal ends as ev: no copy, for small stacks).
 /// Fixed size, no heap, no static state (Eigen's SelfAdjointEigenSolver pulls dynamic-size
 /// Householder code and an allocator into a microcontroller build). At most `max_sweeps`
 /// sweeps of 15 rotations; converges quadratically, typically in 6 to 8 sweeps.
 template <class Scalar>
-void symmetric_eigen_6x6(Matrix6<Scalar> a, Wrench<Scalar>& ev, Matrix6<Scalar>& v, int max_sweeps = 30) {
+void symmetric_eigen_6x6(Matrix6<Scalar>& a, Wrench<Scalar>& ev, Matrix6<Scalar>& v, int max_sweeps = 30) {
   v.setIdentity();
   const Scalar eps = Eigen::NumTraits<Scalar>::epsilon();
   for (int sweep = 0; sweep < max_sweeps; ++sweep) {
@@ -187,16 +199,18 @@ Status solve_symmetric_6x6(const Matrix6<Scalar>& m, const Wrench<Scalar>& r, Wr
   d << Scalar(1), Scalar(1), Scalar(1), inv_length, inv_length, inv_length;
   bool ok = length > Scalar(0) && std::isfinite(length) && std::isfinite(inv_length);
   if (ok) {
-    Scalar a[6][6];
-    Scalar x[6];
     Scalar ref(0);
-    for (int k = 0; k < 6; ++k) {
-      for (int i = 0; i < 6; ++i) a[i][k] = d(i) * m(i, k) * d(k);
-      x[k] = d(k) * r(k);
-      ref = std::max(ref, a[k][k]);
-    }
+    for (int k = 0; k < 6; ++k) ref = std::max(ref, d(k) * m(k, k) * d(k));
     ok = ref > Scalar(0) && std::isfinite(ref);
-    if (ok && detail::ldlt_solve<6>(a, x, ref, tol)) {
+    detail::SmallLdlt<6, Scalar> ldlt;
+    const auto scaled = [&](Scalar (&a)[6][6]) {  // A = D M D
+      for (int k = 0; k < 6; ++k)
+        for (int i = 0; i < 6; ++i) a[i][k] = d(i) * m(i, k) * d(k);
+    };
+    if (ok && ldlt.factor(scaled, ref, tol)) {
+      Scalar x[6];
+      for (int k = 0; k < 6; ++k) x[k] = d(k) * r(k);
+      ldlt.solve(x);
       for (int i = 0; i < 6; ++i) y(i) = d(i) * x[i];
       if (y.allFinite()) return Status::Ok;
     }
@@ -205,7 +219,7 @@ Status solve_symmetric_6x6(const Matrix6<Scalar>& m, const Wrench<Scalar>& r, Wr
   // D (M y - r) is as small as possible.
   y.setZero();
   if (!(length > Scalar(0) && std::isfinite(length) && std::isfinite(inv_length))) d.setOnes();
-  const Matrix6<Scalar> a = d.asDiagonal() * m * d.asDiagonal();
+  Matrix6<Scalar> a = d.asDiagonal() * m * d.asDiagonal();
   if (!a.allFinite()) return Status::Singular;
   Wrench<Scalar> ev;
   Matrix6<Scalar> vecs;
