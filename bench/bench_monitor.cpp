@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <random>
+#include <type_traits>
 #include <vector>
 
 #include <grip/contact/pyramid_cone.hpp>
@@ -65,34 +66,30 @@ void BM_SolveRangeSpace20(benchmark::State& st) {
 }
 BENCHMARK(BM_SolveRangeSpace20);
 
-template <class Cone, class Model>
-void BM_Monitor20(benchmark::State& st) {
+// Full = true: StabilityMonitor::evaluate (GraspState); false: classify (GraspModes). Both write
+// into one result object kept across iterations.
+template <class Cone, class Model, bool Full>
+void monitor20(benchmark::State& st) {
   const auto v = cases<Model>(1);
   const grip::StabilityMonitor<G<Model>, Cone> monitor;
-  grip::GraspState<G<Model>> out;
+  std::conditional_t<Full, grip::GraspState<G<Model>>, grip::GraspModes<G<Model>>> out;
   std::size_t i = 0;
   for (auto _ : st) {
     const auto& c = v[i++ % v.size()];
-    monitor.evaluate(c.grasp, c.forces, out);
+    if constexpr (Full)
+      monitor.evaluate(c.grasp, c.forces, out);
+    else
+      monitor.classify(c.grasp, c.forces, out);
     benchmark::DoNotOptimize(out);
   }
 }
+template <class Cone, class Model>
+void BM_Monitor20(benchmark::State& st) { monitor20<Cone, Model, true>(st); }
+template <class Cone, class Model>
+void BM_Classify20(benchmark::State& st) { monitor20<Cone, Model, false>(st); }
 BENCHMARK_TEMPLATE(BM_Monitor20, grip::CoulombCone<double>, grip::HardFinger);
 BENCHMARK_TEMPLATE(BM_Monitor20, grip::PyramidCone<8, double>, grip::HardFinger);
 BENCHMARK_TEMPLATE(BM_Monitor20, grip::SoftFingerCone<double>, grip::SoftFinger);
-
-template <class Cone, class Model>
-void BM_Classify20(benchmark::State& st) {
-  const auto v = cases<Model>(1);
-  const grip::StabilityMonitor<G<Model>, Cone> monitor;
-  grip::GraspModes<G<Model>> out;
-  std::size_t i = 0;
-  for (auto _ : st) {
-    const auto& c = v[i++ % v.size()];
-    monitor.classify(c.grasp, c.forces, out);
-    benchmark::DoNotOptimize(out);
-  }
-}
 BENCHMARK_TEMPLATE(BM_Classify20, grip::CoulombCone<double>, grip::HardFinger);
 BENCHMARK_TEMPLATE(BM_Classify20, grip::PyramidCone<8, double>, grip::HardFinger);
 BENCHMARK_TEMPLATE(BM_Classify20, grip::SoftFingerCone<double>, grip::SoftFinger);
