@@ -118,16 +118,6 @@ struct SmallLdlt {
   }
 };
 
-/// Solves A x = b in place with SmallLdlt (see there: `ref` bounds the diagonal, the rank test
-/// is at tol * ref). Returns false, x unspecified, when A is numerically rank deficient.
-template <int N, class Scalar>
-bool ldlt_solve(const Scalar (&a)[N][N], Scalar (&x)[N], Scalar ref, Scalar tol) {
-  SmallLdlt<N, Scalar> ldlt;
-  if (!ldlt.factor(a, ref, tol)) return false;
-  ldlt.solve(x);
-  return true;
-}
-
 /// Eigen-decomposition of a symmetric 6x6 matrix by cyclic Jacobi rotations: a = v diag(ev) v^T
 /// (`a` is overwritten, its diagonal ends as ev: no copy, for small stacks).
 /// Fixed size, no heap, no static state (Eigen's SelfAdjointEigenSolver pulls dynamic-size
@@ -186,7 +176,7 @@ void symmetric_eigen_6x6(Matrix6<Scalar>& a, Wrench<Scalar>& ev, Matrix6<Scalar>
 /// through the centre) is not mistaken for information, as row-by-row scaling would.
 ///
 /// The factorisation pivots on the diagonal (rank revealing, like LAPACK's pstrf; see
-/// detail::ldlt_solve). Ok: y solves the system. Singular: the largest remaining pivot fell below
+/// detail::SmallLdlt). Ok: y solves the system. Singular: the largest remaining pivot fell below
 /// ScalarTraits::rank_tolerance times the largest diagonal entry of A (or L is not positive); y = D u is then given by the
 /// minimum-norm least-squares solution u = A^+ D r, so |D (M y - r)| is smallest, with
 /// eigenvalues of A below rank_tolerance times the largest treated as zero. y is finite.
