@@ -1,5 +1,6 @@
 // Force closure with exact cones: hand-derived cases, Nguyen's two-finger test, certificates.
 #include <doctest/doctest.h>
+#include <limits>
 
 #include <grip/analysis/force_closure.hpp>
 #include <grip/analysis/max_wrench.hpp>
@@ -158,7 +159,8 @@ TEST_CASE_TEMPLATE("random grasps: the returned internal force or certificate ch
     REQUIRE(f.status == Status::Ok);
     if (f.closure) {
       ++yes;
-      CHECK(double(f.residual) <= 10 * tol);
+      // Internal to round-off: the barrier point is corrected onto the null space of G.
+      CHECK(double(f.residual) <= 64 * double(std::numeric_limits<S>::epsilon()));
       CHECK(inside_cones(g, f.internal_force, double(f.margin), 10 * tol));
     } else {
       ++no;

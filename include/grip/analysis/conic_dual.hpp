@@ -77,6 +77,24 @@ ExactConeData<S, Model::dim> exact_cone(const Contact<S>& c) {
   return k;
 }
 
+/// The largest t with x - t e in K (e the cone's axis), for a force x of contact c: x_n - |x_t|/mu
+/// (hard finger), x_n - sqrt(|x_t|^2/mu^2 + m^2/mu_t^2) (soft finger), x (frictionless). Terms
+/// with a zero coefficient are left out (the span projection has removed those components).
+template <class Model, class S>
+S normal_margin(const Contact<S>& c, const Eigen::Matrix<S, Model::dim, 1>& x) {
+  if constexpr (Model::dim == 1) {
+    return x(0);
+  } else {
+    const Vector3<S> a = c.normal / c.normal.norm();
+    const S xn = a.dot(x.template head<3>());
+    S q(0);
+    if (c.friction > S(0)) q += (x.template head<3>() - xn * a).squaredNorm() / (c.friction * c.friction);
+    if constexpr (Model::dim == 4)
+      if (c.torsional_friction > S(0)) q += x(3) * x(3) / (c.torsional_friction * c.torsional_friction);
+    return xn - std::sqrt(q);
+  }
+}
+
 /// Barrier -log of the dual cone at v: value, gradient and Hessian. False if v is not in
 /// the interior of K^*.
 template <class S, int D>

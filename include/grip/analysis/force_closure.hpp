@@ -125,6 +125,31 @@ ForceClosure<GraspT> force_closure(const GraspT& grasp,
     out.internal_force.template segment<D>(i * D) =
         r.primal.template segment<D>(i * D) + t * detail::exact_cone<M>(grasp.contact(i)).axis;
   if (!out.internal_force.allFinite()) out.internal_force.setZero(grasp.unknowns());
+  if (r.status == Status::Ok) {
+    // The barrier's primal point is internal only up to its centering; make it internal to
+    // round-off by the least-squares correction on the cone spans, x_i -= P_i (D G_i)^T z with
+    // (sum (D G_i) P_i (D G_i)^T) z = D G x (rank 6 here), then report the margin this x
+    // achieves: a witnessed lower bound, within the tolerance of the dual's upper bound.
+    const Wrench<S> res = dsc.cwiseProduct(grasp.wrench(out.internal_force));
+    const Wrench<S> z = eig.eigenvectors() * (eig.eigenvectors().transpose() * res).cwiseQuotient(ev);
+    S sum(0), achieved(0);
+    for (int i = 0; i < n; ++i) {
+      const auto k = detail::exact_cone<M>(grasp.contact(i));
+      const Eigen::Matrix<S, 6, D> b = dsc.asDiagonal() * M::basis(grasp.contact(i));
+      out.internal_force.template segment<D>(i * D) -= k.span * (b.transpose() * z);
+      sum += k.axis.dot(out.internal_force.template segment<D>(i * D));
+    }
+    out.internal_force /= sum;
+    for (int i = 0; i < n; ++i) {
+      const Eigen::Matrix<S, D, 1> xi = out.internal_force.template segment<D>(i * D);
+      const S ti = detail::normal_margin<M>(grasp.contact(i), xi);
+      achieved = i == 0 ? ti : std::min(achieved, ti);
+    }
+    if (out.internal_force.allFinite() && std::isfinite(achieved))
+      out.margin = std::min(out.margin, achieved);
+    else
+      out.internal_force.setZero(grasp.unknowns());
+  }
   out.residual = grasp.wrench(out.internal_force).norm();
   out.status = r.status == Status::IterationLimit ? Status::IterationLimit : Status::Ok;
   out.closure = out.status == Status::Ok && out.margin > S(10) * settings.tolerance;
