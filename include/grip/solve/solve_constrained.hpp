@@ -20,6 +20,7 @@
 
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include "grip/contact/contact.hpp"
 #include "grip/contact/exact_cone.hpp"
@@ -78,6 +79,56 @@ Vector3<Scalar> project_onto(const CoulombCone<Scalar>& k, const Vector3<Scalar>
   return n > Scalar(0) && detail::cone_input_valid(v) ? Vector3<Scalar>(n * k.normal) : Vector3<Scalar>::Zero();
 }
 
+/// Hard finger, fused: x = P(v) onto the Coulomb cone of c (exactly project_onto's value) and,
+/// when `acc` is given, k G_i J G_i^T added to it with J = dP/dv (projection_jacobian's
+/// formulas and regions), from one evaluation of v.a, v_t and |v_t|. On the boundary part
+/// J = beta I + [a e] C [a e]^T with C = [[k_u - beta, k_u mu], [k_u mu, k_u mu^2 - beta]],
+/// k_u = 1/(1 + mu^2), beta = |x_t|/|v_t|, so G_i J G_i^T = beta G_i G_i^T (closed form) plus
+/// W C W^T, W = [G_i a, G_i e] (6x2): two cross products and a rank-2 update instead of the
+/// 6x3 by 3x3 by 3x6 product of the generic path.
+template <class S>
+EIGEN_ALWAYS_INLINE Vector3<S> coulomb_project_accumulate(const Contact<S>& c, S k, const Vector3<S>& v, GramAccumulator<S>* acc) {
+  const Vector3<S>& a = c.normal;
+  const Vector3<S>& r = c.position;
+  const S mu = c.friction;
+  if (!cone_input_valid(v)) return Vector3<S>::Zero();  // Polar for the Jacobian: no term
+  // Branch-free in the region (which depends on the square root, so a branch would stall every
+  // contact on a misprediction): one formula covers the boundary part and, with |v_t| = mu n,
+  // the boundary itself (sn = n, beta = 1: x = v), and mu = 0 (the ray: beta = 0, x = n a);
+  // selects pick v (interior) and 0 (polar cone).
+  const S n = v.dot(a);
+  const Vector3<S> ftv = v - n * a;
+  const S ft = ftv.norm();
+  const bool inside = ft < mu * n;                 // J = I
+  const bool polar = n <= -mu * ft || !(n > S(0)) & !(ft > S(0));  // J = 0 (also v = 0)
+  const S inv_ft = ft > S(0) ? S(1) / ft : S(0);
+  const S ku = S(1) / (S(1) + mu * mu);
+  const S sn = (n + mu * ft) * ku;  // alpha of projection_jacobian
+  const S beta = sn * mu * inv_ft;
+  const bool boundary = !inside & !polar;
+  if (acc != nullptr) {
+    if (inside) {
+      acc->add_point_force(k, r);
+    } else if (boundary) {
+      const Vector3<S> e = ftv * inv_ft;
+      Wrench<S> wa, we;
+      wa.template head<3>() = a;
+      wa.template tail<3>() = r.cross(a);
+      we.template head<3>() = e;
+      we.template tail<3>() = r.cross(e);
+      const S caa = k * (ku - beta), cae = k * ku * mu, cee = k * (ku * mu * mu - beta);
+      const Wrench<S> za = caa * wa + cae * we, ze = cae * wa + cee * we;
+      if (beta > S(0)) acc->add_point_force(k * beta, r);
+      for (int j = 0; j < 6; ++j)  // extra += za wa^T + ze we^T (symmetric: C is)
+        for (int i = 0; i < 6; ++i) acc->extra(i, j) += za(i) * wa(j) + ze(i) * we(j);
+    }
+  }
+  const S keep = inside ? S(1) : S(0);
+  const S sb = boundary ? sn : S(0);
+  const S bb = boundary ? beta : S(0);
+  return keep * v + sb * a + bb * ftv;
+}
+
 /// Adds k G_i J_i G_i^T to `acc`, J_i the generalised Jacobian of the projection P_i at v
 /// (xi = P_i(v)): the contact's block of minus the dual's generalised Hessian.
 template <class GraspT>
@@ -87,13 +138,18 @@ void add_projected_block(GramAccumulator<typename GraspT::ScalarType>& acc, cons
   using S = typename GraspT::ScalarType;
   using M = typename GraspT::ModelType;
   constexpr int d = GraspT::dim;
-  const auto j = projection_jacobian(ExactConeT<M, S>::from_contact(c), v, xi);
-  if (j.region == ProjectionRegion::Interior) {
-    M::accumulate(acc, c, k);
-  } else if (j.region == ProjectionRegion::Boundary) {
-    const Eigen::Matrix<S, 6, d> g = M::basis(c);
-    const Eigen::Matrix<S, 6, d> gj = k * (g * j.matrix);
-    acc.extra.noalias() += gj * g.transpose();
+  if constexpr (std::is_same<M, HardFinger>::value) {
+    (void)xi;
+    (void)coulomb_project_accumulate(c, k, v, &acc);
+  } else {
+    const auto j = projection_jacobian(ExactConeT<M, S>::from_contact(c), v, xi);
+    if (j.region == ProjectionRegion::Interior) {
+      M::accumulate(acc, c, k);
+    } else if (j.region == ProjectionRegion::Boundary) {
+      const Eigen::Matrix<S, 6, d> g = M::basis(c);
+      const Eigen::Matrix<S, 6, d> gj = k * (g * j.matrix);
+      acc.extra.noalias() += gj * g.transpose();
+    }
   }
 }
 
@@ -119,12 +175,17 @@ ConstrainedPass<typename GraspT::ScalarType> constrained_pass(const GraspT& gras
     const auto& c = grasp.contact(i);
     const CV t = M::target(c);
     const CV v = t + grasp.inverse_weight(i) * M::wrench_transpose(c, lambda);
-    const CV xi = project_onto(Cone::from_contact(c), v);
+    CV xi;
+    if constexpr (std::is_same<M, HardFinger>::value) {
+      xi = coulomb_project_accumulate(c, grasp.inverse_weight(i), v, hessian);
+    } else {
+      xi = project_onto(Cone::from_contact(c), v);
+      if (hessian != nullptr) add_projected_block<GraspT>(*hessian, c, grasp.inverse_weight(i), v, xi);
+    }
     x.template segment<d>(i * d) = xi;
     p.residual += M::wrench(c, xi);
     p.f2 += S(0.5) * c.weight * (xi - t).squaredNorm();
     xx += xi.squaredNorm();
-    if (hessian != nullptr) add_projected_block<GraspT>(*hessian, c, grasp.inverse_weight(i), v, xi);
   }
   p.scale = w_ext.norm() + std::sqrt(xx);
   p.dual = p.f2 - lambda.dot(p.residual);
@@ -181,26 +242,28 @@ bool is_infeasibility_certificate(const GraspT& grasp, const Wrench<typename Gra
 template <class Scalar>
 Wrench<Scalar> solve_floored_6x6(const Matrix6<Scalar>& a, const Wrench<Scalar>& b, Scalar floor) {
   Matrix6<Scalar> l = a;
+  Wrench<Scalar> inv;  // 1 / l(j, j): one division per pivot
   for (int j = 0; j < 6; ++j) {
     Scalar p = l(j, j);
     for (int k = 0; k < j; ++k) p -= l(j, k) * l(j, k);
     if (!(p > floor)) p = floor;
     p = std::sqrt(p);
     l(j, j) = p;
+    inv(j) = Scalar(1) / p;
     for (int i = j + 1; i < 6; ++i) {
       Scalar t = l(i, j);
       for (int k = 0; k < j; ++k) t -= l(i, k) * l(j, k);
-      l(i, j) = t / p;
+      l(i, j) = t * inv(j);
     }
   }
   Wrench<Scalar> z = b;
   for (int i = 0; i < 6; ++i) {
     for (int k = 0; k < i; ++k) z(i) -= l(i, k) * z(k);
-    z(i) /= l(i, i);
+    z(i) *= inv(i);
   }
   for (int i = 5; i >= 0; --i) {
     for (int k = i + 1; k < 6; ++k) z(i) -= l(k, i) * z(k);
-    z(i) /= l(i, i);
+    z(i) *= inv(i);
   }
   return z;
 }
@@ -308,15 +371,17 @@ void fill_invalid(ConstrainedSolution<GraspT>& sol, int unknowns) {
 /// every force is in its cone with f_n > 0 (a feasible minimiser of the relaxed problem solves
 /// the constrained one). Writes it into `sol` and its multipliers into `lambda`; returns true
 /// if it is the answer (status Ok, fast_path true). One solve_range_space plus one
-/// square-root-free cone test per contact (Cone::slips with zero slack).
+/// square-root-free cone test per contact (Cone::slips with zero slack). The sums of
+/// G W^-1 G^T go to `gram` (see range_space_solve).
 template <class GraspT>
 bool constrained_fast_path(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
-                           ConstrainedSolution<GraspT>& sol, Wrench<typename GraspT::ScalarType>& lambda) {
+                           ConstrainedSolution<GraspT>& sol, Wrench<typename GraspT::ScalarType>& lambda,
+                           GramAccumulator<typename GraspT::ScalarType>& gram) {
   using S = typename GraspT::ScalarType;
   using Cone = ExactConeT<typename GraspT::ModelType, S>;
   constexpr int d = GraspT::dim;
   Wrench<S> rhs, res;
-  if (!range_space_solve(grasp, w_ext, sol, rhs, res)) return false;
+  if (!range_space_solve(grasp, w_ext, sol, rhs, res, &gram)) return false;
   lambda = sol.multipliers;
   bool inside = sol.status == Status::Ok;
   for (int i = 0; i < grasp.size() && inside; ++i) {
@@ -338,7 +403,6 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
                                                    const ConstrainedSettings<typename GraspT::ScalarType>& settings,
                                                    const Wrench<typename GraspT::ScalarType>* warm) {
   using S = typename GraspT::ScalarType;
-  using M = typename GraspT::ModelType;
   using FV = typename GraspT::ForceVector;
   const int m = grasp.unknowns();
   ConstrainedSolution<GraspT> sol;
@@ -360,18 +424,14 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
 
   // Start: the unconstrained optimum (returned at once if strictly inside), or the warm start.
   Wrench<S> lambda = Wrench<S>::Zero();
-  if (constrained_fast_path(grasp, w_ext, sol, lambda)) return sol;
+  GramAccumulator<S> gram;  // G W^-1 G^T, summed by the fast path's solve
+  if (constrained_fast_path(grasp, w_ext, sol, lambda, gram)) return sol;
   fill_invalid(sol, m);
   lambda = warm != nullptr ? *warm : (lambda.allFinite() ? lambda : Wrench<S>::Zero());
-  Wrench<S> jacobi;
-  {
-    GramAccumulator<S> acc;
-    for (int i = 0; i < grasp.size(); ++i) M::accumulate(acc, grasp.contact(i), grasp.inverse_weight(i));
-    jacobi = acc.matrix().diagonal();
-  }
+  Wrench<S> jacobi = gram.matrix().diagonal();
   // Jacobi scaling D of the Levenberg-Marquardt term: the unconstrained Gram diagonal, floored.
   const S jmax = jacobi.maxCoeff();
-  for (int k = 0; k < 6; ++k) jacobi(k) = std::fmax(jacobi(k), S(1e-6f) * jmax);
+  for (int k = 0; k < 6; ++k) jacobi(k) = jacobi(k) > S(1e-6f) * jmax ? jacobi(k) : S(1e-6f) * jmax;
   const Wrench<S> dinv = jacobi.cwiseSqrt().cwiseInverse();
 
   FV x(m), xt(m);
