@@ -84,6 +84,44 @@ void kkt_on_random_instances(int count) {
 
 }  // namespace
 
+TEST_CASE_TEMPLATE("hard-finger pass: the fused projection and Hessian block match the generic path", S, double, float) {
+  // The fused kernel against CoulombCone::project and k G J G^T from projection_jacobian (the
+  // generic path the other models use), in every region: interior, polar cone, the boundary
+  // part, exactly on the boundary (|v_t| = mu n), the apex v = 0, and mu = 0 (the ray).
+  std::mt19937 rng(41);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  const double tol = tol_of<S>(1e-12, 2e-5);
+  int regions[3] = {0, 0, 0};
+  for (int rep = 0; rep < 3000; ++rep) {
+    Contact<S> c = grip_test::random_contact<S>(rng);
+    const double mus[4] = {0.0, 0.3, 0.5, 1.7};
+    c.friction = S(mus[rep % 4]);
+    const S k = S(0.2 + std::abs(n01(rng)));
+    const Vector3<S> a = c.normal;
+    const Vector3<S> e = a.unitOrthogonal();
+    const double vn = n01(rng), vt = std::abs(n01(rng));
+    Vector3<S> v = S(vn) * a + S(vt) * e;
+    if (rep % 7 == 0) v = S(std::abs(vn)) * a + c.friction * S(std::abs(vn)) * e;  // on the boundary
+    if (rep % 11 == 0) v.setZero();
+    GramAccumulator<S> acc;
+    const Vector3<S> x = detail::coulomb_project_accumulate(c, k, v, &acc);
+    const CoulombCone<S> cone = CoulombCone<S>::from_contact(c);
+    const Vector3<S> x_ref = detail::project_onto(cone, v);
+    const auto j = projection_jacobian(cone, v, x_ref);
+    regions[int(j.region)]++;
+    Matrix6<S> h_ref = Matrix6<S>::Zero();
+    if (j.region != ProjectionRegion::Polar) {
+      const Eigen::Matrix<S, 6, 3> g = HardFinger::basis(c);
+      h_ref = k * (g * j.matrix * g.transpose());
+    }
+    CHECK(double((x - x_ref).norm()) <= tol * (1.0 + double(v.norm())));
+    CHECK(double((acc.matrix() - h_ref).norm()) <= tol * (1.0 + double(h_ref.norm())));
+  }
+  CHECK(regions[int(ProjectionRegion::Interior)] > 100);
+  CHECK(regions[int(ProjectionRegion::Polar)] > 100);
+  CHECK(regions[int(ProjectionRegion::Boundary)] > 100);
+}
+
 TEST_CASE_TEMPLATE("solve_constrained optima satisfy the KKT conditions (all models)", S, double, float) {
   kkt_on_random_instances<HardFinger, S>(40);
   kkt_on_random_instances<SoftFinger, S>(40);
