@@ -54,14 +54,17 @@ template <class GraspT>
 struct ForceClosure {
   using Scalar = typename GraspT::ScalarType;
   bool closure{false};   ///< Force closure, decided with margin > 10 * settings.tolerance.
-  Scalar margin{0};      ///< The margin above (dimensionless), within tolerance; <= 0 or
-                         ///< tiny when not in closure (0 when the rank test fails).
+  /// The margin above (dimensionless): when the solver converged, the one `internal_force`
+  /// achieves (a witnessed lower bound, within the tolerance of the optimum); <= 0 or tiny
+  /// when not in closure (0 when the rank test fails).
+  Scalar margin{0};
   /// A unit wrench direction u (force; moment in N m) that cannot be resisted when not in
   /// closure: G_i^T u in K_i^* for all i (to the tolerance), so no contact forces inside the
   /// cones balance w_ext = u. Zero when closure holds.
   Wrench<Scalar> unresisted{Wrench<Scalar>::Zero()};
-  /// An internal force (G x = 0 up to the residual below, sum e_i.x_i = 1) achieving the
-  /// margin: x_i - margin e_i inside K_i (up to the tolerance). Zero when the rank test fails.
+  /// An internal force (G x = 0 to round-off, see `residual`; sum e_i.x_i = 1) achieving the
+  /// margin: x_i - margin e_i inside K_i. The barrier's primal point is corrected onto the null
+  /// space of G (least squares on the cone spans). Zero when the rank test fails.
   typename GraspT::ForceVector internal_force;
   Scalar residual{0};   ///< |G internal_force| (N and N m).
   int rank{0};          ///< Rank of G restricted to the cone spans (6 needed).
