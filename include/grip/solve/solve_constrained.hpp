@@ -451,6 +451,7 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
   Wrench<S> p_cert = Wrench<S>::Zero(), p_y = Wrench<S>::Zero(), p_r = Wrench<S>::Zero();
   S p_f2 = S(0);
   FV p_x(m);
+  Wrench<S> p_lambda = Wrench<S>::Zero();
   const auto decide_infeasible = [&]() {
     Wrench<S> y;
     S f2 = S(0);
@@ -471,6 +472,7 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
     for (int k = 0; k < tries && !ok && phase1_iterations < settings.max_iterations; ++k, delta *= S(0.01)) {
       budget.max_iterations = settings.max_iterations - phase1_iterations;
       phase1_iterations += least_residual(grasp, w_ext, delta, budget, p_x, y, f2);
+      p_lambda = -y / delta;  // the penalty estimate of the multipliers (x(p_lambda) = p_x)
       const S rn = y.norm();
       if (rn > bar) {
         p_cert = y / rn;
@@ -565,6 +567,17 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
       if (decide_infeasible()) {
         pending = true;
         if (grace <= 0) break;
+      } else if (p_lambda.allFinite()) {
+        // Feasible after all: the least-residual solve is a penalty approximation of this
+        // problem, so -y/delta estimates the multipliers; continue from it if the dual is higher.
+        ConstrainedPass<S> alt = constrained_pass(grasp, w_ext, p_lambda, xt, &trial_h);
+        if (alt.dual > cur.dual && std::isfinite(alt.dual)) {
+          lambda = p_lambda;
+          x = xt;
+          cur_h = trial_h;
+          cur = alt;
+          stall = 0;
+        }
       }
     } else if (pending && --grace <= 0) {
       break;
