@@ -2,6 +2,7 @@
 // starts, hand-derived instances (a cone boundary, mu = 0, infeasible), bad input, no heap.
 #include <doctest/doctest.h>
 
+#include <limits>
 #include <random>
 
 #include <grip/solve/solve_constrained.hpp>
@@ -103,6 +104,13 @@ TEST_CASE_TEMPLATE("hard-finger pass: the fused projection and Hessian block mat
     Vector3<S> v = S(vn) * a + S(vt) * e;
     if (rep % 7 == 0) v = S(std::abs(vn)) * a + c.friction * S(std::abs(vn)) * e;  // on the boundary
     if (rep % 11 == 0) v.setZero();
+    // A denormal tangential part (1/|v_t| would overflow): still the boundary part for mu > 0.
+    if (rep % 13 == 0) v = S(1000) * std::numeric_limits<S>::denorm_min() * e;
+    if (rep % 17 == 0) {  // mu = 0 and v exactly on the ray: v_t = 0 on the boundary part
+      c.normal = Vector3<S>::UnitZ();
+      c.friction = S(0);
+      v = S(2) * Vector3<S>::UnitZ();
+    }
     GramAccumulator<S> acc;
     const Vector3<S> x = detail::coulomb_project_accumulate(c, k, v, &acc);
     const CoulombCone<S> cone = CoulombCone<S>::from_contact(c);
@@ -115,6 +123,7 @@ TEST_CASE_TEMPLATE("hard-finger pass: the fused projection and Hessian block mat
       h_ref = k * (g * j.matrix * g.transpose());
     }
     CHECK(double((x - x_ref).norm()) <= tol * (1.0 + double(v.norm())));
+    CAPTURE(rep);
     CHECK(double((acc.matrix() - h_ref).norm()) <= tol * (1.0 + double(h_ref.norm())));
   }
   CHECK(regions[int(ProjectionRegion::Interior)] > 100);

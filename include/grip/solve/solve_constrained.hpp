@@ -100,17 +100,21 @@ EIGEN_ALWAYS_INLINE Vector3<S> coulomb_project_accumulate(const Contact<S>& c, S
   const Vector3<S> ftv = v - n * a;
   const S ft = ftv.norm();
   const bool inside = ft < mu * n;                 // J = I
-  const bool polar = n <= -mu * ft || !(n > S(0)) & !(ft > S(0));  // J = 0 (also v = 0)
-  const S inv_ft = ft > S(0) ? S(1) / ft : S(0);
+  // J = 0 (projection_jacobian's regions): for mu > 0 the polar cone, and v_t = 0 outside the
+  // interior (v = 0, or mu n underflowing); for mu = 0 (the ray) n <= 0.
+  const bool polar = mu > S(0) ? (n <= -mu * ft || !(ft > S(0))) : !(n > S(0));
   const S ku = S(1) / (S(1) + mu * mu);
   const S sn = (n + mu * ft) * ku;  // alpha of projection_jacobian
-  const S beta = sn * mu * inv_ft;
+  // beta = mu sn / |v_t| lies in [0, 1] on the boundary part; divided directly (1/|v_t| would
+  // overflow for a denormal |v_t|).
+  const S beta = ft > S(0) ? (sn * mu) / ft : S(0);
   const bool boundary = !inside & !polar;
   if (acc != nullptr) {
     if (inside) {
       acc->add_point_force(k, r);
     } else if (boundary) {
-      const Vector3<S> e = ftv * inv_ft;
+      // v_t = 0 on the boundary part only for mu = 0 (the ray), where e has no weight.
+      const Vector3<S> e = ft > S(0) ? Vector3<S>(ftv / ft) : Vector3<S>::Zero();
       Wrench<S> wa, we;
       wa.template head<3>() = a;
       wa.template tail<3>() = r.cross(a);
