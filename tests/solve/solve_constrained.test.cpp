@@ -104,7 +104,8 @@ TEST_CASE_TEMPLATE("hard-finger pass: the fused projection and Hessian block mat
     Vector3<S> v = S(vn) * a + S(vt) * e;
     if (rep % 7 == 0) v = S(std::abs(vn)) * a + c.friction * S(std::abs(vn)) * e;  // on the boundary
     if (rep % 11 == 0) v.setZero();
-    // A denormal tangential part (1/|v_t| would overflow): still the boundary part for mu > 0.
+    // A denormal tangential part: |v_t| underflows to 0 while v.a may be a tiny positive number
+    // whose mu v.a underflows too (the generic path calls that polar).
     if (rep % 13 == 0) v = S(1000) * std::numeric_limits<S>::denorm_min() * e;
     if (rep % 17 == 0) {  // mu = 0 and v exactly on the ray: v_t = 0 on the boundary part
       c.normal = Vector3<S>::UnitZ();

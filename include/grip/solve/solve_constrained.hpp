@@ -105,8 +105,7 @@ EIGEN_ALWAYS_INLINE Vector3<S> coulomb_project_accumulate(const Contact<S>& c, S
   const bool polar = mu > S(0) ? (n <= -mu * ft || !(ft > S(0))) : !(n > S(0));
   const S ku = S(1) / (S(1) + mu * mu);
   const S sn = (n + mu * ft) * ku;  // alpha of projection_jacobian
-  // beta = mu sn / |v_t| lies in [0, 1] on the boundary part; divided directly (1/|v_t| would
-  // overflow for a denormal |v_t|).
+  // beta = mu sn / |v_t| lies in [0, 1] on the boundary part.
   const S beta = ft > S(0) ? (sn * mu) / ft : S(0);
   const bool boundary = !inside & !polar;
   if (acc != nullptr) {
