@@ -132,27 +132,33 @@ EIGEN_ALWAYS_INLINE Vector3<S> coulomb_project_accumulate(const Contact<S>& c, S
   return keep * v + sb * a + bb * ftv;
 }
 
-/// Adds k G_i J_i G_i^T to `acc`, J_i the generalised Jacobian of the projection P_i at v
-/// (xi = P_i(v)): the contact's block of minus the dual's generalised Hessian.
+/// x_i = P_i(v) and, when `acc` is given, k G_i J_i G_i^T added to it, J_i the generalised
+/// Jacobian of the projection at v: the contact's block of minus the dual's generalised Hessian.
+/// Hard fingers take the fused kernel above; the other models the cone's projection and
+/// projection_jacobian.
 template <class GraspT>
-void add_projected_block(GramAccumulator<typename GraspT::ScalarType>& acc, const typename GraspT::ContactType& c,
-                         typename GraspT::ScalarType k, const typename GraspT::ContactVector& v,
-                         const typename GraspT::ContactVector& xi) {
+typename GraspT::ContactVector project_accumulate(const typename GraspT::ContactType& c, typename GraspT::ScalarType k,
+                                                  const typename GraspT::ContactVector& v,
+                                                  GramAccumulator<typename GraspT::ScalarType>* acc) {
   using S = typename GraspT::ScalarType;
   using M = typename GraspT::ModelType;
   constexpr int d = GraspT::dim;
   if constexpr (std::is_same<M, HardFinger>::value) {
-    (void)xi;
-    (void)coulomb_project_accumulate(c, k, v, &acc);
+    return coulomb_project_accumulate(c, k, v, acc);
   } else {
-    const auto j = projection_jacobian(ExactConeT<M, S>::from_contact(c), v, xi);
-    if (j.region == ProjectionRegion::Interior) {
-      M::accumulate(acc, c, k);
-    } else if (j.region == ProjectionRegion::Boundary) {
-      const Eigen::Matrix<S, 6, d> g = M::basis(c);
-      const Eigen::Matrix<S, 6, d> gj = k * (g * j.matrix);
-      acc.extra.noalias() += gj * g.transpose();
+    const auto cone = ExactConeT<M, S>::from_contact(c);
+    const typename GraspT::ContactVector xi = project_onto(cone, v);
+    if (acc != nullptr) {
+      const auto j = projection_jacobian(cone, v, xi);
+      if (j.region == ProjectionRegion::Interior) {
+        M::accumulate(*acc, c, k);
+      } else if (j.region == ProjectionRegion::Boundary) {
+        const Eigen::Matrix<S, 6, d> g = M::basis(c);
+        const Eigen::Matrix<S, 6, d> gj = k * (g * j.matrix);
+        acc->extra.noalias() += gj * g.transpose();
+      }
     }
+    return xi;
   }
 }
 
@@ -167,7 +173,6 @@ ConstrainedPass<typename GraspT::ScalarType> constrained_pass(const GraspT& gras
                                                               GramAccumulator<typename GraspT::ScalarType>* hessian = nullptr) {
   using S = typename GraspT::ScalarType;
   using M = typename GraspT::ModelType;
-  using Cone = ExactConeT<M, S>;
   using CV = typename GraspT::ContactVector;
   constexpr int d = GraspT::dim;
   ConstrainedPass<S> p;
@@ -178,13 +183,7 @@ ConstrainedPass<typename GraspT::ScalarType> constrained_pass(const GraspT& gras
     const auto& c = grasp.contact(i);
     const CV t = M::target(c);
     const CV v = t + grasp.inverse_weight(i) * M::wrench_transpose(c, lambda);
-    CV xi;
-    if constexpr (std::is_same<M, HardFinger>::value) {
-      xi = coulomb_project_accumulate(c, grasp.inverse_weight(i), v, hessian);
-    } else {
-      xi = project_onto(Cone::from_contact(c), v);
-      if (hessian != nullptr) add_projected_block<GraspT>(*hessian, c, grasp.inverse_weight(i), v, xi);
-    }
+    const CV xi = project_accumulate<GraspT>(c, grasp.inverse_weight(i), v, hessian);
     x.template segment<d>(i * d) = xi;
     p.residual += M::wrench(c, xi);
     p.f2 += S(0.5) * c.weight * (xi - t).squaredNorm();
@@ -195,21 +194,17 @@ ConstrainedPass<typename GraspT::ScalarType> constrained_pass(const GraspT& gras
   return p;
 }
 
-/// sum_i w_i^-1 G_i J_i G_i^T at lambda, x = x(lambda): minus the dual's generalised Hessian.
-template <class GraspT, class Vec>
+/// sum_i w_i^-1 G_i J_i G_i^T at lambda: minus the dual's generalised Hessian.
+template <class GraspT>
 Matrix6<typename GraspT::ScalarType> constrained_hessian(const GraspT& grasp,
-                                                        const Wrench<typename GraspT::ScalarType>& lambda,
-                                                        const Vec& x) {
+                                                        const Wrench<typename GraspT::ScalarType>& lambda) {
   using S = typename GraspT::ScalarType;
   using M = typename GraspT::ModelType;
-  using CV = typename GraspT::ContactVector;
-  constexpr int d = GraspT::dim;
   GramAccumulator<S> acc;
   for (int i = 0; i < grasp.size(); ++i) {
     const auto& c = grasp.contact(i);
     const S k = grasp.inverse_weight(i);
-    const CV v = M::target(c) + k * M::wrench_transpose(c, lambda);
-    add_projected_block<GraspT>(acc, c, k, v, CV(x.template segment<d>(i * d)));
+    (void)project_accumulate<GraspT>(c, k, M::target(c) + k * M::wrench_transpose(c, lambda), &acc);
   }
   return acc.matrix();
 }
@@ -308,7 +303,7 @@ int least_residual(const GraspT& grasp, const Wrench<typename GraspT::ScalarType
       cur_phi = phi(cur, lambda);
       continue;
     }
-    Matrix6<S> h = constrained_hessian(grasp, Wrench<S>(-lambda / dl), x);
+    Matrix6<S> h = constrained_hessian(grasp, Wrench<S>(-lambda / dl));
     h.diagonal().array() += dl;
     const Wrench<S> e = h.diagonal().cwiseSqrt().cwiseInverse();
     const Matrix6<S> hs = e.asDiagonal() * h * e.asDiagonal();
