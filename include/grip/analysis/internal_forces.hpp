@@ -14,7 +14,9 @@
 /// "Manipulating and grasping forces in manipulation by multifingered robot hands",
 /// IEEE Trans. Robot. Autom. 7(1), 1991.
 
-#include <Eigen/QR>
+#include <algorithm>
+#include <cmath>
+#include <utility>
 
 #include "grip/core/scalar_traits.hpp"
 #include "grip/core/status.hpp"
@@ -90,25 +92,70 @@ struct InternalForceBasis {
 
 /// A basis of null(G) from a column-pivoted Householder QR of G^T (unknowns x 6): the last
 /// unknowns - rank columns of Q. Rank decided with ScalarTraits::rank_tolerance relative to
-/// the largest pivot. No heap (all Eigen storage bounded by GraspT::max_unknowns).
+/// the largest pivot (as Eigen's ColPivHouseholderQR::rank()). No heap (all storage bounded by
+/// GraspT::max_unknowns). The factorisation is written out in scalar loops rather than taken
+/// from Eigen's ColPivHouseholderQR: the same arithmetic, at a fraction of the compile cost per
+/// grasp type.
 template <class GraspT>
 InternalForceBasis<GraspT> internal_force_basis(const GraspT& grasp) {
   using S = typename GraspT::ScalarType;
   using Gt = Eigen::Matrix<S, GraspT::unknowns_at_compile_time, 6, Eigen::ColMajor, GraspT::max_unknowns, 6>;
-  using Q = Eigen::Matrix<S, GraspT::unknowns_at_compile_time, GraspT::unknowns_at_compile_time, Eigen::ColMajor,
-                          GraspT::max_unknowns, GraspT::max_unknowns>;
   InternalForceBasis<GraspT> out;
   const int m = grasp.unknowns();
   out.basis.setZero(m, 0);
   if (!grasp.complete() || m == 0) return out;
-  const Gt gt = grasp.grasp_matrix().transpose();
-  Eigen::ColPivHouseholderQR<Gt> qr(gt);
-  qr.setThreshold(ScalarTraits<S>::rank_tolerance);
-  const int r = static_cast<int>(qr.rank());
-  Q q = Q::Identity(m, m);
-  q.applyOnTheLeft(qr.householderQ());
+  Gt a = grasp.grasp_matrix().transpose();
+  const int steps = m < 6 ? m : 6;
+  S tau[6] = {S(0), S(0), S(0), S(0), S(0), S(0)};
+  S max_pivot(0);
+  int nonzero = 0;
+  for (int k = 0; k < steps; ++k) {
+    // Pivot: the remaining column of largest norm over rows k..m-1 (recomputed, no downdating).
+    int p = k;
+    S best(-1);
+    for (int j = k; j < 6; ++j) {
+      S n2(0);
+      for (int i = k; i < m; ++i) n2 += a(i, j) * a(i, j);
+      if (n2 > best) {
+        best = n2;
+        p = j;
+      }
+    }
+    if (!(best > S(0))) break;  // the rest is exactly zero
+    if (p != k)
+      for (int i = 0; i < m; ++i) std::swap(a(i, k), a(i, p));
+    // Householder reflector H = I - tau v v^T with v(k) = 1 that maps a(k.., k) to (alpha, 0..).
+    const S norm = std::sqrt(best);
+    const S alpha = a(k, k) > S(0) ? -norm : norm;
+    const S v0 = a(k, k) - alpha;
+    for (int i = k + 1; i < m; ++i) a(i, k) /= v0;
+    tau[k] = (alpha - a(k, k)) / alpha;
+    a(k, k) = alpha;  // R(k, k)
+    for (int j = k + 1; j < 6; ++j) {
+      S dot = a(k, j);
+      for (int i = k + 1; i < m; ++i) dot += a(i, k) * a(i, j);
+      dot *= tau[k];
+      a(k, j) -= dot;
+      for (int i = k + 1; i < m; ++i) a(i, j) -= dot * a(i, k);
+    }
+    max_pivot = std::max(max_pivot, norm);
+    nonzero = k + 1;
+  }
+  int r = 0;
+  for (int k = 0; k < nonzero; ++k) r += int(std::abs(a(k, k)) > ScalarTraits<S>::rank_tolerance * max_pivot);
+  // Columns r..m-1 of Q = H_0 H_1 ... : apply the reflectors, last first, to e_r .. e_{m-1}.
+  out.basis.setZero(m, m - r);
+  for (int c = 0; c < m - r; ++c) {
+    out.basis(r + c, c) = S(1);
+    for (int k = nonzero - 1; k >= 0; --k) {
+      S dot = out.basis(k, c);
+      for (int i = k + 1; i < m; ++i) dot += a(i, k) * out.basis(i, c);
+      dot *= tau[k];
+      out.basis(k, c) -= dot;
+      for (int i = k + 1; i < m; ++i) out.basis(i, c) -= dot * a(i, k);
+    }
+  }
   out.rank = r;
-  out.basis = q.rightCols(m - r);
   out.status = r == 6 ? Status::Ok : Status::Singular;
   return out;
 }

@@ -2,7 +2,9 @@
 /// \file
 /// The paper's method (section 5, eq. 9): Gaussian elimination on the KKT matrix H.
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "grip/grasp/grasp.hpp"
 #include "grip/solve/solution.hpp"
@@ -38,38 +40,56 @@ Solution<GraspT> solve_kkt(const GraspT& grasp, const Wrench<typename GraspT::Sc
   // stationarity row by its weight.
   const S length = detail::lever_arm(grasp);
   if (!(length > S(0))) return solve_range_space(grasp, w_ext);  // no lever arm: no moments
-  h.block(3, 0, 3, m) /= length;
-  b.template segment<3>(3) /= length;
-  h.block(0, n + 3, m, 3) /= length;
-  const S eq_scale = h.topRows(6).cwiseAbs().maxCoeff();
+  // Written in scalar loops over h(i, j), not Eigen block expressions: the same arithmetic at
+  // a fraction of the compile cost per grasp type (h is column-major: inner loops run down
+  // columns).
+  for (int j = 0; j < m; ++j)
+    for (int i = 3; i < 6; ++i) h(i, j) /= length;
+  for (int i = 3; i < 6; ++i) b(i) /= length;
+  for (int j = n + 3; j < n + 6; ++j)
+    for (int i = 0; i < m; ++i) h(i, j) /= length;
+  S eq_scale(0);
+  for (int j = 0; j < m; ++j)
+    for (int i = 0; i < 6; ++i) eq_scale = std::max(eq_scale, std::abs(h(i, j)));
   if (!(eq_scale > S(0))) return solve_range_space(grasp, w_ext);
-  h.topRows(6) /= eq_scale;
-  b.template head<6>() /= eq_scale;
+  for (int j = 0; j < m; ++j)
+    for (int i = 0; i < 6; ++i) h(i, j) /= eq_scale;
+  for (int i = 0; i < 6; ++i) b(i) /= eq_scale;
   for (int i = 6; i < m; ++i) {
-    const S s = h.row(i).cwiseAbs().maxCoeff();  // >= the contact's weight > 0
-    h.row(i) /= s;
+    S s(0);  // >= the contact's weight > 0
+    for (int j = 0; j < m; ++j) s = std::max(s, std::abs(h(i, j)));
+    for (int j = 0; j < m; ++j) h(i, j) /= s;
     b(i) /= s;
   }
   const S tol = ScalarTraits<S>::rank_tolerance;
   for (int k = 0; k < m; ++k) {
-    Eigen::Index p = 0;
-    const S pivot = h.col(k).tail(m - k).cwiseAbs().maxCoeff(&p);
-    p += k;
+    int p = k;
+    S pivot = std::abs(h(k, k));
+    for (int i = k + 1; i < m; ++i) {
+      const S v = std::abs(h(i, k));
+      if (v > pivot) {
+        pivot = v;
+        p = i;
+      }
+    }
     if (!(pivot > tol)) return solve_range_space(grasp, w_ext);  // Singular, least squares
     if (p != k) {
-      h.row(k).swap(h.row(p));
+      for (int j = 0; j < m; ++j) std::swap(h(k, j), h(p, j));
       std::swap(b(k), b(p));
     }
-    const int rest = m - k - 1;
-    if (rest == 0) break;
-    h.col(k).tail(rest) /= h(k, k);
-    h.bottomRightCorner(rest, rest).noalias() -= h.col(k).tail(rest) * h.row(k).tail(rest);
-    b.tail(rest).noalias() -= h.col(k).tail(rest) * b(k);
+    if (k + 1 == m) break;
+    const S inv = S(1) / h(k, k);
+    for (int i = k + 1; i < m; ++i) h(i, k) *= inv;
+    for (int j = k + 1; j < m; ++j) {
+      const S hkj = h(k, j);
+      for (int i = k + 1; i < m; ++i) h(i, j) -= h(i, k) * hkj;
+    }
+    const S bk = b(k);
+    for (int i = k + 1; i < m; ++i) b(i) -= h(i, k) * bk;
   }
   for (int i = m - 1; i >= 0; --i) {  // back substitution
-    const int rest = m - i - 1;
     S v = b(i);
-    if (rest > 0) v -= h.row(i).tail(rest).dot(b.tail(rest));
+    for (int j = i + 1; j < m; ++j) v -= h(i, j) * b(j);
     b(i) = v / h(i, i);
   }
   if (!b.allFinite()) return solve_range_space(grasp, w_ext);
