@@ -36,6 +36,7 @@
 #include <limits>
 #include <type_traits>
 
+#include <Eigen/Geometry>
 #include <Eigen/QR>
 
 #include "grip/contact/contact_model.hpp"

@@ -24,13 +24,12 @@
 
 #include <cmath>
 
-#include <Eigen/Eigenvalues>
-
 #include "grip/analysis/conic_dual.hpp"
 #include "grip/core/scalar_traits.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
 #include "grip/grasp/grasp.hpp"
+#include "grip/solve/symmetric_solve.hpp"
 
 namespace grip {
 
@@ -91,15 +90,16 @@ ForceClosure<GraspT> force_closure(const GraspT& grasp,
   const Wrench<S> dsc = detail::row_scaling(rho);
 
   // 1. Rank of G on the cone spans.
-  Eigen::SelfAdjointEigenSolver<Matrix6<S>> eig(detail::cone_span_gram(grasp, rho));
-  const auto& ev = eig.eigenvalues();
+  Wrench<S> ev;  // ascending
+  Matrix6<S> vecs;
+  detail::symmetric_eigen_6x6_sorted(detail::cone_span_gram(grasp, rho), ev, vecs);
   const S cut = ScalarTraits<S>::rank_tolerance * ev(5);
   out.rank = 0;
   for (int k = 0; k < 6; ++k)
     if (ev(k) > cut && ev(k) > S(0)) ++out.rank;
   if (out.rank < 6) {
     // Any y in the kernel: G_i^T y vanishes on the span of K_i, so it is in K_i^*.
-    const Wrench<S> u = dsc.cwiseProduct(eig.eigenvectors().col(0));
+    const Wrench<S> u = dsc.cwiseProduct(vecs.col(0));
     out.unresisted = u / u.norm();
     out.status = Status::Ok;
     return out;
@@ -134,7 +134,7 @@ ForceClosure<GraspT> force_closure(const GraspT& grasp,
     // (sum (D G_i) P_i (D G_i)^T) z = D G x (rank 6 here), then report the margin this x
     // achieves: a witnessed lower bound, within the tolerance of the dual's upper bound.
     const Wrench<S> res = dsc.cwiseProduct(grasp.wrench(out.internal_force));
-    const Wrench<S> z = eig.eigenvectors() * (eig.eigenvectors().transpose() * res).cwiseQuotient(ev);
+    const Wrench<S> z = vecs * (vecs.transpose() * res).cwiseQuotient(ev);
     S sum(0), achieved(0);
     for (int i = 0; i < n; ++i) {
       const auto k = detail::exact_cone<M>(grasp.contact(i));

@@ -25,13 +25,12 @@
 
 #include <cmath>
 
-#include <Eigen/Eigenvalues>
-
 #include "grip/contact/contact_model.hpp"
 #include "grip/core/scalar_traits.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
 #include "grip/grasp/grasp.hpp"
+#include "grip/solve/symmetric_solve.hpp"
 
 namespace grip {
 
@@ -78,10 +77,12 @@ GraspQuality<typename GraspT::ScalarType> grasp_quality(const GraspT& grasp,
   if (!grasp.complete() || !std::isfinite(torque_scale) || !(torque_scale > S(0))) return q;
   const Matrix6<S> m = scaled_gram(grasp, torque_scale);
   if (!m.allFinite()) return q;
-  Eigen::SelfAdjointEigenSolver<Matrix6<S>> eig(m, Eigen::EigenvaluesOnly);
+  Wrench<S> evs;
+  Matrix6<S> vecs;
+  detail::symmetric_eigen_6x6_sorted(m, evs, vecs);  // grip's Jacobi: cheap to compile, no heap
   // eigenvalues ascending; singular values descending.
   for (int k = 0; k < 6; ++k) {
-    const S ev = eig.eigenvalues()(5 - k);
+    const S ev = evs(5 - k);
     q.singular_values(k) = ev > S(0) ? std::sqrt(ev) : S(0);
   }
   q.sigma_max = q.singular_values(0);

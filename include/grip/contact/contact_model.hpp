@@ -13,6 +13,8 @@
 ///   [[k0 I, -[s1]x], [[s1]x, ...]] (GramAccumulator::extra only in the moment block), so that
 ///   solvers can eliminate the force rows in closed form and factor a 3x3 Schur complement.
 
+#include <Eigen/Geometry>
+
 #include "grip/contact/contact.hpp"
 #include "grip/core/types.hpp"
 

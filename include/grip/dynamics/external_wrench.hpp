@@ -3,6 +3,8 @@
 /// The external wrench of the paper's eq. 1-2 on a grasped object: gravity, the inertial
 /// (d'Alembert) terms of the motion the hand imposes, and obstacle penalty contacts.
 
+#include <Eigen/Geometry>
+
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
 #include "grip/dynamics/penalty_contact.hpp"

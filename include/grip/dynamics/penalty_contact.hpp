@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include <Eigen/Geometry>
+
 #include "grip/contact/contact.hpp"
 #include "grip/core/scalar_traits.hpp"
 #include "grip/core/status.hpp"

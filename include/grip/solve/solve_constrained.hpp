@@ -22,6 +22,8 @@
 #include <limits>
 #include <type_traits>
 
+#include <Eigen/Geometry>
+
 #include "grip/contact/contact.hpp"
 #include "grip/contact/exact_cone.hpp"
 #include "grip/grasp/grasp.hpp"

@@ -4,8 +4,8 @@
 /// range-space method in grip reduces to (M = G W^-1 G^T).
 
 #include <algorithm>
-#include <utility>
 #include <cmath>
+#include <utility>
 
 #include "grip/core/scalar_traits.hpp"
 #include "grip/core/status.hpp"
@@ -164,6 +164,24 @@ void symmetric_eigen_6x6(Matrix6<Scalar>& a, Wrench<Scalar>& ev, Matrix6<Scalar>
     }
   }
   ev = a.diagonal();
+}
+
+/// symmetric_eigen_6x6 of a copy of `m`, with the eigenvalues in ascending order and the
+/// eigenvectors (columns of v, orthonormal) in the same order, as Eigen's
+/// SelfAdjointEigenSolver reports them.
+template <class Scalar>
+void symmetric_eigen_6x6_sorted(const Matrix6<Scalar>& m, Wrench<Scalar>& ev, Matrix6<Scalar>& v) {
+  Matrix6<Scalar> a = m;
+  symmetric_eigen_6x6(a, ev, v);
+  for (int i = 0; i < 5; ++i) {  // selection sort: 6 entries
+    int k = i;
+    for (int j = i + 1; j < 6; ++j)
+      if (ev(j) < ev(k)) k = j;
+    if (k != i) {
+      std::swap(ev(i), ev(k));
+      v.col(i).swap(v.col(k));
+    }
+  }
 }
 
 }  // namespace detail
