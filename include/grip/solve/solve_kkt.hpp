@@ -40,6 +40,16 @@ Solution<GraspT> solve_kkt(const GraspT& grasp, const Wrench<typename GraspT::Sc
   // stationarity row by its weight.
   const S length = detail::lever_arm(grasp);
   if (!(length > S(0))) return solve_range_space(grasp, w_ext);  // no lever arm: no moments
+  // The rank of G decides Ok or Singular, by the rank-revealing (diagonally pivoted) LDL^T of
+  // the unit-balanced 6x6 Gram matrix, as in solve_range_space: O(n), against the
+  // O((6 + n dim)^3) elimination below. Partial pivoting of the KKT matrix is not rank
+  // revealing: in float an exactly singular G (two collinear hard fingers) can leave a last
+  // pivot of round-off size above the tolerance and multipliers of 1e9.
+  {
+    Wrench<S> y;
+    if (solve_symmetric_6x6(weighted_gram(grasp), w_ext, y, length) != Status::Ok)
+      return solve_range_space(grasp, w_ext);
+  }
   // Written in scalar loops over h(i, j), not Eigen block expressions: the same arithmetic at
   // a fraction of the compile cost per grasp type (h is column-major: inner loops run down
   // columns).
