@@ -76,13 +76,10 @@ void residual_of(const GraspT& g, const Vec& x, const grip::Wrench<typename Gras
   res = sum.norm();
 }
 
-/// The eigenvalues, ascending, of the unit-balanced Gram matrix A = D G W^-1 G^T D divided by
-/// the largest (D = diag(1, 1, 1, 1/L, 1/L, 1/L), L the weighted RMS lever arm, as the solvers
-/// balance it), formed and decomposed in double from the contacts: how far the grasp is from
-/// rank-deficient, whatever scalar it is solved in. All zero when A is zero or not finite.
+/// 1/L, L the weighted RMS lever arm sqrt(sum k_i |r_i|^2 / sum k_i), k_i = 1/w_i, in double
+/// from the contacts (the solvers' unit balance); 1 when L is zero or 1/L overflows.
 template <class GraspT>
-grip::Wrench<double> relative_gram_spectrum(const GraspT& g) {
-  using M = typename GraspT::ModelType;
+double inverse_lever(const GraspT& g) {
   double k_sum = 0, kr2_sum = 0;
   for (int i = 0; i < g.size(); ++i) {
     const double k = 1.0 / static_cast<double>(g.contact(i).weight);
@@ -91,6 +88,17 @@ grip::Wrench<double> relative_gram_spectrum(const GraspT& g) {
   }
   const double lever = k_sum > 0 ? std::sqrt(kr2_sum / k_sum) : 0.0;
   const double inv_l = lever > 0 && std::isfinite(1 / lever) ? 1 / lever : 1.0;
+  return inv_l;
+}
+
+/// The eigenvalues, ascending, of the unit-balanced Gram matrix A = D G W^-1 G^T D divided by
+/// the largest (D = diag(1, 1, 1, 1/L, 1/L, 1/L), L the weighted RMS lever arm, as the solvers
+/// balance it), formed and decomposed in double from the contacts: how far the grasp is from
+/// rank-deficient, whatever scalar it is solved in. All zero when A is zero or not finite.
+template <class GraspT>
+grip::Wrench<double> relative_gram_spectrum(const GraspT& g) {
+  using M = typename GraspT::ModelType;
+  const double inv_l = inverse_lever(g);
   grip::Wrench<double> dm;
   dm << 1, 1, 1, inv_l, inv_l, inv_l;
   grip::Matrix6<double> a = grip::Matrix6<double>::Zero();
@@ -155,14 +163,7 @@ const char* check_solution(const GraspT& g, const grip::Wrench<typename GraspT::
   // Least squares (solve_range_space's contract): |D (G x + w)| is smallest over all x, with
   // D = diag(1, 1, 1, 1/L, 1/L, 1/L), L the weighted RMS lever arm; so it is never larger than
   // at x = 0 nor at x = t.
-  double k_sum = 0, kr2_sum = 0;
-  for (int i = 0; i < g.size(); ++i) {
-    const double k = 1.0 / static_cast<double>(g.contact(i).weight);
-    k_sum += k;
-    kr2_sum += k * g.contact(i).position.template cast<double>().squaredNorm();
-  }
-  const double lever = k_sum > 0 ? std::sqrt(kr2_sum / k_sum) : 0.0;
-  const double inv_l = lever > 0 && std::isfinite(1 / lever) ? 1 / lever : 1.0;
+  const double inv_l = inverse_lever(g);
   double sres = 0, sres_t = 0, sres_0 = 0, sscale = 0;
   residual_of(g, sol.forces, w, sres, sscale, inv_l);
   residual_of(g, g.target(), w, sres_t, sscale, inv_l);
