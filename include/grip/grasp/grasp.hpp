@@ -22,7 +22,8 @@ namespace grip {
 /// - `Model`: FrictionlessPoint, HardFinger (default, the paper's) or SoftFinger.
 ///
 /// Invariants: every stored contact satisfies validate(); `size() <= capacity`;
-/// inverse_weight(i) == 1 / contact(i).weight for every set slot.
+/// inverse_weight(i) == 1 / contact(i).weight for every set slot; cone_table() row i holds
+/// contact(i).normal and contact(i).friction for every set slot.
 /// With a fixed N the grasp is `complete()` once each of the N slots has been set;
 /// solvers answer InvalidInput for an incomplete grasp.
 template <int N, class Model = HardFinger, class Scalar = double, int MaxN = N>
@@ -40,6 +41,9 @@ class Grasp {
   static constexpr int max_unknowns = capacity * dim;
   static constexpr int kkt_size_at_compile_time = plus_or_dynamic(6, unknowns_at_compile_time);
   static constexpr int max_kkt_size = 6 + max_unknowns;
+  /// capacity rounded up to a multiple of 8: the rows of cone_table(), so that a vectorised
+  /// monitor reads whole blocks of 8 contacts (512 bits of double) without a bounds check.
+  static constexpr int padded_capacity = (capacity + 7) / 8 * 8;
 
   /// Stacked contact unknowns x = (x_1, ..., x_n): size() * dim.
   using ForceVector = Eigen::Matrix<Scalar, unknowns_at_compile_time, 1, Eigen::ColMajor, max_unknowns, 1>;
@@ -54,6 +58,10 @@ class Grasp {
   /// One contact's unknowns.
   using ContactVector = Eigen::Matrix<Scalar, dim, 1>;
   using ContactType = Contact<Scalar>;
+  /// The cone data of the contacts as a structure of arrays (padded_capacity x 4, column-major,
+  /// each column contiguous): columns 0-2 the normal a_i (x, y, z), column 3 mu_i. Rows
+  /// [size(), padded_capacity) are padding with unspecified finite values.
+  using ConeTable = Eigen::Matrix<Scalar, padded_capacity, 4, Eigen::ColMajor | Eigen::DontAlign>;
 
   Grasp() = default;
 
@@ -65,8 +73,7 @@ class Grasp {
     if (n < 0 || n >= capacity) return Status::InvalidInput;
     if (validate(c) != Status::Ok) return Status::InvalidInput;
     const auto k = static_cast<std::size_t>(n);
-    contacts_[k] = c;
-    inverse_weights_[k] = Scalar(1) / c.weight;
+    store(k, c);
     is_set_[k] = true;
     count_ = n + 1;
     ++set_count_;
@@ -79,8 +86,7 @@ class Grasp {
     if (i < 0 || i >= size() || i >= capacity) return Status::InvalidInput;  // size() <= capacity; the
     if (validate(c) != Status::Ok) return Status::InvalidInput;               // bound is for -Warray-bounds
     const auto k = static_cast<std::size_t>(i);
-    contacts_[k] = c;
-    inverse_weights_[k] = Scalar(1) / c.weight;
+    store(k, c);
     if (!is_set_[k]) {
       is_set_[k] = true;
       ++set_count_;
@@ -106,6 +112,10 @@ class Grasp {
   /// 1 / contact(i).weight, kept when the contact is stored so that solvers multiply instead
   /// of dividing per contact and frame (0 <= i < size(), unchecked; 0 for a slot never set).
   Scalar inverse_weight(int i) const { return inverse_weights_[static_cast<std::size_t>(i)]; }
+  /// The normals and friction coefficients of all contacts in one structure of arrays (see
+  /// ConeTable), kept when a contact is stored: what a monitor reads to test many contacts at
+  /// once with SIMD instructions, where contact(i) would be a strided gather.
+  const ConeTable& cone_table() const { return cone_table_; }
 
   /// The grasp matrix G (6 x n*dim): column block i is Model::basis(contact(i)).
   /// For HardFinger this is eq. 3: G = [I3 ... I3; R_1 ... R_n].
@@ -159,8 +169,18 @@ class Grasp {
   }
 
  private:
+  /// Stores contact c in slot k with the data derived from it.
+  void store(std::size_t k, const ContactType& c) {
+    contacts_[k] = c;
+    inverse_weights_[k] = Scalar(1) / c.weight;
+    const auto r = static_cast<Eigen::Index>(k);
+    cone_table_.template block<1, 3>(r, 0) = c.normal.transpose();
+    cone_table_(r, 3) = c.friction;
+  }
+
   std::array<ContactType, static_cast<std::size_t>(capacity)> contacts_{};
   std::array<Scalar, static_cast<std::size_t>(capacity)> inverse_weights_{};
+  ConeTable cone_table_{ConeTable::Zero()};
   std::array<bool, static_cast<std::size_t>(capacity)> is_set_{};
   int count_{N == Dynamic ? 0 : N};
   int set_count_{0};

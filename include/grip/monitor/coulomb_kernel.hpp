@@ -1,0 +1,173 @@
+#pragma once
+/// \file
+/// The vectorised Coulomb classification behind StabilityMonitor::classify(): eight hard-finger
+/// contacts per step in AVX-512 registers, with a portable loop where AVX-512 is not compiled in.
+///
+/// Both compute, per contact i with force x_i, normal a_i (unit) and friction mu_i:
+///   f_n = x_i.a_i,  t = x_i - f_n a_i,  slack = absolute_tolerance + relative_tolerance |x_i|_1,
+///   lim = mu_i f_n + slack;
+///   Separating if !(f_n > 0); else Sliding if lim < 0 or |t|^2 > lim^2; else Sticking;
+/// which is CoulombCone::slips() and StabilityMonitor's rule, term by term. The SIMD path is
+/// taken when the translation unit is compiled with AVX-512F (e.g. -march=native on a recent
+/// x86-64) and GRIP_NO_SIMD is not defined; it reads the normals and mu from
+/// Grasp::cone_table() and deinterleaves the stacked forces in registers.
+
+#include <cmath>
+#include <cstdint>
+#include <type_traits>
+
+#include "grip/core/scalar_traits.hpp"
+#include "grip/monitor/grasp_state.hpp"
+
+#if defined(__AVX512F__) && !defined(GRIP_NO_SIMD)
+#define GRIP_MONITOR_AVX512 1
+#include <immintrin.h>
+#else
+#define GRIP_MONITOR_AVX512 0
+#endif
+
+namespace grip {
+
+/// True when StabilityMonitor::classify() of a double hard-finger grasp under CoulombCone runs
+/// the AVX-512 kernel in this translation unit (false: the portable loop, same modes).
+constexpr bool monitor_uses_avx512 = GRIP_MONITOR_AVX512 != 0;
+
+namespace detail {
+
+/// What one classification pass counted.
+struct CoulombCounts {
+  int invalid{0};     ///< > 0 when a force component is NaN, Inf or beyond max_magnitude
+  int sliding{0};     ///< contacts in ContactMode::Sliding
+  int separating{0};  ///< contacts in ContactMode::Separating
+};
+
+/// The portable pass: contacts [0, n) with forces x (3n values, stacked), normals and mu read
+/// from the column-major table (columns x, y, z, mu; `stride` rows apart), modes written to
+/// modes[0, n). Invalid forces are counted, and their modes are unspecified.
+template <class Scalar>
+CoulombCounts classify_coulomb_portable(const Scalar* table, int stride, const Scalar* x, int n,
+                                        Scalar absolute_tolerance, Scalar relative_tolerance,
+                                        ContactMode* modes) {
+  CoulombCounts c;
+  const Scalar* ax = table;
+  const Scalar* ay = table + stride;
+  const Scalar* az = table + 2 * stride;
+  const Scalar* mu = table + 3 * stride;
+  for (int i = 0; i < n; ++i) {
+    const Scalar x0 = x[3 * i], x1 = x[3 * i + 1], x2 = x[3 * i + 2];
+    const Scalar b0 = std::abs(x0), b1 = std::abs(x1), b2 = std::abs(x2);
+    constexpr Scalar big = ScalarTraits<Scalar>::max_magnitude;
+    c.invalid += int(!(b0 <= big)) + int(!(b1 <= big)) + int(!(b2 <= big));
+    const Scalar fn = x0 * ax[i] + x1 * ay[i] + x2 * az[i];
+    const Scalar t0 = x0 - fn * ax[i], t1 = x1 - fn * ay[i], t2 = x2 - fn * az[i];
+    const Scalar lim = mu[i] * fn + (absolute_tolerance + relative_tolerance * (b0 + b1 + b2));
+    const bool separating = !(fn > Scalar(0));
+    const bool sliding = (!separating) & ((lim < Scalar(0)) | (t0 * t0 + t1 * t1 + t2 * t2 > lim * lim));
+    modes[i] = static_cast<ContactMode>(2 * int(separating) + int(sliding));
+    c.separating += int(separating);
+    c.sliding += int(sliding);
+  }
+  return c;
+}
+
+#if GRIP_MONITOR_AVX512
+static_assert(static_cast<int>(ContactMode::Sticking) == 0 && static_cast<int>(ContactMode::Sliding) == 1 &&
+                  static_cast<int>(ContactMode::Separating) == 2 && sizeof(ContactMode) == 4,
+              "the AVX-512 kernel stores modes as 32-bit integers 0, 1, 2");
+
+/// Number of set bits of an 8-lane mask.
+inline int lane_count(__mmask8 m) {
+#if defined(__POPCNT__)
+  return _mm_popcnt_u32(m);
+#else
+  unsigned v = m;
+  v = v - ((v >> 1) & 0x55u);
+  v = (v & 0x33u) + ((v >> 2) & 0x33u);
+  return static_cast<int>((v + (v >> 4)) & 0x0fu);
+#endif
+}
+
+/// The lowest k bits set (k clamped to [0, 8]).
+inline __mmask8 low_lanes(int k) {
+  return static_cast<__mmask8>(k >= 8 ? 0xffu : k <= 0 ? 0u : (1u << static_cast<unsigned>(k)) - 1u);
+}
+
+/// The AVX-512 pass, same contract as classify_coulomb_portable<double>. Precondition: the
+/// table has at least n rounded up to a multiple of 8 rows (Grasp::padded_capacity); modes
+/// has room for n entries (only [0, n) is written), x for 3n values (only those are read).
+/// FixedN > 0: n == FixedN known at compile time (the loop unrolls, the lane masks fold).
+template <int FixedN = 0>
+CoulombCounts classify_coulomb_avx512(const double* table, int stride, const double* x, int n_runtime,
+                                      double absolute_tolerance, double relative_tolerance, ContactMode* modes) {
+  const int n = FixedN > 0 ? FixedN : n_runtime;
+  // Deinterleaving 8 stacked forces (24 values in registers v0, v1, v2) into x, y, z lanes:
+  // first from v0:v1 (indices 0-15), then the last lanes from v2 (indices 8-15 of the pair).
+  const __m512i from01_x = _mm512_setr_epi64(0, 3, 6, 9, 12, 15, 0, 0);
+  const __m512i from01_y = _mm512_setr_epi64(1, 4, 7, 10, 13, 0, 0, 0);
+  const __m512i from01_z = _mm512_setr_epi64(2, 5, 8, 11, 14, 0, 0, 0);
+  const __m512i with2_x = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 10, 13);
+  const __m512i with2_y = _mm512_setr_epi64(0, 1, 2, 3, 4, 8, 11, 14);
+  const __m512i with2_z = _mm512_setr_epi64(0, 1, 2, 3, 4, 9, 12, 15);
+  const __m512d abs_mask = _mm512_castsi512_pd(_mm512_set1_epi64(0x7fffffffffffffffLL));
+  const __m512d big = _mm512_set1_pd(ScalarTraits<double>::max_magnitude);
+  const __m512d tol_abs = _mm512_set1_pd(absolute_tolerance);
+  const __m512d tol_rel = _mm512_set1_pd(relative_tolerance);
+  const __m512d zero = _mm512_setzero_pd();
+  const __m256i one = _mm256_set1_epi32(1), two = _mm256_set1_epi32(2);
+  CoulombCounts c;
+  __m512i largest = _mm512_setzero_si512();  // per lane, the largest |component| as bits
+  for (int b = 0; b < n; b += 8) {
+    const __mmask8 lanes = low_lanes(n - b);
+    const int values = 3 * (n - b);
+    const double* p = x + 3 * b;
+    const __m512d v0 = _mm512_maskz_loadu_pd(low_lanes(values), p);
+    const __m512d v1 = _mm512_maskz_loadu_pd(low_lanes(values - 8), p + 8);
+    const __m512d v2 = _mm512_maskz_loadu_pd(low_lanes(values - 16), p + 16);
+    const __m512d fx = _mm512_permutex2var_pd(_mm512_permutex2var_pd(v0, from01_x, v1), with2_x, v2);
+    const __m512d fy = _mm512_permutex2var_pd(_mm512_permutex2var_pd(v0, from01_y, v1), with2_y, v2);
+    const __m512d fz = _mm512_permutex2var_pd(_mm512_permutex2var_pd(v0, from01_z, v1), with2_z, v2);
+    const __m512d nx = _mm512_loadu_pd(table + b);
+    const __m512d ny = _mm512_loadu_pd(table + stride + b);
+    const __m512d nz = _mm512_loadu_pd(table + 2 * stride + b);
+    const __m512d mu = _mm512_loadu_pd(table + 3 * stride + b);
+    const __m512d bx = _mm512_and_pd(fx, abs_mask), by = _mm512_and_pd(fy, abs_mask), bz = _mm512_and_pd(fz, abs_mask);
+    // The bits of a non-negative double order as its value, with Inf and then NaN above every
+    // finite one: the largest |component| as an unsigned integer decides validity at the end.
+    // (The masked form throughout: GCC 12's unmasked _mm512_max_epu64 trips -Wuninitialized.)
+    const __m512i ix = _mm512_castpd_si512(bx), iy = _mm512_castpd_si512(by), iz = _mm512_castpd_si512(bz);
+    const __m512i xyz = _mm512_mask_max_epu64(ix, lanes, ix, _mm512_mask_max_epu64(iy, lanes, iy, iz));
+    largest = _mm512_mask_max_epu64(largest, lanes, largest, xyz);
+    const __m512d fn = _mm512_fmadd_pd(fz, nz, _mm512_fmadd_pd(fy, ny, _mm512_mul_pd(fx, nx)));
+    const __m512d tx = _mm512_fnmadd_pd(fn, nx, fx), ty = _mm512_fnmadd_pd(fn, ny, fy), tz = _mm512_fnmadd_pd(fn, nz, fz);
+    const __m512d t2 = _mm512_fmadd_pd(tz, tz, _mm512_fmadd_pd(ty, ty, _mm512_mul_pd(tx, tx)));
+    const __m512d l1 = _mm512_add_pd(_mm512_add_pd(bx, by), bz);
+    const __m512d lim = _mm512_fmadd_pd(mu, fn, _mm512_fmadd_pd(tol_rel, l1, tol_abs));
+    const __mmask8 separating = _mm512_mask_cmp_pd_mask(lanes, fn, zero, _CMP_NGT_UQ);
+    // |t| > lim, squared with the sign kept: t^2 > lim |lim| (always true for lim < 0).
+    const __mmask8 over = _mm512_cmp_pd_mask(t2, _mm512_mul_pd(lim, _mm512_and_pd(lim, abs_mask)), _CMP_GT_OQ);
+    const __mmask8 sliding = static_cast<__mmask8>(over & lanes & static_cast<__mmask8>(~separating));
+    const __m256i mode = _mm256_mask_blend_epi32(separating, _mm256_maskz_mov_epi32(sliding, one), two);
+    _mm256_mask_storeu_epi32(modes + b, lanes, mode);
+    c.separating += lane_count(separating);
+    c.sliding += lane_count(sliding);
+  }
+  c.invalid = lane_count(_mm512_cmpgt_epu64_mask(largest, _mm512_castpd_si512(big)));
+  return c;
+}
+#endif
+
+/// The pass for this translation unit: AVX-512 for double when compiled in, else portable.
+/// FixedN: the grasp's compile-time contact count (n == FixedN), or 0 (Dynamic).
+template <int FixedN, class Scalar>
+CoulombCounts classify_coulomb(const Scalar* table, int stride, const Scalar* x, int n, Scalar absolute_tolerance,
+                               Scalar relative_tolerance, ContactMode* modes) {
+#if GRIP_MONITOR_AVX512
+  if constexpr (std::is_same<Scalar, double>::value)
+    return classify_coulomb_avx512<FixedN>(table, stride, x, n, absolute_tolerance, relative_tolerance, modes);
+  else
+#endif
+    return classify_coulomb_portable(table, stride, x, n, absolute_tolerance, relative_tolerance, modes);
+}
+
+}  // namespace detail
+}  // namespace grip

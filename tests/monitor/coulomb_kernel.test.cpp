@@ -1,0 +1,191 @@
+// The Coulomb classification pass behind StabilityMonitor::classify(): the pass this
+// translation unit dispatches to (AVX-512 when compiled with it: CMake builds this file a
+// second time with -march=native as grip_tests_native) against the portable loop and against
+// an independent per-contact rule written from the cone's own interface. Block tails (every
+// size from 1 to the capacity), the compile-time-size path, invalid values at every position.
+#include <doctest/doctest.h>
+
+#include <array>
+#include <limits>
+#include <random>
+
+#include <grip/contact/coulomb_cone.hpp>
+#include <grip/monitor/coulomb_kernel.hpp>
+#include <grip/monitor/stability_monitor.hpp>
+
+#include "support/allocation_counter.hpp"
+#include "support/cone_sampling.hpp"
+#include "support/fixtures.hpp"
+
+using namespace grip;
+
+namespace {
+
+// The rule the kernel implements, from CoulombCone's interface and the monitor's slack.
+template <class S>
+ContactMode rule_mode(const Contact<S>& c, const Vector3<S>& x, S abs_tol, S rel_tol) {
+  const CoulombCone<S> cone = CoulombCone<S>::from_contact(c);
+  if (!(cone.normal_part(x) > S(0))) return ContactMode::Separating;
+  return cone.slips(x, abs_tol + rel_tol * x.template lpNorm<1>()) ? ContactMode::Sliding : ContactMode::Sticking;
+}
+
+// True when x lies within round-off of the slip boundary |t| = mu f_n + slack, where two
+// correct evaluations may round to different modes.
+template <class S>
+bool near_boundary(const Contact<S>& c, const Vector3<S>& x, S abs_tol, S rel_tol) {
+  const Vector3<double> xd = x.template cast<double>(), a = c.normal.template cast<double>();
+  const double fn = xd.dot(a), t = (xd - fn * a).norm();
+  const double lim = double(c.friction) * fn + double(abs_tol) + double(rel_tol) * xd.lpNorm<1>();
+  return std::abs(t - lim) <= 1e3 * double(std::numeric_limits<S>::epsilon()) * (1.0 + xd.norm()) ||
+         std::abs(fn) <= 1e3 * double(std::numeric_limits<S>::epsilon()) * xd.norm();
+}
+
+// A force of one of several kinds around contact c's cone, in double.
+Vector3<double> mixed_force(std::mt19937& rng, const Vector3<double>& a, double mu, int kind) {
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  const Vector3<double> t = grip_test::random_tangent(rng, a);
+  const double fn = 0.1 + 5.0 * u01(rng);
+  switch (kind) {
+    case 0: return grip_test::random_force(rng, a, -2.0, 5.0, 5.0);  // anything
+    case 1: return fn * a + 0.5 * mu * fn * t;                       // well inside
+    case 2: return fn * a + (1.5 * mu * fn + 0.1) * t;               // well outside
+    case 3: return fn * a;                                           // on the axis (mu = 0 too)
+    case 4: return Vector3<double>::Zero();                          // separating: zero force
+    case 5: return -fn * a + 0.3 * t;                                // pulling
+    default: return 1e6 * grip_test::random_force(rng, a, -1.0, 1.0, 1.0);  // large
+  }
+}
+
+template <class G>
+void check_pass(std::mt19937& rng, int n, int trials) {
+  using S = typename G::ScalarType;
+  constexpr int fixed = G::fixed_size > 0 ? G::fixed_size : 0;
+  const S abs_tol = S(1e-6), rel_tol = ScalarTraits<S>::default_tolerance;
+  int compared = 0, kinds[3] = {0, 0, 0};
+  for (int trial = 0; trial < trials; ++trial) {
+    G g = grip_test::random_grasp<G>(rng, n);
+    if (trial % 4 == 0) {  // some frictionless contacts: the ray mu = 0
+      Contact<S> c = g.contact(0);
+      c.friction = S(0);
+      REQUIRE(g.set(0, c) == Status::Ok);
+    }
+    typename G::ForceVector x(g.unknowns());
+    for (int i = 0; i < n; ++i)
+      x.template segment<3>(3 * i) = mixed_force(rng, g.contact(i).normal.template cast<double>(),
+                                                 double(g.contact(i).friction), (trial + i) % 7)
+                                         .template cast<S>();
+    std::array<ContactMode, G::capacity> fast{}, portable{};
+    grip_test::NoHeapScope scope;
+    const detail::CoulombCounts cf = detail::classify_coulomb<fixed>(g.cone_table().data(), G::padded_capacity,
+                                                                     x.data(), n, abs_tol, rel_tol, fast.data());
+    const detail::CoulombCounts cp = detail::classify_coulomb_portable(g.cone_table().data(), G::padded_capacity,
+                                                                       x.data(), n, abs_tol, rel_tol, portable.data());
+    CHECK(scope.allocations() == 0);
+    CHECK(cf.invalid == 0);
+    CHECK(cp.invalid == 0);
+    int sliding = 0, separating = 0, skipped = 0;
+    for (int i = 0; i < n; ++i) {
+      const Vector3<S> xi = x.template segment<3>(3 * i);
+      const ContactMode want = rule_mode(g.contact(i), xi, abs_tol, rel_tol);
+      sliding += want == ContactMode::Sliding;
+      separating += want == ContactMode::Separating;
+      if (near_boundary(g.contact(i), xi, abs_tol, rel_tol)) {
+        ++skipped;
+        continue;
+      }
+      ++compared;
+      ++kinds[static_cast<int>(want)];
+      CHECK(fast[static_cast<std::size_t>(i)] == want);
+      CHECK(portable[static_cast<std::size_t>(i)] == want);
+    }
+    if (skipped == 0) {
+      CHECK(cf.sliding == sliding);
+      CHECK(cf.separating == separating);
+      CHECK(cp.sliding == sliding);
+      CHECK(cp.separating == separating);
+    }
+  }
+  CHECK(compared > trials * n * 3 / 4);
+  CHECK(kinds[0] > 0);
+  CHECK(kinds[1] > 0);
+  CHECK(kinds[2] > 0);
+}
+
+}  // namespace
+
+TEST_CASE_TEMPLATE("Coulomb kernel: every size and block tail agrees with the cone's own rule", S, double, float) {
+  MESSAGE("monitor_uses_avx512 = " << monitor_uses_avx512);
+  std::mt19937 rng(2024);
+  for (int n = 1; n <= 19; ++n) check_pass<Grasp<Dynamic, HardFinger, S, 19>>(rng, n, 20);
+  check_pass<Grasp<20, HardFinger, S>>(rng, 20, 200);  // compile-time size: unrolled blocks
+  check_pass<Grasp<8, HardFinger, S>>(rng, 8, 100);    // exactly one block
+  check_pass<Grasp<1, HardFinger, S>>(rng, 1, 100);
+}
+
+TEST_CASE_TEMPLATE("Coulomb kernel: NaN, Inf and huge components are found at every position", S, double, float) {
+  using G = Grasp<Dynamic, HardFinger, S, 19>;
+  std::mt19937 rng(7);
+  const S big = ScalarTraits<S>::max_magnitude;
+  const S bad_values[] = {std::numeric_limits<S>::quiet_NaN(), std::numeric_limits<S>::infinity(),
+                          -std::numeric_limits<S>::infinity(), S(2) * big, -S(2) * big};
+  const StabilityMonitor<G> monitor;
+  for (int n : {1, 7, 8, 9, 16, 17, 19}) {
+    const G g = grip_test::random_grasp<G>(rng, n);
+    typename G::ForceVector x(g.unknowns());
+    for (int i = 0; i < n; ++i)
+      x.template segment<3>(3 * i) =
+          grip_test::random_force(rng, g.contact(i).normal.template cast<double>(), -1.0, 5.0, 3.0).template cast<S>();
+    GraspModes<G> modes;
+    monitor.classify(g, x, modes);
+    REQUIRE(modes.ok());
+    // Exactly max_magnitude is still valid, in every position.
+    for (int k = 0; k < 3 * n; ++k) {
+      const S keep = x(k);
+      x(k) = -big;
+      monitor.classify(g, x, modes);
+      CHECK(modes.ok());
+      CHECK(modes.size() == n);
+      x(k) = keep;
+    }
+    for (S bad : bad_values) {
+      for (int k = 0; k < 3 * n; ++k) {
+        const S keep = x(k);
+        x(k) = bad;
+        std::array<ContactMode, G::capacity> m{};
+        CHECK(detail::classify_coulomb<0>(g.cone_table().data(), G::padded_capacity, x.data(), n, S(0),
+                                          ScalarTraits<S>::default_tolerance, m.data())
+                  .invalid > 0);
+        CHECK(detail::classify_coulomb_portable(g.cone_table().data(), G::padded_capacity, x.data(), n, S(0),
+                                                ScalarTraits<S>::default_tolerance, m.data())
+                  .invalid > 0);
+        monitor.classify(g, x, modes);
+        CHECK(modes.status == Status::InvalidInput);
+        CHECK(modes.size() == 0);
+        CHECK_FALSE(modes.stable);
+        x(k) = keep;
+      }
+    }
+  }
+}
+
+TEST_CASE("Coulomb kernel: values past the last contact are never read as forces") {
+  // The forces vector of a Dynamic grasp is followed by storage the kernel must mask out:
+  // fill it with NaN and check that a valid prefix stays valid.
+  using G = Grasp<Dynamic, HardFinger, double, 24>;
+  std::mt19937 rng(11);
+  for (int n = 1; n <= 23; ++n) {
+    const G g = grip_test::random_grasp<G>(rng, n);
+    std::array<double, 3 * 24> buffer;
+    buffer.fill(std::numeric_limits<double>::quiet_NaN());
+    for (int i = 0; i < n; ++i) {
+      const Vector3<double> f = grip_test::random_force(rng, g.contact(i).normal, 0.5, 5.0, 1.0);
+      for (int k = 0; k < 3; ++k) buffer[static_cast<std::size_t>(3 * i + k)] = f(k);
+    }
+    std::array<ContactMode, 24> m{};
+    m.fill(ContactMode::Sliding);
+    const detail::CoulombCounts c = detail::classify_coulomb<0>(g.cone_table().data(), G::padded_capacity,
+                                                                buffer.data(), n, 0.0, 1e-9, m.data());
+    CHECK(c.invalid == 0);
+    for (int i = n; i < 24; ++i) CHECK(m[static_cast<std::size_t>(i)] == ContactMode::Sliding);  // untouched
+  }
+}
