@@ -14,6 +14,8 @@
 #include "grip/contact/soft_finger_cone.hpp"
 #include "grip/contact/normal_cone.hpp"
 #include "grip/contact/exact_cone.hpp"
+#include "grip/contact/contact_mode.hpp"
+#include "grip/contact/coulomb_kernel.hpp"
 
 #include "grip/grasp/grasp.hpp"
 #include "grip/grasp/objective.hpp"

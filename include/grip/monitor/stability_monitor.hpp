@@ -12,7 +12,7 @@
 #include "grip/core/status.hpp"
 #include "grip/grasp/grasp.hpp"
 #include "grip/contact/coulomb_cone.hpp"
-#include "grip/monitor/coulomb_kernel.hpp"
+#include "grip/contact/coulomb_kernel.hpp"
 #include "grip/monitor/grasp_state.hpp"
 
 namespace grip {
@@ -44,8 +44,9 @@ struct MonitorSettings {
 ///   margin); one Cone::measure per contact (CoulombCone: one square root, one division).
 /// - classify(): the modes only (GraspModes), for the per-frame decision of a real-time loop;
 ///   no square root or division per contact for CoulombCone and PyramidCone. For CoulombCone
-///   it reads Grasp::cone_table() and runs detail::classify_coulomb (coulomb_kernel.hpp): eight
-///   contacts per AVX-512 instruction for double where compiled in (monitor_uses_avx512).
+///   it reads Grasp::cone_table() and runs detail::classify_coulomb (contact/coulomb_kernel.hpp):
+///   8 contacts per instruction with AVX-512, 4 with AVX2, for double where compiled in
+///   (coulomb_kernel_lanes).
 /// Both have an overload that writes into caller-owned storage, so that a loop keeps one
 /// result object and pays no construction per frame. No heap.
 template <class GraspT, class Cone = ExactConeT<typename GraspT::ModelType, typename GraspT::ScalarType>>

@@ -18,13 +18,16 @@
 /// q (one pass per trial). Every x(lambda) lies in the cones and satisfies stationarity and
 /// complementarity exactly; only the equilibrium residual is driven to zero.
 
+#include <array>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <type_traits>
 
 #include <Eigen/Geometry>
 
 #include "grip/contact/contact.hpp"
+#include "grip/contact/coulomb_kernel.hpp"
 #include "grip/contact/exact_cone.hpp"
 #include "grip/grasp/grasp.hpp"
 #include "grip/solve/constrained_settings.hpp"
@@ -371,7 +374,8 @@ void fill_invalid(ConstrainedSolution<GraspT>& sol, int unknowns) {
 /// every force is in its cone with f_n > 0 (a feasible minimiser of the relaxed problem solves
 /// the constrained one). Writes it into `sol` and its multipliers into `lambda`; returns true
 /// if it is the answer (status Ok, fast_path true). One solve_range_space plus one
-/// square-root-free cone test per contact (Cone::slips with zero slack). The sums of
+/// square-root-free cone test per contact (Cone::slips with zero slack; for hard fingers all
+/// contacts at once by detail::classify_coulomb, vectorised where compiled in). The sums of
 /// G W^-1 G^T go to `gram` (see range_space_solve).
 template <class GraspT>
 bool constrained_fast_path(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
@@ -384,10 +388,21 @@ bool constrained_fast_path(const GraspT& grasp, const Wrench<typename GraspT::Sc
   if (!range_space_solve(grasp, w_ext, sol, rhs, res, &gram)) return false;
   lambda = sol.multipliers;
   bool inside = sol.status == Status::Ok;
-  for (int i = 0; i < grasp.size() && inside; ++i) {
-    const Cone cone = Cone::from_contact(grasp.contact(i));
-    const typename Cone::Vector x = sol.forces.template segment<d>(i * d);
-    inside = cone.normal_part(x) > S(0) && !cone.slips(x, S(0));
+  if constexpr (std::is_same<Cone, CoulombCone<S>>::value) {
+    // All contacts at once (SIMD where compiled in; see coulomb_kernel.hpp), zero slack.
+    std::array<ContactMode, static_cast<std::size_t>(GraspT::capacity)> modes;
+    const detail::CoulombCounts c =
+        inside ? detail::classify_coulomb<(GraspT::fixed_size > 0 ? GraspT::fixed_size : 0)>(
+                     grasp.cone_table().data(), GraspT::padded_capacity, sol.forces.data(), grasp.size(), S(0),
+                     S(0), modes.data())
+               : detail::CoulombCounts{1, 0, 0};
+    inside = c.invalid == 0 && c.sliding == 0 && c.separating == 0;
+  } else {
+    for (int i = 0; i < grasp.size() && inside; ++i) {
+      const Cone cone = Cone::from_contact(grasp.contact(i));
+      const typename Cone::Vector x = sol.forces.template segment<d>(i * d);
+      inside = cone.normal_part(x) > S(0) && !cone.slips(x, S(0));
+    }
   }
   if (!inside) return false;
   sol.objective = S(0.5) * lambda.dot(rhs + res);  // 1/2 lambda^T M lambda = F2(x)
@@ -406,12 +421,15 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
   using FV = typename GraspT::ForceVector;
   const int m = grasp.unknowns();
   ConstrainedSolution<GraspT> sol;
-  fill_invalid(sol, m);
-  if (!grasp.complete() || validate(w_ext) != Status::Ok || !valid_settings(settings)) return sol;
-  if (warm != nullptr && !(detail::all_in_range(*warm))) return sol;
+  if (!grasp.complete() || validate(w_ext) != Status::Ok || !valid_settings(settings) ||
+      (warm != nullptr && !(detail::all_in_range(*warm)))) {
+    fill_invalid(sol, m);
+    return sol;
+  }
 
   const S eps = std::numeric_limits<S>::epsilon();
   if (grasp.size() == 0) {  // nothing can push: feasible only for w_ext = 0
+    fill_invalid(sol, m);
     sol.residual = w_ext.norm();
     if (sol.residual == S(0)) {
       sol.status = Status::Ok;
@@ -423,6 +441,8 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
   }
 
   // Start: the unconstrained optimum (returned at once if strictly inside), or the warm start.
+  // The fast path writes every field of sol that an Ok answer documents (the rest keep their
+  // constructed values); any other outcome resets sol below.
   Wrench<S> lambda = Wrench<S>::Zero();
   GramAccumulator<S> gram;  // G W^-1 G^T, summed by the fast path's solve
   if (constrained_fast_path(grasp, w_ext, sol, lambda, gram)) return sol;

@@ -1,8 +1,9 @@
-// The Coulomb classification pass behind StabilityMonitor::classify(): the pass this
-// translation unit dispatches to (AVX-512 when compiled with it: CMake builds this file a
-// second time with -march=native as grip_tests_native) against the portable loop and against
-// an independent per-contact rule written from the cone's own interface. Block tails (every
-// size from 1 to the capacity), the compile-time-size path, invalid values at every position.
+// The vectorised Coulomb pass (contact/coulomb_kernel.hpp) behind StabilityMonitor::classify()
+// and solve_constrained's fast path: the pass this translation unit dispatches to (CMake builds
+// this file again as grip_tests_native with -march=native for AVX-512, and as grip_tests_avx2
+// for the AVX2 pass) against the portable loop and against an independent per-contact rule
+// written from the cone's own interface. Block tails (every size from 1 to the capacity), the
+// compile-time-size path, invalid values at every position.
 #include <doctest/doctest.h>
 
 #include <array>
@@ -10,7 +11,7 @@
 #include <random>
 
 #include <grip/contact/coulomb_cone.hpp>
-#include <grip/monitor/coulomb_kernel.hpp>
+#include <grip/contact/coulomb_kernel.hpp>
 #include <grip/monitor/stability_monitor.hpp>
 
 #include "support/allocation_counter.hpp"
@@ -114,7 +115,7 @@ void check_pass(std::mt19937& rng, int n, int trials) {
 }  // namespace
 
 TEST_CASE_TEMPLATE("Coulomb kernel: every size and block tail agrees with the cone's own rule", S, double, float) {
-  MESSAGE("monitor_uses_avx512 = " << monitor_uses_avx512);
+  MESSAGE("contacts per step of the double pass: " << coulomb_kernel_lanes);
   std::mt19937 rng(2024);
   for (int n = 1; n <= 19; ++n) check_pass<Grasp<Dynamic, HardFinger, S, 19>>(rng, n, 20);
   check_pass<Grasp<20, HardFinger, S>>(rng, 20, 200);  // compile-time size: unrolled blocks

@@ -1,36 +1,49 @@
 #pragma once
 /// \file
-/// The vectorised Coulomb classification behind StabilityMonitor::classify(): eight hard-finger
-/// contacts per step in AVX-512 registers, with a portable loop where AVX-512 is not compiled in.
+/// The vectorised Coulomb classification of many hard-finger contacts at once, behind
+/// StabilityMonitor::classify() and solve_constrained's fast path: eight contacts per step in
+/// AVX-512 registers, four with AVX2 + FMA, a portable loop where neither is compiled in.
 ///
 /// Both compute, per contact i with force x_i, normal a_i (unit) and friction mu_i:
 ///   f_n = x_i.a_i,  t = x_i - f_n a_i,  slack = absolute_tolerance + relative_tolerance |x_i|_1,
 ///   lim = mu_i f_n + slack;
 ///   Separating if !(f_n > 0); else Sliding if lim < 0 or |t|^2 > lim^2; else Sticking;
-/// which is CoulombCone::slips() and StabilityMonitor's rule, term by term. The SIMD path is
-/// taken when the translation unit is compiled with AVX-512F (e.g. -march=native on a recent
-/// x86-64) and GRIP_NO_SIMD is not defined; it reads the normals and mu from
-/// Grasp::cone_table() and deinterleaves the stacked forces in registers.
+/// which is CoulombCone::slips() and StabilityMonitor's rule, term by term. The SIMD passes
+/// are taken for double when the translation unit is compiled with AVX-512F (e.g.
+/// -march=native on a recent x86-64), else with AVX2 and FMA (-march=x86-64-v3), unless
+/// GRIP_NO_SIMD is defined. They read the normals and mu from Grasp::cone_table() (a structure
+/// of arrays) and deinterleave the stacked forces in registers. Nothing depends on the CPU at
+/// run time: the choice is made by the compiler flags, so a binary runs only where they allow.
+/// As with Eigen, compile every translation unit of one program with the same SIMD flags.
 
 #include <cmath>
 #include <cstdint>
 #include <type_traits>
 
 #include "grip/core/scalar_traits.hpp"
-#include "grip/monitor/grasp_state.hpp"
+#include "grip/contact/contact_mode.hpp"
 
 #if defined(__AVX512F__) && !defined(GRIP_NO_SIMD)
-#define GRIP_MONITOR_AVX512 1
-#include <immintrin.h>
+#define GRIP_SIMD_AVX512 1
 #else
-#define GRIP_MONITOR_AVX512 0
+#define GRIP_SIMD_AVX512 0
+#endif
+#if defined(__AVX2__) && defined(__FMA__) && !defined(GRIP_NO_SIMD)
+#define GRIP_SIMD_AVX2 1
+#else
+#define GRIP_SIMD_AVX2 0
+#endif
+#if GRIP_SIMD_AVX512 || GRIP_SIMD_AVX2
+#include <immintrin.h>
 #endif
 
 namespace grip {
 
-/// True when StabilityMonitor::classify() of a double hard-finger grasp under CoulombCone runs
-/// the AVX-512 kernel in this translation unit (false: the portable loop, same modes).
-constexpr bool monitor_uses_avx512 = GRIP_MONITOR_AVX512 != 0;
+/// Contacts per step of detail::classify_coulomb for double in this translation unit: 8 with
+/// AVX-512, 4 with AVX2 + FMA, 1 for the portable loop (always 1 for float). The modes are the
+/// same; only the speed differs.
+/// (With AVX-512, grasps of fewer than 8 contacts take the AVX2 pass.)
+constexpr int coulomb_kernel_lanes = GRIP_SIMD_AVX512 ? 8 : GRIP_SIMD_AVX2 ? 4 : 1;
 
 namespace detail {
 
@@ -70,7 +83,7 @@ CoulombCounts classify_coulomb_portable(const Scalar* table, int stride, const S
   return c;
 }
 
-#if GRIP_MONITOR_AVX512
+#if GRIP_SIMD_AVX512
 static_assert(static_cast<int>(ContactMode::Sticking) == 0 && static_cast<int>(ContactMode::Sliding) == 1 &&
                   static_cast<int>(ContactMode::Separating) == 2 && sizeof(ContactMode) == 4,
               "the AVX-512 kernel stores modes as 32-bit integers 0, 1, 2");
@@ -154,19 +167,106 @@ CoulombCounts classify_coulomb_avx512(const double* table, int stride, const dou
   c.invalid = lane_count(_mm512_cmpgt_epu64_mask(largest, _mm512_castpd_si512(big)));
   return c;
 }
+
 #endif
 
-/// The pass for this translation unit: AVX-512 for double when compiled in, else portable.
+#if GRIP_SIMD_AVX2
+/// Per 4-bit mask, the 4 lanes of 32-bit modes it stands for, times `value` (1 or 2).
+struct ModeLanes {
+  alignas(16) std::int32_t lane[16][4];
+  constexpr explicit ModeLanes(std::int32_t value) : lane{} {
+    for (int m = 0; m < 16; ++m)
+      for (int k = 0; k < 4; ++k) lane[m][k] = (m >> k) & 1 ? value : 0;
+  }
+};
+
+/// Number of set bits of a 4-bit lane mask.
+inline int bit_count4(int m) {
+#if defined(__POPCNT__)
+  return _mm_popcnt_u32(static_cast<unsigned>(m));
+#else
+  return (m & 1) + ((m >> 1) & 1) + ((m >> 2) & 1) + ((m >> 3) & 1);
+#endif
+}
+
+/// The AVX2 + FMA pass (4 contacts per step, 256-bit registers), same contract as
+/// classify_coulomb_portable<double>; a last partial step of fewer than 4 contacts runs the
+/// portable loop. Precondition as classify_coulomb_avx512.
+template <int FixedN = 0>
+CoulombCounts classify_coulomb_avx2(const double* table, int stride, const double* x, int n_runtime,
+                                    double absolute_tolerance, double relative_tolerance, ContactMode* modes) {
+  static constexpr ModeLanes sliding_lanes{1}, separating_lanes{2};
+  const int n = FixedN > 0 ? FixedN : n_runtime;
+  const __m256d abs_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
+  const __m256d big = _mm256_set1_pd(ScalarTraits<double>::max_magnitude);
+  const __m256d tol_abs = _mm256_set1_pd(absolute_tolerance);
+  const __m256d tol_rel = _mm256_set1_pd(relative_tolerance);
+  const __m256d zero = _mm256_setzero_pd();
+  __m256d invalid = _mm256_setzero_pd();
+  CoulombCounts c;
+  int b = 0;
+  for (; b + 4 <= n; b += 4) {
+    // Forces f_b..f_b+3 are 12 stacked values p0..p11; 128-bit halves put (x, y), (z, x) and
+    // (y, z) pairs of contacts b, b+1 in the low lane and of b+2, b+3 in the high lane.
+    const double* p = x + 3 * b;
+    const __m256d q0 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p)), _mm_loadu_pd(p + 6), 1);
+    const __m256d q1 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p + 2)), _mm_loadu_pd(p + 8), 1);
+    const __m256d q2 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p + 4)), _mm_loadu_pd(p + 10), 1);
+    const __m256d fx = _mm256_shuffle_pd(q0, q1, 0xa);
+    const __m256d fy = _mm256_shuffle_pd(q0, q2, 0x5);
+    const __m256d fz = _mm256_shuffle_pd(q1, q2, 0xa);
+    const __m256d nx = _mm256_loadu_pd(table + b);
+    const __m256d ny = _mm256_loadu_pd(table + stride + b);
+    const __m256d nz = _mm256_loadu_pd(table + 2 * stride + b);
+    const __m256d mu = _mm256_loadu_pd(table + 3 * stride + b);
+    const __m256d bx = _mm256_and_pd(fx, abs_mask), by = _mm256_and_pd(fy, abs_mask), bz = _mm256_and_pd(fz, abs_mask);
+    invalid = _mm256_or_pd(invalid, _mm256_or_pd(_mm256_cmp_pd(bx, big, _CMP_NLE_UQ),
+                                                 _mm256_or_pd(_mm256_cmp_pd(by, big, _CMP_NLE_UQ),
+                                                              _mm256_cmp_pd(bz, big, _CMP_NLE_UQ))));
+    const __m256d fn = _mm256_fmadd_pd(fz, nz, _mm256_fmadd_pd(fy, ny, _mm256_mul_pd(fx, nx)));
+    const __m256d tx = _mm256_fnmadd_pd(fn, nx, fx), ty = _mm256_fnmadd_pd(fn, ny, fy), tz = _mm256_fnmadd_pd(fn, nz, fz);
+    const __m256d t2 = _mm256_fmadd_pd(tz, tz, _mm256_fmadd_pd(ty, ty, _mm256_mul_pd(tx, tx)));
+    const __m256d l1 = _mm256_add_pd(_mm256_add_pd(bx, by), bz);
+    const __m256d lim = _mm256_fmadd_pd(mu, fn, _mm256_fmadd_pd(tol_rel, l1, tol_abs));
+    const int separating = _mm256_movemask_pd(_mm256_cmp_pd(fn, zero, _CMP_NGT_UQ));
+    const int over = _mm256_movemask_pd(_mm256_cmp_pd(t2, _mm256_mul_pd(lim, _mm256_and_pd(lim, abs_mask)), _CMP_GT_OQ));
+    const int sliding = over & ~separating;
+    const __m128i mode = _mm_or_si128(_mm_load_si128(reinterpret_cast<const __m128i*>(separating_lanes.lane[separating])),
+                                      _mm_load_si128(reinterpret_cast<const __m128i*>(sliding_lanes.lane[sliding])));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(modes + b), mode);
+    c.separating += bit_count4(separating);
+    c.sliding += bit_count4(sliding);
+  }
+  c.invalid = _mm256_movemask_pd(invalid);
+  if (b < n) {
+    const CoulombCounts tail = classify_coulomb_portable(table + b, stride, x + 3 * b, n - b, absolute_tolerance,
+                                                         relative_tolerance, modes + b);
+    c.invalid += tail.invalid;
+    c.sliding += tail.sliding;
+    c.separating += tail.separating;
+  }
+  return c;
+}
+#endif
+
+/// The pass for this translation unit, for double: AVX-512 from 8 contacts on, else AVX2
+/// (whole blocks of 4, the rest portable), else the portable loop; always portable for float.
 /// FixedN: the grasp's compile-time contact count (n == FixedN), or 0 (Dynamic).
 template <int FixedN, class Scalar>
 CoulombCounts classify_coulomb(const Scalar* table, int stride, const Scalar* x, int n, Scalar absolute_tolerance,
                                Scalar relative_tolerance, ContactMode* modes) {
-#if GRIP_MONITOR_AVX512
-  if constexpr (std::is_same<Scalar, double>::value)
-    return classify_coulomb_avx512<FixedN>(table, stride, x, n, absolute_tolerance, relative_tolerance, modes);
-  else
+  if constexpr (std::is_same<Scalar, double>::value) {
+#if GRIP_SIMD_AVX512
+    // Below one full block, 256-bit code is as fast, and it spares the core the wake-up of its
+    // 512-bit units (measured: the first 512-bit pass after other code runs slower).
+    if ((FixedN > 0 ? FixedN : n) >= 8)
+      return classify_coulomb_avx512<FixedN>(table, stride, x, n, absolute_tolerance, relative_tolerance, modes);
 #endif
-    return classify_coulomb_portable(table, stride, x, n, absolute_tolerance, relative_tolerance, modes);
+#if GRIP_SIMD_AVX2
+    return classify_coulomb_avx2<FixedN>(table, stride, x, n, absolute_tolerance, relative_tolerance, modes);
+#endif
+  }
+  return classify_coulomb_portable(table, stride, x, n, absolute_tolerance, relative_tolerance, modes);
 }
 
 }  // namespace detail
