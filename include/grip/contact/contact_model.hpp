@@ -34,6 +34,14 @@ struct GramAccumulator {
   Matrix3<Scalar> s2{Matrix3<Scalar>::Zero()};
   Matrix6<Scalar> extra{Matrix6<Scalar>::Zero()};
 
+  /// The diagonal of matrix(), without forming it.
+  Eigen::Matrix<Scalar, 6, 1> diagonal() const {
+    Eigen::Matrix<Scalar, 6, 1> d = extra.diagonal();
+    d.template head<3>().array() += k0;
+    d.template tail<3>() += s2.diagonal();
+    return d;
+  }
+
   /// The assembled symmetric 6x6 matrix.
   Matrix6<Scalar> matrix() const {
     Matrix6<Scalar> m = extra;

@@ -375,17 +375,17 @@ void fill_invalid(ConstrainedSolution<GraspT>& sol, int unknowns) {
 /// the constrained one). Writes it into `sol` and its multipliers into `lambda`; returns true
 /// if it is the answer (status Ok, fast_path true). One solve_range_space plus one
 /// square-root-free cone test per contact (Cone::slips with zero slack; for hard fingers all
-/// contacts at once by detail::classify_coulomb, vectorised where compiled in). The sums of
-/// G W^-1 G^T go to `gram` (see range_space_solve).
+/// contacts at once by detail::classify_coulomb, vectorised where compiled in). The diagonal
+/// of G W^-1 G^T goes to `gram_diagonal` (see range_space_solve).
 template <class GraspT>
 bool constrained_fast_path(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
                            ConstrainedSolution<GraspT>& sol, Wrench<typename GraspT::ScalarType>& lambda,
-                           GramAccumulator<typename GraspT::ScalarType>& gram) {
+                           Wrench<typename GraspT::ScalarType>& gram_diagonal) {
   using S = typename GraspT::ScalarType;
   using Cone = ExactConeT<typename GraspT::ModelType, S>;
   constexpr int d = GraspT::dim;
   Wrench<S> rhs, res;
-  if (!range_space_solve(grasp, w_ext, sol, rhs, res, &gram)) return false;
+  if (!range_space_solve(grasp, w_ext, sol, rhs, res, &gram_diagonal)) return false;
   lambda = sol.multipliers;
   bool inside = sol.status == Status::Ok;
   if constexpr (std::is_same<Cone, CoulombCone<S>>::value) {
@@ -444,11 +444,11 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
   // The fast path writes every field of sol that an Ok answer documents (the rest keep their
   // constructed values); any other outcome resets sol below.
   Wrench<S> lambda = Wrench<S>::Zero();
-  GramAccumulator<S> gram;  // G W^-1 G^T, summed by the fast path's solve
-  if (constrained_fast_path(grasp, w_ext, sol, lambda, gram)) return sol;
+  Wrench<S> gram_diagonal = Wrench<S>::Zero();  // of G W^-1 G^T, from the fast path's solve
+  if (constrained_fast_path(grasp, w_ext, sol, lambda, gram_diagonal)) return sol;
   fill_invalid(sol, m);
   lambda = warm != nullptr ? *warm : (lambda.allFinite() ? lambda : Wrench<S>::Zero());
-  Wrench<S> jacobi = gram.matrix().diagonal();
+  Wrench<S> jacobi = gram_diagonal;
   // Jacobi scaling D of the Levenberg-Marquardt term: the unconstrained Gram diagonal, floored.
   const S jmax = jacobi.maxCoeff();
   for (int k = 0; k < 6; ++k) jacobi(k) = jacobi(k) > S(1e-6f) * jmax ? jacobi(k) : S(1e-6f) * jmax;

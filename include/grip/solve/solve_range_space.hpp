@@ -158,12 +158,12 @@ bool solve_gram_by_schur(const GramAccumulator<S>& acc, const Wrench<S>& r, S le
 /// solve_range_space() into `sol`, also giving the system's right-hand side
 /// rhs = -(w_ext + G t) and residual vector res = M lambda - rhs = G x + w_ext (up to the
 /// round-off of the recovery pass): with them F2(x) = lambda.(rhs + res) / 2 needs no other pass.
-/// With `sums` given, also copies the sums of G W^-1 G^T there. Returns false (sol InvalidInput,
-/// `sums` untouched) for invalid input.
+/// With `gram_diagonal` given, also writes the diagonal of G W^-1 G^T there. Returns false (sol
+/// InvalidInput, `gram_diagonal` untouched) for invalid input.
 template <class GraspT>
 bool range_space_solve(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext, Solution<GraspT>& sol,
                        Wrench<typename GraspT::ScalarType>& rhs, Wrench<typename GraspT::ScalarType>& res,
-                       GramAccumulator<typename GraspT::ScalarType>* sums = nullptr) {
+                       Wrench<typename GraspT::ScalarType>* gram_diagonal = nullptr) {
   using S = typename GraspT::ScalarType;
   using M = typename GraspT::ModelType;
   rhs.setZero();
@@ -180,7 +180,7 @@ bool range_space_solve(const GraspT& grasp, const Wrench<typename GraspT::Scalar
     kr2_sum += k * c.position.squaredNorm();
     rhs -= M::wrench(c, M::target(c));
   }
-  if (sums != nullptr) *sums = acc;
+  if (gram_diagonal != nullptr) *gram_diagonal = acc.diagonal();
   Wrench<S> lambda;
   const S length = lever_arm(k_sum, kr2_sum);
   bool done = false;
