@@ -41,9 +41,10 @@ class Grasp {
   static constexpr int max_unknowns = capacity * dim;
   static constexpr int kkt_size_at_compile_time = plus_or_dynamic(6, unknowns_at_compile_time);
   static constexpr int max_kkt_size = 6 + max_unknowns;
-  /// capacity rounded up to a multiple of 8: the rows of cone_table(), so that a vectorised
-  /// monitor reads whole blocks of 8 contacts (512 bits of double) without a bounds check.
-  static constexpr int padded_capacity = (capacity + 7) / 8 * 8;
+  /// The rows of cone_table(): for double, capacity rounded up to a multiple of 8, so that the
+  /// vectorised Coulomb pass reads whole blocks of 8 contacts (512 bits) without a bounds
+  /// check; for other scalars (only the portable pass) capacity itself.
+  static constexpr int padded_capacity = std::is_same<Scalar, double>::value ? (capacity + 7) / 8 * 8 : capacity;
 
   /// Stacked contact unknowns x = (x_1, ..., x_n): size() * dim.
   using ForceVector = Eigen::Matrix<Scalar, unknowns_at_compile_time, 1, Eigen::ColMajor, max_unknowns, 1>;
