@@ -62,7 +62,9 @@ class Grasp {
   /// The cone data of the contacts as a structure of arrays (padded_capacity x 4, column-major,
   /// each column contiguous): columns 0-2 the normal a_i (x, y, z), column 3 mu_i. Rows
   /// [size(), padded_capacity) are padding with unspecified finite values.
-  using ConeTable = Eigen::Matrix<Scalar, padded_capacity, 4, Eigen::ColMajor | Eigen::DontAlign>;
+  /// (One row is stored row-major, as Eigen requires; with a single row the layout is the same.)
+  using ConeTable = Eigen::Matrix<Scalar, padded_capacity, 4,
+                                  (padded_capacity == 1 ? Eigen::RowMajor : Eigen::ColMajor) | Eigen::DontAlign>;
 
   Grasp() = default;
 
