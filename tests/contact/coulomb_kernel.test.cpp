@@ -105,6 +105,15 @@ void check_pass(std::mt19937& rng, int n, int trials) {
       CHECK(cp.sliding == sliding);
       CHECK(cp.separating == separating);
     }
+    // The monitor on top of the same pass: its modes, counts and verdict.
+    const GraspModes<G> modes = StabilityMonitor<G>(MonitorSettings<S>{abs_tol, rel_tol}).classify(g, x);
+    REQUIRE(modes.ok());
+    CHECK(modes.size() == n);
+    for (int i = 0; i < n; ++i) CHECK(modes.mode(i) == fast[static_cast<std::size_t>(i)]);
+    CHECK(modes.sliding_count == cf.sliding);
+    CHECK(modes.separating_count == cf.separating);
+    CHECK(modes.sticking_count == n - cf.sliding - cf.separating);
+    CHECK(modes.stable == (cf.sliding + cf.separating == 0));
   }
   CHECK(compared > trials * n * 3 / 4);
   CHECK(kinds[0] > 0);
