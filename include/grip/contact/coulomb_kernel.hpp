@@ -4,7 +4,7 @@
 /// StabilityMonitor::classify() and solve_constrained's fast path: eight contacts per step in
 /// AVX-512 registers, four with AVX2 + FMA, a portable loop where neither is compiled in.
 ///
-/// Both compute, per contact i with force x_i, normal a_i (unit) and friction mu_i:
+/// Every pass computes, per contact i with force x_i, normal a_i (unit) and friction mu_i:
 ///   f_n = x_i.a_i,  t = x_i - f_n a_i,  slack = absolute_tolerance + relative_tolerance |x_i|_1,
 ///   lim = mu_i f_n + slack;
 ///   Separating if !(f_n > 0); else Sliding if lim < 0 or |t|^2 > lim^2; else Sticking;
