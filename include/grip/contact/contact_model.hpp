@@ -35,8 +35,8 @@ struct GramAccumulator {
   Matrix6<Scalar> extra{Matrix6<Scalar>::Zero()};
 
   /// The diagonal of matrix(), without forming it.
-  Eigen::Matrix<Scalar, 6, 1> diagonal() const {
-    Eigen::Matrix<Scalar, 6, 1> d = extra.diagonal();
+  Wrench<Scalar> diagonal() const {
+    Wrench<Scalar> d = extra.diagonal();
     d.template head<3>().array() += k0;
     d.template tail<3>() += s2.diagonal();
     return d;

@@ -269,5 +269,17 @@ CoulombCounts classify_coulomb(const Scalar* table, int stride, const Scalar* x,
   return classify_coulomb_portable(table, stride, x, n, absolute_tolerance, relative_tolerance, modes);
 }
 
+/// classify_coulomb over a whole hard-finger grasp (any Grasp type): its cone_table(), its
+/// size (compile-time when fixed) and its stacked forces x (grasp.unknowns() values).
+template <class GraspT, class Forces>
+CoulombCounts classify_coulomb_grasp(const GraspT& grasp, const Forces& x,
+                                     typename GraspT::ScalarType absolute_tolerance,
+                                     typename GraspT::ScalarType relative_tolerance, ContactMode* modes) {
+  static_assert(GraspT::dim == 3, "the Coulomb pass is for hard fingers");
+  return classify_coulomb<(GraspT::fixed_size > 0 ? GraspT::fixed_size : 0)>(
+      grasp.cone_table().data(), GraspT::padded_capacity, x.data(), grasp.size(), absolute_tolerance,
+      relative_tolerance, modes);
+}
+
 }  // namespace detail
 }  // namespace grip

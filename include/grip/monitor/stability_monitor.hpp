@@ -10,9 +10,9 @@
 #include "grip/contact/exact_cone.hpp"
 #include "grip/core/scalar_traits.hpp"
 #include "grip/core/status.hpp"
-#include "grip/grasp/grasp.hpp"
 #include "grip/contact/coulomb_cone.hpp"
 #include "grip/contact/coulomb_kernel.hpp"
+#include "grip/grasp/grasp.hpp"
 #include "grip/monitor/grasp_state.hpp"
 
 namespace grip {
@@ -44,7 +44,7 @@ struct MonitorSettings {
 ///   margin); one Cone::measure per contact (CoulombCone: one square root, one division).
 /// - classify(): the modes only (GraspModes), for the per-frame decision of a real-time loop;
 ///   no square root or division per contact for CoulombCone and PyramidCone. For CoulombCone
-///   it reads Grasp::cone_table() and runs detail::classify_coulomb (contact/coulomb_kernel.hpp):
+///   it runs detail::classify_coulomb_grasp (contact/coulomb_kernel.hpp) on Grasp::cone_table():
 ///   8 contacts per instruction with AVX-512, 4 with AVX2, for double where compiled in
 ///   (coulomb_kernel_lanes).
 /// Both have an overload that writes into caller-owned storage, so that a loop keeps one
@@ -114,9 +114,8 @@ class StabilityMonitor {
   void classify(const GraspT& grasp, const ForceVector& forces, Modes& out) const {
     if constexpr (std::is_same<Cone, CoulombCone<Scalar>>::value) {
       if (!reset(grasp, forces, out)) return;
-      const detail::CoulombCounts c = detail::classify_coulomb<(GraspT::fixed_size > 0 ? GraspT::fixed_size : 0)>(
-          grasp.cone_table().data(), GraspT::padded_capacity, forces.data(), grasp.size(),
-          settings_.absolute_tolerance, settings_.relative_tolerance, out.modes.data());
+      const detail::CoulombCounts c = detail::classify_coulomb_grasp(
+          grasp, forces, settings_.absolute_tolerance, settings_.relative_tolerance, out.modes.data());
       if (c.invalid != 0) return;
       out.count = grasp.size();
       const int counts[3] = {grasp.size() - c.sliding - c.separating, c.sliding, c.separating};

@@ -390,13 +390,11 @@ bool constrained_fast_path(const GraspT& grasp, const Wrench<typename GraspT::Sc
   bool inside = sol.status == Status::Ok;
   if constexpr (std::is_same<Cone, CoulombCone<S>>::value) {
     // All contacts at once (SIMD where compiled in; see coulomb_kernel.hpp), zero slack.
-    std::array<ContactMode, static_cast<std::size_t>(GraspT::capacity)> modes;
-    const detail::CoulombCounts c =
-        inside ? detail::classify_coulomb<(GraspT::fixed_size > 0 ? GraspT::fixed_size : 0)>(
-                     grasp.cone_table().data(), GraspT::padded_capacity, sol.forces.data(), grasp.size(), S(0),
-                     S(0), modes.data())
-               : detail::CoulombCounts{1, 0, 0};
-    inside = c.invalid == 0 && c.sliding == 0 && c.separating == 0;
+    if (inside) {
+      std::array<ContactMode, static_cast<std::size_t>(GraspT::capacity)> modes;
+      const detail::CoulombCounts c = detail::classify_coulomb_grasp(grasp, sol.forces, S(0), S(0), modes.data());
+      inside = c.invalid == 0 && c.sliding == 0 && c.separating == 0;
+    }
   } else {
     for (int i = 0; i < grasp.size() && inside; ++i) {
       const Cone cone = Cone::from_contact(grasp.contact(i));
