@@ -22,20 +22,8 @@
 
 #include "grip/core/scalar_traits.hpp"
 #include "grip/contact/contact_mode.hpp"
+#include "grip/core/simd.hpp"
 
-#if defined(__AVX512F__) && !defined(GRIP_NO_SIMD)
-#define GRIP_SIMD_AVX512 1
-#else
-#define GRIP_SIMD_AVX512 0
-#endif
-#if defined(__AVX2__) && defined(__FMA__) && !defined(GRIP_NO_SIMD)
-#define GRIP_SIMD_AVX2 1
-#else
-#define GRIP_SIMD_AVX2 0
-#endif
-#if GRIP_SIMD_AVX512 || GRIP_SIMD_AVX2
-#include <immintrin.h>
-#endif
 
 namespace grip {
 

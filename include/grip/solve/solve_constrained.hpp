@@ -31,6 +31,7 @@
 #include "grip/contact/exact_cone.hpp"
 #include "grip/grasp/grasp.hpp"
 #include "grip/solve/constrained_settings.hpp"
+#include "grip/solve/coulomb_pass.hpp"
 #include "grip/solve/projection_jacobian.hpp"
 #include "grip/solve/solution.hpp"
 #include "grip/solve/solve_range_space.hpp"
@@ -60,15 +61,6 @@ struct ConstrainedSolution : Solution<GraspT> {
 };
 
 namespace detail {
-
-/// Per-pass sums of solve_constrained.
-template <class Scalar>
-struct ConstrainedPass {
-  Wrench<Scalar> residual;  ///< G x + w_ext
-  Scalar f2{0};             ///< F2(x)
-  Scalar scale{0};          ///< |w_ext| + |x|: the scale of the equilibrium tolerance
-  Scalar dual{0};           ///< q = F2 - lambda.residual
-};
 
 /// The cone's own projection, except a Coulomb cone with mu = 0 (the ray {f_n a, f_n >= 0}):
 /// there CoulombCone::project keeps f = f_n a with f_n < 0 (reported to the cone's owner), so
@@ -199,20 +191,33 @@ ConstrainedPass<typename GraspT::ScalarType> constrained_pass(const GraspT& gras
   return p;
 }
 
-/// sum_i w_i^-1 G_i J_i G_i^T at lambda: minus the dual's generalised Hessian.
+/// The passes of solve_constrained contact by contact, through the model's functions (soft
+/// fingers, frictionless points); hard fingers take CoulombPassTable, the same pass over a
+/// structure of arrays. Both offer Forces, make_forces, pass and store.
 template <class GraspT>
-Matrix6<typename GraspT::ScalarType> constrained_hessian(const GraspT& grasp,
-                                                        const Wrench<typename GraspT::ScalarType>& lambda) {
-  using S = typename GraspT::ScalarType;
-  using M = typename GraspT::ModelType;
-  GramAccumulator<S> acc;
-  for (int i = 0; i < grasp.size(); ++i) {
-    const auto& c = grasp.contact(i);
-    const S k = grasp.inverse_weight(i);
-    (void)project_accumulate<GraspT>(c, k, M::target(c) + k * M::wrench_transpose(c, lambda), &acc);
+class ContactPasses {
+ public:
+  using Scalar = typename GraspT::ScalarType;
+  using Forces = typename GraspT::ForceVector;
+  explicit ContactPasses(const GraspT& grasp) : grasp_(grasp) {}
+  Forces make_forces() const { return Forces(grasp_.unknowns()); }
+  ConstrainedPass<Scalar> pass(const Wrench<Scalar>& w_ext, const Wrench<Scalar>& lambda, Forces& x,
+                               GramAccumulator<Scalar>* hessian) const {
+    return constrained_pass(grasp_, w_ext, lambda, x, hessian);
   }
-  return acc.matrix();
-}
+  template <class Vec>
+  void store(const Forces& x, Vec& out) const {
+    out = x;
+  }
+
+ private:
+  const GraspT& grasp_;
+};
+
+/// The pass engine of solve_constrained for a grasp type.
+template <class GraspT>
+using ConstrainedPasses = typename std::conditional<std::is_same<typename GraspT::ModelType, HardFinger>::value,
+                                                    CoulombPassTable<GraspT>, ContactPasses<GraspT>>::type;
 
 /// True when y (unit) certifies infeasibility: y.w_ext > 0 and G_i^T y in K_i^* for all i, up
 /// to `tol`: the distance from G_i^T y to K_i^* is at most tol (1 + |r_i|) (|r_i| in m: the
@@ -280,13 +285,13 @@ Wrench<Scalar> solve_floored_6x6(const Matrix6<Scalar>& a, const Wrench<Scalar>&
 /// lies in K_i^* exactly: l/|l| is an infeasibility certificate up to delta w_i |x_i - t_i| / |l|.
 /// Writes the forces into x, the multipliers into lambda, and returns the iterations used (at
 /// most settings.max_iterations).
-template <class GraspT, class Vec>
-int least_residual(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
-                   typename GraspT::ScalarType delta, const ConstrainedSettings<typename GraspT::ScalarType>& settings,
-                   Vec& x, Wrench<typename GraspT::ScalarType>& lambda, typename GraspT::ScalarType& f2) {
-  using S = typename GraspT::ScalarType;
+template <class Passes>
+int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& w_ext, typename Passes::Scalar delta,
+                   const ConstrainedSettings<typename Passes::Scalar>& settings, typename Passes::Forces& x,
+                   Wrench<typename Passes::Scalar>& lambda, typename Passes::Scalar& f2) {
+  using S = typename Passes::Scalar;
   const S eps = std::numeric_limits<S>::epsilon();
-  Vec xt(x.size());
+  typename Passes::Forces xt = passes.make_forces(), xh = passes.make_forces();
   lambda.setZero();
   // Continuation: delta starts at delta_max (a well-scaled problem) and drops 100-fold each
   // time the current problem is solved, down to the requested delta (warm-started each time).
@@ -296,7 +301,7 @@ int least_residual(const GraspT& grasp, const Wrench<typename GraspT::ScalarType
   const auto phi = [&](const ConstrainedPass<S>& p, const Wrench<S>& l) {
     return -S(0.5) * l.squaredNorm() + l.dot(p.residual) + dl * p.f2;
   };
-  ConstrainedPass<S> cur = constrained_pass(grasp, w_ext, Wrench<S>(-lambda / dl), x);
+  ConstrainedPass<S> cur = passes.pass(w_ext, Wrench<S>(-lambda / dl), x, nullptr);
   S cur_phi = phi(cur, lambda);
   int it = 0;
   for (; it < settings.max_iterations; ++it) {
@@ -304,11 +309,13 @@ int least_residual(const GraspT& grasp, const Wrench<typename GraspT::ScalarType
     if (g.norm() <= settings.tolerance * cur.scale || (dl > delta && g.norm() <= S(1e-3f) * cur.scale)) {
       if (!(dl > delta)) break;
       dl = dl / S(100) < delta ? delta : dl / S(100);
-      cur = constrained_pass(grasp, w_ext, Wrench<S>(-lambda / dl), x);
+      cur = passes.pass(w_ext, Wrench<S>(-lambda / dl), x, nullptr);
       cur_phi = phi(cur, lambda);
       continue;
     }
-    Matrix6<S> h = constrained_hessian(grasp, Wrench<S>(-lambda / dl));
+    GramAccumulator<S> acc;
+    (void)passes.pass(w_ext, Wrench<S>(-lambda / dl), xh, &acc);
+    Matrix6<S> h = acc.matrix();
     h.diagonal().array() += dl;
     const Wrench<S> e = h.diagonal().cwiseSqrt().cwiseInverse();
     const Matrix6<S> hs = e.asDiagonal() * h * e.asDiagonal();
@@ -317,7 +324,7 @@ int least_residual(const GraspT& grasp, const Wrench<typename GraspT::ScalarType
     if (dir.norm() <= S(4) * eps * (lambda.norm() + cur.scale) || !(slope > S(0))) {  // at round-off
       if (!(dl > delta)) break;
       dl = dl / S(100) < delta ? delta : dl / S(100);
-      cur = constrained_pass(grasp, w_ext, Wrench<S>(-lambda / dl), x);
+      cur = passes.pass(w_ext, Wrench<S>(-lambda / dl), x, nullptr);
       cur_phi = phi(cur, lambda);
       continue;
     }
@@ -329,7 +336,7 @@ int least_residual(const GraspT& grasp, const Wrench<typename GraspT::ScalarType
     S trial_phi = cur_phi;
     for (int ls = 0; ls < settings.max_line_search; ++ls, alpha *= S(0.5)) {
       lt = lambda + alpha * dir;
-      trial = constrained_pass(grasp, w_ext, Wrench<S>(-lt / dl), xt);
+      trial = passes.pass(w_ext, Wrench<S>(-lt / dl), xt, nullptr);
       trial_phi = phi(trial, lt);
       const S slack = S(16) * eps * (std::abs(cur_phi) + std::abs(trial_phi) + lt.squaredNorm());
       if (trial_phi >= cur_phi + S(1e-4f) * alpha * slope - slack) {
@@ -340,7 +347,7 @@ int least_residual(const GraspT& grasp, const Wrench<typename GraspT::ScalarType
     if (!accepted) {
       if (!(dl > delta)) break;
       dl = dl / S(100) < delta ? delta : dl / S(100);
-      cur = constrained_pass(grasp, w_ext, Wrench<S>(-lambda / dl), x);
+      cur = passes.pass(w_ext, Wrench<S>(-lambda / dl), x, nullptr);
       cur_phi = phi(cur, lambda);
       continue;
     }
@@ -452,9 +459,10 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
   for (int k = 0; k < 6; ++k) jacobi(k) = jacobi(k) > S(1e-6f) * jmax ? jacobi(k) : S(1e-6f) * jmax;
   const Wrench<S> dinv = jacobi.cwiseSqrt().cwiseInverse();
 
-  FV x(m), xt(m);
+  const ConstrainedPasses<GraspT> passes(grasp);  // hard fingers: copied into columns once
+  typename ConstrainedPasses<GraspT>::Forces x = passes.make_forces(), xt = passes.make_forces();
   GramAccumulator<S> cur_h, trial_h;  // the Hessian sums at lambda and at the line-search point
-  ConstrainedPass<S> cur = constrained_pass(grasp, w_ext, lambda, x, &cur_h);
+  ConstrainedPass<S> cur = passes.pass(w_ext, lambda, x, &cur_h);
   const S armijo = S(1e-4f);
   const S reg = settings.regularisation;
   S damping = S(1);  // Levenberg-Marquardt state: /10 after a full step, *4 after a cut one
@@ -468,7 +476,7 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
   // `p_*` and applied by apply_infeasible().
   Wrench<S> p_cert = Wrench<S>::Zero(), p_y = Wrench<S>::Zero(), p_r = Wrench<S>::Zero();
   S p_f2 = S(0);
-  FV p_x(m);
+  typename ConstrainedPasses<GraspT>::Forces p_x = passes.make_forces();
   Wrench<S> p_lambda = Wrench<S>::Zero();
   const auto decide_infeasible = [&]() {
     Wrench<S> y;
@@ -489,7 +497,7 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
     ConstrainedSettings<S> budget = settings;
     for (int k = 0; k < tries && !ok && phase1_iterations < settings.max_iterations; ++k, delta *= S(0.01)) {
       budget.max_iterations = settings.max_iterations - phase1_iterations;
-      phase1_iterations += least_residual(grasp, w_ext, delta, budget, p_x, y, f2);
+      phase1_iterations += least_residual(passes, w_ext, delta, budget, p_x, y, f2);
       p_lambda = -y / delta;  // the penalty estimate of the multipliers (x(p_lambda) = p_x)
       const S rn = y.norm();
       if (rn > bar) {
@@ -509,7 +517,9 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
     if (!ok) return false;
     p_y = y;
     p_f2 = f2;
-    p_r = grasp.wrench(p_x) + w_ext;
+    FV forces(m);
+    passes.store(p_x, forces);
+    p_r = grasp.wrench(forces) + w_ext;
     return true;
   };
   const auto apply_infeasible = [&]() {
@@ -553,7 +563,7 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
       S alpha = S(1);
       for (; cuts < settings.max_line_search; ++cuts, alpha *= S(0.5)) {
         lt = lambda + alpha * dir;
-        trial = constrained_pass(grasp, w_ext, lt, xt, &trial_h);
+        trial = passes.pass(w_ext, lt, xt, &trial_h);
         const S slack = S(16) * eps * (std::abs(trial.dual) + std::abs(cur.dual) + std::abs(cur.f2));
         if (trial.dual >= cur.dual + armijo * alpha * slope - slack) {
           accepted = true;
@@ -588,7 +598,7 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
       } else if (p_lambda.allFinite()) {
         // Feasible after all: the least-residual solve is a penalty approximation of this
         // problem, so -y/delta estimates the multipliers; continue from it if the dual is higher.
-        ConstrainedPass<S> alt = constrained_pass(grasp, w_ext, p_lambda, xt, &trial_h);
+        ConstrainedPass<S> alt = passes.pass(w_ext, p_lambda, xt, &trial_h);
         if (alt.dual > cur.dual && std::isfinite(alt.dual)) {
           lambda = p_lambda;
           x = xt;
@@ -604,7 +614,7 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
   if (status == Status::IterationLimit) {
     if (pending || (!phase1_done && decide_infeasible())) apply_infeasible();
   }
-  sol.forces = x;
+  passes.store(x, sol.forces);
   sol.multipliers = lambda;
   sol.residual = cur.residual.norm();
   sol.objective = cur.f2;

@@ -1,0 +1,271 @@
+#pragma once
+/// \file
+/// solve_constrained's pass for hard fingers over a structure of arrays, one contact per SIMD
+/// lane (detail::SimdPack, core/simd.hpp: 8 doubles with AVX-512, 4 with AVX2, else one scalar).
+///
+/// A pass at multipliers lambda takes every contact i through
+///   v_i = s_i a_i + k_i G_i^T lambda          (k_i = 1/w_i; s_i a_i = t_i, eq. 7)
+///   x_i = P_i(v_i)                             (projection onto the Coulomb cone of eq. 4-5)
+/// and sums what the Newton iteration reads: G x + w_ext, F2(x), |x| and, on request,
+/// sum_i k_i G_i J_i G_i^T with J_i = dP_i/dv (minus the dual's generalised Hessian). Same
+/// regions and formulas as coulomb_project_accumulate in solve_constrained.hpp (the contact-by-
+/// contact form, kept as the reference the tests compare with):
+/// - interior (|v_t| < mu v.a): x = v, J = I, added in GramAccumulator's closed form;
+/// - polar cone, v_t = 0 outside the interior, and v with a component beyond max_magnitude or
+///   not finite: x = 0, J = 0;
+/// - boundary part: x = sn a + beta v_t, sn = (v.a + mu |v_t|)/(1 + mu^2), beta = mu sn/|v_t|,
+///   and J = beta b b^T + ku d d^T with e = v_t/|v_t|, b = a x e, d = a + mu e, ku = 1/(1 + mu^2):
+///   the projection onto the cone's generator through v plus beta times the direction around
+///   the cone. (projection_jacobian writes it beta I + [a e] C [a e]^T; the two agree because
+///   beta I_2 + C = ku (1, mu)(1, mu)^T.) So k G J G^T is two rank-one terms k beta g_b g_b^T +
+///   k ku g_d g_d^T, g_u = (u, r x u): 42 multiply-adds into 21 sums per contact.
+///
+/// Branch-free: the region is a per-lane select, so that a mix of sticking and sliding contacts
+/// costs no mispredicted branches. The sums are kept per lane and added across the lanes once
+/// per pass.
+
+#include <cmath>
+#include <type_traits>
+
+#include <Eigen/Core>
+
+#include "grip/contact/contact_model.hpp"
+#include "grip/core/scalar_traits.hpp"
+#include "grip/core/simd.hpp"
+#include "grip/core/types.hpp"
+
+namespace grip {
+namespace detail {
+
+/// Sums of one pass of solve_constrained.
+template <class Scalar>
+struct ConstrainedPass {
+  Wrench<Scalar> residual;  ///< G x + w_ext
+  Scalar f2{0};             ///< F2(x)
+  Scalar scale{0};          ///< |w_ext| + |x|: the scale of the equilibrium tolerance
+  Scalar dual{0};           ///< q = F2 - lambda.residual
+};
+
+/// The hard-finger grasp of a solve, copied once into columns (one array per coordinate,
+/// padded with inert contacts to whole SIMD blocks), with the pass over it.
+///
+/// Invariants: rows() is size() rounded up to a multiple of `block`; rows [size(), rows())
+/// hold inert contacts (a = e_z, mu = 0, k = s = w = 0, r = 0), whose v is 0 for any finite
+/// lambda, so that they project to x = 0 and add nothing to any sum.
+/// Memory: 11 columns of max_rows scalars here, 3 in each Forces (no heap).
+template <class GraspT>
+class CoulombPassTable {
+ public:
+  using Scalar = typename GraspT::ScalarType;
+  /// The SIMD register type of the pass (core/simd.hpp), and its lanes: rows are padded to
+  /// whole registers.
+  using Pack = SimdPack<Scalar>;
+  static constexpr int block = Pack::width;
+  static constexpr int round_up(int n) { return (n + block - 1) / block * block; }
+  static constexpr int rows_at_compile_time = GraspT::fixed_size == Eigen::Dynamic ? Eigen::Dynamic : round_up(GraspT::fixed_size);
+  static constexpr int max_rows = round_up(GraspT::capacity);
+  /// One coordinate of every contact (rows() entries).
+  using Column = Eigen::Array<Scalar, rows_at_compile_time, 1, Eigen::ColMajor, max_rows, 1>;
+
+  /// Contact forces in columns: x_i = (x(i), y(i), z(i)).
+  struct Forces {
+    Column x, y, z;
+  };
+
+  explicit CoulombPassTable(const GraspT& grasp) : n_(grasp.size()), rows_(round_up(grasp.size())) {
+    for (Column* c : {&rx_, &ry_, &rz_, &ax_, &ay_, &az_, &mu_, &ku_, &k_, &s_, &w_}) c->resize(rows_);
+    for (int i = 0; i < rows_; ++i) {
+      if (i < n_) {
+        const auto& c = grasp.contact(i);
+        rx_(i) = c.position.x();
+        ry_(i) = c.position.y();
+        rz_(i) = c.position.z();
+        ax_(i) = c.normal.x();
+        ay_(i) = c.normal.y();
+        az_(i) = c.normal.z();
+        mu_(i) = c.friction;
+        ku_(i) = Scalar(1) / (Scalar(1) + c.friction * c.friction);
+        k_(i) = grasp.inverse_weight(i);
+        s_(i) = c.squeeze;
+        w_(i) = c.weight;
+      } else {
+        rx_(i) = ry_(i) = rz_(i) = ax_(i) = ay_(i) = Scalar(0);
+        az_(i) = Scalar(1);
+        mu_(i) = Scalar(0);
+        ku_(i) = Scalar(1);
+        k_(i) = s_(i) = w_(i) = Scalar(0);
+      }
+    }
+  }
+
+  /// Contacts n, and rows (n rounded up to whole blocks).
+  int size() const { return n_; }
+  int rows() const { return rows_; }
+
+  /// Columns sized for this grasp (values unspecified).
+  Forces make_forces() const {
+    Forces f;
+    f.x.resize(rows_);
+    f.y.resize(rows_);
+    f.z.resize(rows_);
+    return f;
+  }
+
+  /// Writes the forces of x into the stacked vector `out` (3 size() entries, already sized).
+  template <class Vec>
+  void store(const Forces& x, Vec& out) const {
+    for (int i = 0; i < n_; ++i) {
+      out(3 * i) = x.x(i);
+      out(3 * i + 1) = x.y(i);
+      out(3 * i + 2) = x.z(i);
+    }
+  }
+
+  /// One pass at multipliers `lambda` (see the file comment): x_i = P_i(v_i) into `x`, the
+  /// sums returned; with `hessian` given, sum_i k_i G_i J_i G_i^T written into it (replacing
+  /// its contents).
+  ConstrainedPass<Scalar> pass(const Wrench<Scalar>& w_ext, const Wrench<Scalar>& lambda, Forces& x,
+                               GramAccumulator<Scalar>* hessian) const {
+    return hessian != nullptr ? run<true>(w_ext, lambda, x, hessian) : run<false>(w_ext, lambda, x, nullptr);
+  }
+
+ private:
+  // Per-lane sums, in this order: G x (6), w |x - t|^2, |x|^2; then, with the Hessian, the
+  // interior point-force sums k, k r (3), k (|r|^2 I - r r^T) upper triangle (6) and the 21
+  // upper-triangle entries of the rank-one terms.
+  static constexpr int base_sums = 8;
+  static constexpr int hessian_sums = 10 + 21;
+
+  template <bool WithHessian>
+  ConstrainedPass<Scalar> run(const Wrench<Scalar>& w_ext, const Wrench<Scalar>& l, Forces& x,
+                              GramAccumulator<Scalar>* hessian) const {
+    using S = Scalar;
+    using P = Pack;
+    constexpr int sums = (base_sums + (WithHessian ? hessian_sums : 0) + 7) / 8 * 8;  // whole groups of 8
+    const P zero = P::set1(S(0)), one = P::set1(S(1)), big = P::set1(ScalarTraits<S>::max_magnitude);
+    const P l0 = P::set1(l(0)), l1 = P::set1(l(1)), l2 = P::set1(l(2)), l3 = P::set1(l(3)), l4 = P::set1(l(4)),
+            l5 = P::set1(l(5));
+    P acc[sums];
+    for (P& a : acc) a = zero;
+    for (int i = 0; i < rows_; i += P::width) {
+      const P rx = P::load(rx_.data() + i), ry = P::load(ry_.data() + i), rz = P::load(rz_.data() + i);
+      const P ax = P::load(ax_.data() + i), ay = P::load(ay_.data() + i), az = P::load(az_.data() + i);
+      const P m = P::load(mu_.data() + i), ku = P::load(ku_.data() + i), k = P::load(k_.data() + i),
+              s = P::load(s_.data() + i);
+      // v = s a + k G^T l, G^T l = l_f - r x l_m (HardFinger::wrench_transpose)
+      const P vx = s * ax + k * (l0 - (ry * l5 - rz * l4));
+      const P vy = s * ay + k * (l1 - (rz * l3 - rx * l5));
+      const P vz = s * az + k * (l2 - (rx * l4 - ry * l3));
+      const P n = vx * ax + vy * ay + vz * az;
+      const P tx = vx - n * ax, ty = vy - n * ay, tz = vz - n * az;
+      const P f = sqrt(tx * tx + ty * ty + tz * tz);
+      // Regions (coulomb_project_accumulate's, lane by lane).
+      const auto valid = (abs(vx) <= big) & (abs(vy) <= big) & (abs(vz) <= big);
+      const auto pos = f > zero;
+      const auto interior = f < m * n;
+      const auto mpos = m > zero;
+      const auto polar = (mpos & ((n <= zero - m * f) | (!pos))) | ((!mpos) & (!(n > zero)));
+      const auto inside = interior & valid;
+      const auto boundary = (!interior) & (!polar) & valid;
+      const P sn = (n + m * f) * ku;
+      const P inv = one / select(pos, f, one);
+      const P beta = sn * m * inv;
+      const P px = select(inside, vx, select(boundary, sn * ax + beta * tx, zero));
+      const P py = select(inside, vy, select(boundary, sn * ay + beta * ty, zero));
+      const P pz = select(inside, vz, select(boundary, sn * az + beta * tz, zero));
+      px.store(x.x.data() + i);
+      py.store(x.y.data() + i);
+      pz.store(x.z.data() + i);
+      acc[0] = acc[0] + px;
+      acc[1] = acc[1] + py;
+      acc[2] = acc[2] + pz;
+      acc[3] = acc[3] + (ry * pz - rz * py);
+      acc[4] = acc[4] + (rz * px - rx * pz);
+      acc[5] = acc[5] + (rx * py - ry * px);
+      const P dx = px - s * ax, dy = py - s * ay, dz = pz - s * az;
+      acc[6] = acc[6] + P::load(w_.data() + i) * (dx * dx + dy * dy + dz * dz);
+      acc[7] = acc[7] + (px * px + py * py + pz * pz);
+      if constexpr (WithHessian) {
+        // Interior: k G G^T in GramAccumulator's closed form.
+        const P ki = select(inside, k, zero);
+        const P kx = ki * rx, ky = ki * ry, kz = ki * rz;
+        acc[8] = acc[8] + ki;
+        acc[9] = acc[9] + kx;
+        acc[10] = acc[10] + ky;
+        acc[11] = acc[11] + kz;
+        acc[12] = acc[12] + (ky * ry + kz * rz);
+        acc[13] = acc[13] + (kx * rx + kz * rz);
+        acc[14] = acc[14] + (kx * rx + ky * ry);
+        acc[15] = acc[15] - kx * ry;
+        acc[16] = acc[16] - kx * rz;
+        acc[17] = acc[17] - ky * rz;
+        // Boundary part: k beta g_b g_b^T + k ku g_d g_d^T; e = v_t/|v_t| (0 elsewhere, so that
+        // every term stays finite).
+        const auto dir = boundary & pos;
+        const P ex = select(dir, tx * inv, zero), ey = select(dir, ty * inv, zero), ez = select(dir, tz * inv, zero);
+        const P cb = select(boundary, k * beta, zero), cd = select(boundary, k * ku, zero);
+        const P bx = ay * ez - az * ey, by = az * ex - ax * ez, bz = ax * ey - ay * ex;  // b = a x e
+        const P dx2 = ax + m * ex, dy2 = ay + m * ey, dz2 = az + m * ez;                 // d = a + mu e
+        const P gb[6] = {bx, by, bz, ry * bz - rz * by, rz * bx - rx * bz, rx * by - ry * bx};
+        const P gd[6] = {dx2, dy2, dz2, ry * dz2 - rz * dy2, rz * dx2 - rx * dz2, rx * dy2 - ry * dx2};
+        const P wb[6] = {cb * gb[0], cb * gb[1], cb * gb[2], cb * gb[3], cb * gb[4], cb * gb[5]};
+        const P wd[6] = {cd * gd[0], cd * gd[1], cd * gd[2], cd * gd[3], cd * gd[4], cd * gd[5]};
+        // Written out (constant indices): the compiler keeps every term in registers.
+        acc[18] = acc[18] + (wb[0] * gb[0] + wd[0] * gd[0]);
+        acc[19] = acc[19] + (wb[0] * gb[1] + wd[0] * gd[1]);
+        acc[20] = acc[20] + (wb[0] * gb[2] + wd[0] * gd[2]);
+        acc[21] = acc[21] + (wb[0] * gb[3] + wd[0] * gd[3]);
+        acc[22] = acc[22] + (wb[0] * gb[4] + wd[0] * gd[4]);
+        acc[23] = acc[23] + (wb[0] * gb[5] + wd[0] * gd[5]);
+        acc[24] = acc[24] + (wb[1] * gb[1] + wd[1] * gd[1]);
+        acc[25] = acc[25] + (wb[1] * gb[2] + wd[1] * gd[2]);
+        acc[26] = acc[26] + (wb[1] * gb[3] + wd[1] * gd[3]);
+        acc[27] = acc[27] + (wb[1] * gb[4] + wd[1] * gd[4]);
+        acc[28] = acc[28] + (wb[1] * gb[5] + wd[1] * gd[5]);
+        acc[29] = acc[29] + (wb[2] * gb[2] + wd[2] * gd[2]);
+        acc[30] = acc[30] + (wb[2] * gb[3] + wd[2] * gd[3]);
+        acc[31] = acc[31] + (wb[2] * gb[4] + wd[2] * gd[4]);
+        acc[32] = acc[32] + (wb[2] * gb[5] + wd[2] * gd[5]);
+        acc[33] = acc[33] + (wb[3] * gb[3] + wd[3] * gd[3]);
+        acc[34] = acc[34] + (wb[3] * gb[4] + wd[3] * gd[4]);
+        acc[35] = acc[35] + (wb[3] * gb[5] + wd[3] * gd[5]);
+        acc[36] = acc[36] + (wb[4] * gb[4] + wd[4] * gd[4]);
+        acc[37] = acc[37] + (wb[4] * gb[5] + wd[4] * gd[5]);
+        acc[38] = acc[38] + (wb[5] * gb[5] + wd[5] * gd[5]);
+      }
+    }
+    S total[sums];
+    P::sum_each(acc, sums, total);
+    ConstrainedPass<S> p;
+    for (int r = 0; r < 6; ++r) p.residual(r) = w_ext(r) + total[r];
+    p.f2 = S(0.5) * total[6];
+    p.scale = w_ext.norm() + std::sqrt(total[7]);
+    p.dual = p.f2 - l.dot(p.residual);
+    if constexpr (WithHessian) {
+      GramAccumulator<S>& h = *hessian;
+      h.k0 = total[8];
+      h.s1 = Vector3<S>(total[9], total[10], total[11]);
+      h.s2.setZero();
+      h.s2(0, 0) = total[12];
+      h.s2(1, 1) = total[13];
+      h.s2(2, 2) = total[14];
+      h.s2(0, 1) = total[15];
+      h.s2(0, 2) = total[16];
+      h.s2(1, 2) = total[17];
+      int e = 18;
+      for (int r = 0; r < 6; ++r)
+        for (int c = r; c < 6; ++c, ++e) {
+          h.extra(r, c) = total[e];
+          h.extra(c, r) = total[e];
+        }
+    }
+    return p;
+  }
+
+  int n_;
+  int rows_;
+  Column rx_, ry_, rz_, ax_, ay_, az_, mu_, ku_, k_, s_, w_;
+};
+
+}  // namespace detail
+}  // namespace grip
