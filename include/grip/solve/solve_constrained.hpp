@@ -17,6 +17,11 @@
 /// contacts for the 6x6 matrix, a regularised 6x6 Cholesky solve, and an Armijo line search on
 /// q (one pass per trial). Every x(lambda) lies in the cones and satisfies stationarity and
 /// complementarity exactly; only the equilibrium residual is driven to zero.
+///
+/// Passes: hard fingers copy the grasp once per solve (after the fast path) into columns and
+/// run every pass over them in SIMD packs (detail::CoulombPassTable, coulomb_pass.hpp: 8
+/// contacts per step with AVX-512, 4 with AVX2, one otherwise); soft fingers and frictionless
+/// points go contact by contact through the cone's projection (detail::ContactPasses).
 
 #include <array>
 #include <cmath>
