@@ -26,8 +26,8 @@ namespace grip {
 namespace detail {
 
 /// A register of scalars for grip's vectorised passes: `width` lanes, loaded and stored from
-/// arrays (unaligned), with lane-wise arithmetic, comparisons giving a Mask, select, abs, the
-/// correctly rounded square root (as std::sqrt) and the sum of the lanes. The generic type is
+/// arrays (unaligned), with lane-wise arithmetic, mul_add, comparisons giving a Mask, select,
+/// abs, the correctly rounded square root (as std::sqrt) and the sum of the lanes. The generic type is
 /// one scalar (the portable fallback, and float everywhere); SimdPack<double> is 8 lanes with
 /// AVX-512, 4 with AVX2.
 template <class S>
@@ -59,6 +59,8 @@ struct ScalarPack {
   friend ScalarPack select(Mask m, ScalarPack a, ScalarPack b) { return m.m ? a : b; }
   friend ScalarPack abs(ScalarPack a) { return {std::abs(a.v)}; }
   friend ScalarPack sqrt(ScalarPack a) { return {std::sqrt(a.v)}; }
+  /// a * b + c (one rounding where the pack has FMA: AVX-512, AVX2; two here).
+  friend ScalarPack mul_add(ScalarPack a, ScalarPack b, ScalarPack c) { return {a.v * b.v + c.v}; }
 };
 
 #if GRIP_SIMD_AVX512
@@ -109,6 +111,7 @@ struct PackD8 {
   friend PackD8 select(Mask m, PackD8 a, PackD8 b) { return {_mm512_mask_blend_pd(m.m, b.v, a.v)}; }
   friend PackD8 abs(PackD8 a) { return {_mm512_abs_pd(a.v)}; }
   friend PackD8 sqrt(PackD8 a) { return {_mm512_sqrt_pd(a.v)}; }
+  friend PackD8 mul_add(PackD8 a, PackD8 b, PackD8 c) { return {_mm512_fmadd_pd(a.v, b.v, c.v)}; }
 };
 #endif
 
@@ -147,6 +150,7 @@ struct PackD4 {
   friend PackD4 select(Mask m, PackD4 a, PackD4 b) { return {_mm256_blendv_pd(b.v, a.v, m.m)}; }
   friend PackD4 abs(PackD4 a) { return {_mm256_andnot_pd(_mm256_set1_pd(-0.0), a.v)}; }
   friend PackD4 sqrt(PackD4 a) { return {_mm256_sqrt_pd(a.v)}; }
+  friend PackD4 mul_add(PackD4 a, PackD4 b, PackD4 c) { return {_mm256_fmadd_pd(a.v, b.v, c.v)}; }
 };
 #endif
 

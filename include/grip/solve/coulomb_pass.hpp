@@ -211,27 +211,27 @@ class CoulombPassTable {
         const P wb[6] = {cb * gb[0], cb * gb[1], cb * gb[2], cb * gb[3], cb * gb[4], cb * gb[5]};
         const P wd[6] = {cd * gd[0], cd * gd[1], cd * gd[2], cd * gd[3], cd * gd[4], cd * gd[5]};
         // Written out (constant indices): the compiler keeps every term in registers.
-        acc[18] = acc[18] + (wb[0] * gb[0] + wd[0] * gd[0]);
-        acc[19] = acc[19] + (wb[0] * gb[1] + wd[0] * gd[1]);
-        acc[20] = acc[20] + (wb[0] * gb[2] + wd[0] * gd[2]);
-        acc[21] = acc[21] + (wb[0] * gb[3] + wd[0] * gd[3]);
-        acc[22] = acc[22] + (wb[0] * gb[4] + wd[0] * gd[4]);
-        acc[23] = acc[23] + (wb[0] * gb[5] + wd[0] * gd[5]);
-        acc[24] = acc[24] + (wb[1] * gb[1] + wd[1] * gd[1]);
-        acc[25] = acc[25] + (wb[1] * gb[2] + wd[1] * gd[2]);
-        acc[26] = acc[26] + (wb[1] * gb[3] + wd[1] * gd[3]);
-        acc[27] = acc[27] + (wb[1] * gb[4] + wd[1] * gd[4]);
-        acc[28] = acc[28] + (wb[1] * gb[5] + wd[1] * gd[5]);
-        acc[29] = acc[29] + (wb[2] * gb[2] + wd[2] * gd[2]);
-        acc[30] = acc[30] + (wb[2] * gb[3] + wd[2] * gd[3]);
-        acc[31] = acc[31] + (wb[2] * gb[4] + wd[2] * gd[4]);
-        acc[32] = acc[32] + (wb[2] * gb[5] + wd[2] * gd[5]);
-        acc[33] = acc[33] + (wb[3] * gb[3] + wd[3] * gd[3]);
-        acc[34] = acc[34] + (wb[3] * gb[4] + wd[3] * gd[4]);
-        acc[35] = acc[35] + (wb[3] * gb[5] + wd[3] * gd[5]);
-        acc[36] = acc[36] + (wb[4] * gb[4] + wd[4] * gd[4]);
-        acc[37] = acc[37] + (wb[4] * gb[5] + wd[4] * gd[5]);
-        acc[38] = acc[38] + (wb[5] * gb[5] + wd[5] * gd[5]);
+        acc[18] = mul_add(wb[0], gb[0], mul_add(wd[0], gd[0], acc[18]));
+        acc[19] = mul_add(wb[0], gb[1], mul_add(wd[0], gd[1], acc[19]));
+        acc[20] = mul_add(wb[0], gb[2], mul_add(wd[0], gd[2], acc[20]));
+        acc[21] = mul_add(wb[0], gb[3], mul_add(wd[0], gd[3], acc[21]));
+        acc[22] = mul_add(wb[0], gb[4], mul_add(wd[0], gd[4], acc[22]));
+        acc[23] = mul_add(wb[0], gb[5], mul_add(wd[0], gd[5], acc[23]));
+        acc[24] = mul_add(wb[1], gb[1], mul_add(wd[1], gd[1], acc[24]));
+        acc[25] = mul_add(wb[1], gb[2], mul_add(wd[1], gd[2], acc[25]));
+        acc[26] = mul_add(wb[1], gb[3], mul_add(wd[1], gd[3], acc[26]));
+        acc[27] = mul_add(wb[1], gb[4], mul_add(wd[1], gd[4], acc[27]));
+        acc[28] = mul_add(wb[1], gb[5], mul_add(wd[1], gd[5], acc[28]));
+        acc[29] = mul_add(wb[2], gb[2], mul_add(wd[2], gd[2], acc[29]));
+        acc[30] = mul_add(wb[2], gb[3], mul_add(wd[2], gd[3], acc[30]));
+        acc[31] = mul_add(wb[2], gb[4], mul_add(wd[2], gd[4], acc[31]));
+        acc[32] = mul_add(wb[2], gb[5], mul_add(wd[2], gd[5], acc[32]));
+        acc[33] = mul_add(wb[3], gb[3], mul_add(wd[3], gd[3], acc[33]));
+        acc[34] = mul_add(wb[3], gb[4], mul_add(wd[3], gd[4], acc[34]));
+        acc[35] = mul_add(wb[3], gb[5], mul_add(wd[3], gd[5], acc[35]));
+        acc[36] = mul_add(wb[4], gb[4], mul_add(wd[4], gd[4], acc[36]));
+        acc[37] = mul_add(wb[4], gb[5], mul_add(wd[4], gd[5], acc[37]));
+        acc[38] = mul_add(wb[5], gb[5], mul_add(wd[5], gd[5], acc[38]));
       }
     }
     S total[sums];

@@ -281,6 +281,62 @@ Wrench<Scalar> solve_floored_6x6(const Matrix6<Scalar>& a, const Wrench<Scalar>&
   return z;
 }
 
+/// Solves A y = b for the symmetric positive definite Newton matrix A (6x6, Jacobi-scaled) by
+/// 3x3 blocks: A = [[P, Q], [Q^T, R]], P^-1 and the Schur complement T = R - Q^T P^-1 Q inverted
+/// by their adjugates (two divisions, no square root: the floored Cholesky's six square roots
+/// and divisions form one chain of latencies). Taken in double only, and only when both 3x3
+/// determinants exceed 1e-4 times the product of their diagonals and T's diagonal keeps 1e-4
+/// of A's (no cancellation), so that the answer loses at most about 1e8 eps (backward error);
+/// otherwise (and always in float, and for any non-finite input) solve_floored_6x6(a, b, floor).
+template <class S>
+Wrench<S> solve_newton_6x6(const Matrix6<S>& a, const Wrench<S>& b, S floor) {
+  if constexpr (!std::is_same<S, double>::value) return solve_floored_6x6(a, b, floor);
+  const S hadamard = S(1e-4);
+  const S p00 = a(0, 0), p01 = a(0, 1), p02 = a(0, 2), p11 = a(1, 1), p12 = a(1, 2), p22 = a(2, 2);
+  // adj(P) (symmetric) and det(P)
+  const S c00 = p11 * p22 - p12 * p12, c01 = p02 * p12 - p01 * p22, c02 = p01 * p12 - p02 * p11,
+          c11 = p00 * p22 - p02 * p02, c12 = p01 * p02 - p00 * p12, c22 = p00 * p11 - p01 * p01;
+  const S dp = p00 * c00 + p01 * c01 + p02 * c02;
+  if (!(dp > hadamard * p00 * p11 * p22) || !(p00 > S(0) && p11 > S(0) && p22 > S(0)))
+    return solve_floored_6x6(a, b, floor);
+  const S ip = S(1) / dp;
+  // X = P^-1 Q (Q = rows 0-2, columns 3-5), then the Schur complement T = R - Q^T X.
+  S x[3][3];
+  for (int j = 0; j < 3; ++j) {
+    const S q0 = a(0, 3 + j), q1 = a(1, 3 + j), q2 = a(2, 3 + j);
+    x[0][j] = (c00 * q0 + c01 * q1 + c02 * q2) * ip;
+    x[1][j] = (c01 * q0 + c11 * q1 + c12 * q2) * ip;
+    x[2][j] = (c02 * q0 + c12 * q1 + c22 * q2) * ip;
+  }
+  const auto t = [&](int i, int j) {
+    return a(3 + i, 3 + j) - (a(0, 3 + i) * x[0][j] + a(1, 3 + i) * x[1][j] + a(2, 3 + i) * x[2][j]);
+  };
+  const S t00 = t(0, 0), t01 = t(0, 1), t02 = t(0, 2), t11 = t(1, 1), t12 = t(1, 2), t22 = t(2, 2);
+  const S d00 = t11 * t22 - t12 * t12, d01 = t02 * t12 - t01 * t22, d02 = t01 * t12 - t02 * t11,
+          d11 = t00 * t22 - t02 * t02, d12 = t01 * t02 - t00 * t12, d22 = t00 * t11 - t01 * t01;
+  const S dt = t00 * d00 + t01 * d01 + t02 * d02;
+  // T's diagonal must not have cancelled (t_ii against a_ii), nor its determinant against its
+  // diagonal.
+  if (!(dt > hadamard * t00 * t11 * t22) || !(t00 > hadamard * a(3, 3) && t11 > hadamard * a(4, 4) &&
+                                               t22 > hadamard * a(5, 5)))
+    return solve_floored_6x6(a, b, floor);
+  const S it = S(1) / dt;
+  // u = P^-1 b_1; y_2 = T^-1 (b_2 - Q^T u); y_1 = u - X y_2.
+  const S u0 = (c00 * b(0) + c01 * b(1) + c02 * b(2)) * ip, u1 = (c01 * b(0) + c11 * b(1) + c12 * b(2)) * ip,
+          u2 = (c02 * b(0) + c12 * b(1) + c22 * b(2)) * ip;
+  const S r0 = b(3) - (a(0, 3) * u0 + a(1, 3) * u1 + a(2, 3) * u2);
+  const S r1 = b(4) - (a(0, 4) * u0 + a(1, 4) * u1 + a(2, 4) * u2);
+  const S r2 = b(5) - (a(0, 5) * u0 + a(1, 5) * u1 + a(2, 5) * u2);
+  Wrench<S> y;
+  y(3) = (d00 * r0 + d01 * r1 + d02 * r2) * it;
+  y(4) = (d01 * r0 + d11 * r1 + d12 * r2) * it;
+  y(5) = (d02 * r0 + d12 * r1 + d22 * r2) * it;
+  y(0) = u0 - (x[0][0] * y(3) + x[0][1] * y(4) + x[0][2] * y(5));
+  y(1) = u1 - (x[1][0] * y(3) + x[1][1] * y(4) + x[1][2] * y(5));
+  y(2) = u2 - (x[2][0] * y(3) + x[2][1] * y(4) + x[2][2] * y(5));
+  return y;
+}
+
 /// Phase 1: forces in the cones that come closest to equilibrium. Solves
 ///   min over x in the cones of 1/2 |G x + w_ext|^2 + delta/2 sum_i w_i |x_i - t_i|^2
 /// (delta small: the least residual, ties broken by F2) through its strongly concave dual
@@ -324,7 +380,7 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
     h.diagonal().array() += dl;
     const Wrench<S> e = h.diagonal().cwiseSqrt().cwiseInverse();
     const Matrix6<S> hs = e.asDiagonal() * h * e.asDiagonal();
-    const Wrench<S> dir = e.cwiseProduct(solve_floored_6x6(hs, Wrench<S>(dl * e.cwiseProduct(g)), S(16) * eps));
+    const Wrench<S> dir = e.cwiseProduct(solve_newton_6x6(hs, Wrench<S>(dl * e.cwiseProduct(g)), S(16) * eps));
     const S slope = g.dot(dir);
     if (dir.norm() <= S(4) * eps * (lambda.norm() + cur.scale) || !(slope > S(0))) {  // at round-off
       if (!(dl > delta)) break;
@@ -558,7 +614,7 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
     const S mu = (damping < rel ? damping : rel) + reg;
     h.diagonal() += mu * jacobi;
     const Matrix6<S> hs = dinv.asDiagonal() * h * dinv.asDiagonal();
-    const Wrench<S> dir = dinv.cwiseProduct(solve_floored_6x6(hs, Wrench<S>(-dinv.cwiseProduct(cur.residual)), mu));
+    const Wrench<S> dir = dinv.cwiseProduct(solve_newton_6x6(hs, Wrench<S>(-dinv.cwiseProduct(cur.residual)), mu));
     const S slope = -cur.residual.dot(dir);  // q'(0) along dir, > 0
     bool accepted = false;
     ConstrainedPass<S> trial;
