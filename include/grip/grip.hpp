@@ -5,6 +5,7 @@
 #include "grip/core/scalar_traits.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
+#include "grip/core/simd.hpp"
 
 #include "grip/contact/contact.hpp"
 #include "grip/contact/contact_model.hpp"
@@ -26,6 +27,7 @@
 #include "grip/solve/solve_kkt.hpp"
 #include "grip/solve/constrained_settings.hpp"
 #include "grip/solve/projection_jacobian.hpp"
+#include "grip/solve/coulomb_pass.hpp"
 #include "grip/solve/solve_constrained.hpp"
 
 #include "grip/monitor/grasp_state.hpp"
