@@ -63,6 +63,14 @@ struct ScalarPack {
   friend ScalarPack mul_add(ScalarPack a, ScalarPack b, ScalarPack c) { return {a.v * b.v + c.v}; }
 };
 
+#if GRIP_SIMD_AVX512 || GRIP_SIMD_AVX2
+/// The sum of the four lanes of an AVX register (both packs' sum()).
+inline double sum_lanes(__m256d q) {
+  const __m128d h = _mm_add_pd(_mm256_castpd256_pd128(q), _mm256_extractf128_pd(q, 1));
+  return _mm_cvtsd_f64(_mm_add_sd(h, _mm_unpackhi_pd(h, h)));
+}
+#endif
+
 #if GRIP_SIMD_AVX512
 /// Eight doubles in an AVX-512 register; masks in a k register.
 struct PackD8 {
@@ -79,9 +87,7 @@ struct PackD8 {
   void store(double* p) const { _mm512_storeu_pd(p, v); }
   double sum() const {  // masked extracts: GCC 12 warns on the undefined source of the unmasked ones
     const __m256d z = _mm256_setzero_pd();
-    const __m256d q = _mm256_add_pd(_mm512_mask_extractf64x4_pd(z, 0xFF, v, 0), _mm512_mask_extractf64x4_pd(z, 0xFF, v, 1));
-    const __m128d h = _mm_add_pd(_mm256_castpd256_pd128(q), _mm256_extractf128_pd(q, 1));
-    return _mm_cvtsd_f64(_mm_add_sd(h, _mm_unpackhi_pd(h, h)));
+    return sum_lanes(_mm256_add_pd(_mm512_mask_extractf64x4_pd(z, 0xFF, v, 0), _mm512_mask_extractf64x4_pd(z, 0xFF, v, 1)));
   }
   /// out[e] = a[e].sum() for 0 <= e < count (count a multiple of 8): eight sums at a time by a
   /// transposing tree of adds, 21 instructions where eight sum() calls take about 64.
@@ -129,10 +135,7 @@ struct PackD4 {
   static PackD4 load(const double* p) { return {_mm256_loadu_pd(p)}; }
   static PackD4 set1(double s) { return {_mm256_set1_pd(s)}; }
   void store(double* p) const { _mm256_storeu_pd(p, v); }
-  double sum() const {
-    const __m128d h = _mm_add_pd(_mm256_castpd256_pd128(v), _mm256_extractf128_pd(v, 1));
-    return _mm_cvtsd_f64(_mm_add_sd(h, _mm_unpackhi_pd(h, h)));
-  }
+  double sum() const { return sum_lanes(v); }
   /// out[e] = a[e].sum() for 0 <= e < count (count a multiple of 8): four sums at a time.
   static void sum_each(const PackD4* a, int count, double* out) {
     for (int e = 0; e < count; e += 4) {

@@ -352,7 +352,9 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
                    Wrench<typename Passes::Scalar>& lambda, typename Passes::Scalar& f2) {
   using S = typename Passes::Scalar;
   const S eps = std::numeric_limits<S>::epsilon();
-  typename Passes::Forces xt = passes.make_forces(), xh = passes.make_forces();
+  typename Passes::Forces xt = passes.make_forces();
+  // The Hessian sums at the current point and at the line-search point, from their passes.
+  GramAccumulator<S> cur_h, trial_h;
   lambda.setZero();
   // Continuation: delta starts at delta_max (a well-scaled problem) and drops 100-fold each
   // time the current problem is solved, down to the requested delta (warm-started each time).
@@ -362,7 +364,7 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
   const auto phi = [&](const ConstrainedPass<S>& p, const Wrench<S>& l) {
     return -S(0.5) * l.squaredNorm() + l.dot(p.residual) + dl * p.f2;
   };
-  ConstrainedPass<S> cur = passes.pass(w_ext, Wrench<S>(-lambda / dl), x, nullptr);
+  ConstrainedPass<S> cur = passes.pass(w_ext, Wrench<S>(-lambda / dl), x, &cur_h);
   S cur_phi = phi(cur, lambda);
   int it = 0;
   for (; it < settings.max_iterations; ++it) {
@@ -370,13 +372,11 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
     if (g.norm() <= settings.tolerance * cur.scale || (dl > delta && g.norm() <= S(1e-3f) * cur.scale)) {
       if (!(dl > delta)) break;
       dl = dl / S(100) < delta ? delta : dl / S(100);
-      cur = passes.pass(w_ext, Wrench<S>(-lambda / dl), x, nullptr);
+      cur = passes.pass(w_ext, Wrench<S>(-lambda / dl), x, &cur_h);
       cur_phi = phi(cur, lambda);
       continue;
     }
-    GramAccumulator<S> acc;
-    (void)passes.pass(w_ext, Wrench<S>(-lambda / dl), xh, &acc);
-    Matrix6<S> h = acc.matrix();
+    Matrix6<S> h = cur_h.matrix();
     h.diagonal().array() += dl;
     const Wrench<S> e = h.diagonal().cwiseSqrt().cwiseInverse();
     const Matrix6<S> hs = e.asDiagonal() * h * e.asDiagonal();
@@ -385,7 +385,7 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
     if (dir.norm() <= S(4) * eps * (lambda.norm() + cur.scale) || !(slope > S(0))) {  // at round-off
       if (!(dl > delta)) break;
       dl = dl / S(100) < delta ? delta : dl / S(100);
-      cur = passes.pass(w_ext, Wrench<S>(-lambda / dl), x, nullptr);
+      cur = passes.pass(w_ext, Wrench<S>(-lambda / dl), x, &cur_h);
       cur_phi = phi(cur, lambda);
       continue;
     }
@@ -397,7 +397,7 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
     S trial_phi = cur_phi;
     for (int ls = 0; ls < settings.max_line_search; ++ls, alpha *= S(0.5)) {
       lt = lambda + alpha * dir;
-      trial = passes.pass(w_ext, Wrench<S>(-lt / dl), xt, nullptr);
+      trial = passes.pass(w_ext, Wrench<S>(-lt / dl), xt, &trial_h);
       trial_phi = phi(trial, lt);
       const S slack = S(16) * eps * (std::abs(cur_phi) + std::abs(trial_phi) + lt.squaredNorm());
       if (trial_phi >= cur_phi + S(1e-4f) * alpha * slope - slack) {
@@ -408,12 +408,13 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
     if (!accepted) {
       if (!(dl > delta)) break;
       dl = dl / S(100) < delta ? delta : dl / S(100);
-      cur = passes.pass(w_ext, Wrench<S>(-lambda / dl), x, nullptr);
+      cur = passes.pass(w_ext, Wrench<S>(-lambda / dl), x, &cur_h);
       cur_phi = phi(cur, lambda);
       continue;
     }
     lambda = lt;
     x = xt;
+    cur_h = trial_h;
     cur = trial;
     cur_phi = trial_phi;
   }
