@@ -199,3 +199,82 @@ TEST_CASE("Coulomb kernel: values past the last contact are never read as forces
     for (int i = n; i < 24; ++i) CHECK(m[static_cast<std::size_t>(i)] == ContactMode::Sliding);  // untouched
   }
 }
+
+namespace {
+
+// coulomb_all_inside (dispatched and portable) on a grasp of type G with n contacts: all forces
+// well inside their cones -> true; then one contact at each position in turn made to slide,
+// pull, separate at zero force, or carry a NaN -> false. Against the cone's own rule.
+template <class G>
+void check_all_inside(std::mt19937& rng, int n) {
+  using S = typename G::ScalarType;
+  constexpr int fixed = G::fixed_size > 0 ? G::fixed_size : 0;
+  const G g = grip_test::random_grasp<G>(rng, n);
+  typename G::ForceVector x(g.unknowns());
+  for (int i = 0; i < n; ++i)
+    x.template segment<3>(3 * i) =
+        mixed_force(rng, g.contact(i).normal.template cast<double>(), double(g.contact(i).friction), 1).template cast<S>();
+  const auto rule = [&](const typename G::ForceVector& f) {
+    bool all = true;
+    for (int i = 0; i < n; ++i) {
+      const CoulombCone<S> cone = CoulombCone<S>::from_contact(g.contact(i));
+      const Vector3<S> xi = f.template segment<3>(3 * i);
+      all = all && cone.normal_part(xi) > S(0) && !cone.slips(xi, S(0));
+    }
+    return all;
+  };
+  const auto fast = [&](const typename G::ForceVector& f) {
+    return detail::coulomb_all_inside<fixed>(g.cone_table().data(), G::padded_capacity, f.data(), n);
+  };
+  const auto portable = [&](const typename G::ForceVector& f) {
+    return detail::coulomb_all_inside_portable(g.cone_table().data(), G::padded_capacity, f.data(), n);
+  };
+  REQUIRE(rule(x));
+  CHECK(fast(x));
+  CHECK(portable(x));
+  CHECK(detail::coulomb_all_inside_grasp(g, x));
+  for (int i = 0; i < n; ++i) {
+    const Vector3<S> keep = x.template segment<3>(3 * i);
+    const Vector3<double> a = g.contact(i).normal.template cast<double>();
+    const double mu = double(g.contact(i).friction);
+    for (int kind : {2, 4, 5, 7}) {
+      if (kind == 7)
+        x.template segment<3>(3 * i) = Vector3<S>(S(1), std::numeric_limits<S>::quiet_NaN(), S(1));
+      else
+        x.template segment<3>(3 * i) = mixed_force(rng, a, mu, kind).template cast<S>();
+      if (kind != 7) CHECK_FALSE(rule(x));
+      CHECK_FALSE(fast(x));
+      CHECK_FALSE(portable(x));
+    }
+    // Just inside the boundary (|t| = 0.999 mu f_n) stays inside; mu = 0 needs t = 0 exactly.
+    const double fn = 2.0;
+    const Vector3<double> t = grip_test::random_tangent(rng, a);
+    x.template segment<3>(3 * i) = (fn * a + 0.999 * mu * fn * t).template cast<S>();
+    if (mu > 0.01) {
+      CHECK(rule(x));
+      CHECK(fast(x));
+      CHECK(portable(x));
+    }
+    x.template segment<3>(3 * i) = keep;
+  }
+  CHECK(fast(x));  // restored
+}
+
+}  // namespace
+
+TEST_CASE_TEMPLATE("Coulomb kernel: the fast path's all-inside test finds one outside contact at any position", S,
+                   double, float) {
+  std::mt19937 rng(31);
+  for (int n = 1; n <= 40; ++n) check_all_inside<Grasp<Dynamic, HardFinger, S, 40>>(rng, n);
+  check_all_inside<Grasp<1, HardFinger, S>>(rng, 1);
+  check_all_inside<Grasp<3, HardFinger, S>>(rng, 3);
+  check_all_inside<Grasp<8, HardFinger, S>>(rng, 8);
+  check_all_inside<Grasp<20, HardFinger, S>>(rng, 20);
+  // No heap.
+  using G = Grasp<20, HardFinger, S>;
+  const G g = grip_test::random_grasp<G>(rng, 20);
+  const typename G::ForceVector x = G::ForceVector::Zero();
+  grip_test::NoHeapScope scope;
+  CHECK_FALSE(detail::coulomb_all_inside_grasp(g, x));  // zero forces separate
+  CHECK(scope.allocations() == 0);
+}

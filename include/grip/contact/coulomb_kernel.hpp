@@ -93,6 +93,28 @@ inline __mmask8 low_lanes(int k) {
   return static_cast<__mmask8>(k >= 8 ? 0xffu : k <= 0 ? 0u : (1u << static_cast<unsigned>(k)) - 1u);
 }
 
+/// Loads the stacked forces of contacts b .. b + 7 (24 values from p; only the first 3 k are
+/// read, k = contacts left, and lanes k .. 7 come out zero) into x, y and z lanes: two
+/// two-source permutes per component, first from values 0-15, then the last lanes from 16-23.
+struct Deinterleave8 {
+  __m512i from01_x = _mm512_setr_epi64(0, 3, 6, 9, 12, 15, 0, 0);
+  __m512i from01_y = _mm512_setr_epi64(1, 4, 7, 10, 13, 0, 0, 0);
+  __m512i from01_z = _mm512_setr_epi64(2, 5, 8, 11, 14, 0, 0, 0);
+  __m512i with2_x = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 10, 13);
+  __m512i with2_y = _mm512_setr_epi64(0, 1, 2, 3, 4, 8, 11, 14);
+  __m512i with2_z = _mm512_setr_epi64(0, 1, 2, 3, 4, 9, 12, 15);
+
+  void load(const double* p, int k, __m512d& fx, __m512d& fy, __m512d& fz) const {
+    const int values = 3 * k;
+    const __m512d v0 = _mm512_maskz_loadu_pd(low_lanes(values), p);
+    const __m512d v1 = _mm512_maskz_loadu_pd(low_lanes(values - 8), p + 8);
+    const __m512d v2 = _mm512_maskz_loadu_pd(low_lanes(values - 16), p + 16);
+    fx = _mm512_permutex2var_pd(_mm512_permutex2var_pd(v0, from01_x, v1), with2_x, v2);
+    fy = _mm512_permutex2var_pd(_mm512_permutex2var_pd(v0, from01_y, v1), with2_y, v2);
+    fz = _mm512_permutex2var_pd(_mm512_permutex2var_pd(v0, from01_z, v1), with2_z, v2);
+  }
+};
+
 /// The AVX-512 pass, same contract as classify_coulomb_portable<double>. Precondition: the
 /// table has at least n rounded up to a multiple of 8 rows (Grasp::padded_capacity); modes
 /// has room for n entries (only [0, n) is written), x for 3n values (only those are read).
@@ -101,14 +123,7 @@ template <int FixedN = 0>
 CoulombCounts classify_coulomb_avx512(const double* table, int stride, const double* x, int n_runtime,
                                       double absolute_tolerance, double relative_tolerance, ContactMode* modes) {
   const int n = FixedN > 0 ? FixedN : n_runtime;
-  // Deinterleaving 8 stacked forces (24 values in registers v0, v1, v2) into x, y, z lanes:
-  // first from v0:v1 (indices 0-15), then the last lanes from v2 (indices 8-15 of the pair).
-  const __m512i from01_x = _mm512_setr_epi64(0, 3, 6, 9, 12, 15, 0, 0);
-  const __m512i from01_y = _mm512_setr_epi64(1, 4, 7, 10, 13, 0, 0, 0);
-  const __m512i from01_z = _mm512_setr_epi64(2, 5, 8, 11, 14, 0, 0, 0);
-  const __m512i with2_x = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 10, 13);
-  const __m512i with2_y = _mm512_setr_epi64(0, 1, 2, 3, 4, 8, 11, 14);
-  const __m512i with2_z = _mm512_setr_epi64(0, 1, 2, 3, 4, 9, 12, 15);
+  const Deinterleave8 split;
   const __m512d abs_mask = _mm512_castsi512_pd(_mm512_set1_epi64(0x7fffffffffffffffLL));
   const __m512d big = _mm512_set1_pd(ScalarTraits<double>::max_magnitude);
   const __m512d tol_abs = _mm512_set1_pd(absolute_tolerance);
@@ -119,14 +134,8 @@ CoulombCounts classify_coulomb_avx512(const double* table, int stride, const dou
   __m512i largest = _mm512_setzero_si512();  // per lane, the largest |component| as bits
   for (int b = 0; b < n; b += 8) {
     const __mmask8 lanes = low_lanes(n - b);
-    const int values = 3 * (n - b);
-    const double* p = x + 3 * b;
-    const __m512d v0 = _mm512_maskz_loadu_pd(low_lanes(values), p);
-    const __m512d v1 = _mm512_maskz_loadu_pd(low_lanes(values - 8), p + 8);
-    const __m512d v2 = _mm512_maskz_loadu_pd(low_lanes(values - 16), p + 16);
-    const __m512d fx = _mm512_permutex2var_pd(_mm512_permutex2var_pd(v0, from01_x, v1), with2_x, v2);
-    const __m512d fy = _mm512_permutex2var_pd(_mm512_permutex2var_pd(v0, from01_y, v1), with2_y, v2);
-    const __m512d fz = _mm512_permutex2var_pd(_mm512_permutex2var_pd(v0, from01_z, v1), with2_z, v2);
+    __m512d fx, fy, fz;
+    split.load(x + 3 * b, n - b, fx, fy, fz);
     const __m512d nx = _mm512_loadu_pd(table + b);
     const __m512d ny = _mm512_loadu_pd(table + stride + b);
     const __m512d nz = _mm512_loadu_pd(table + 2 * stride + b);
@@ -177,6 +186,18 @@ inline int bit_count4(int m) {
 #endif
 }
 
+/// Loads the stacked forces of 4 contacts (12 values from p) into x, y and z lanes: 128-bit
+/// halves put the (x, y), (z, x) and (y, z) pairs of the first two contacts in the low lane and
+/// of the last two in the high lane; one shuffle per component.
+inline void deinterleave4(const double* p, __m256d& fx, __m256d& fy, __m256d& fz) {
+  const __m256d q0 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p)), _mm_loadu_pd(p + 6), 1);
+  const __m256d q1 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p + 2)), _mm_loadu_pd(p + 8), 1);
+  const __m256d q2 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p + 4)), _mm_loadu_pd(p + 10), 1);
+  fx = _mm256_shuffle_pd(q0, q1, 0xa);
+  fy = _mm256_shuffle_pd(q0, q2, 0x5);
+  fz = _mm256_shuffle_pd(q1, q2, 0xa);
+}
+
 /// The AVX2 + FMA pass (4 contacts per step, 256-bit registers), same contract as
 /// classify_coulomb_portable<double>; a last partial step of fewer than 4 contacts runs the
 /// portable loop. Precondition as classify_coulomb_avx512.
@@ -194,15 +215,8 @@ CoulombCounts classify_coulomb_avx2(const double* table, int stride, const doubl
   CoulombCounts c;
   int b = 0;
   for (; b + 4 <= n; b += 4) {
-    // Forces f_b..f_b+3 are 12 stacked values p0..p11; 128-bit halves put (x, y), (z, x) and
-    // (y, z) pairs of contacts b, b+1 in the low lane and of b+2, b+3 in the high lane.
-    const double* p = x + 3 * b;
-    const __m256d q0 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p)), _mm_loadu_pd(p + 6), 1);
-    const __m256d q1 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p + 2)), _mm_loadu_pd(p + 8), 1);
-    const __m256d q2 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p + 4)), _mm_loadu_pd(p + 10), 1);
-    const __m256d fx = _mm256_shuffle_pd(q0, q1, 0xa);
-    const __m256d fy = _mm256_shuffle_pd(q0, q2, 0x5);
-    const __m256d fz = _mm256_shuffle_pd(q1, q2, 0xa);
+    __m256d fx, fy, fz;
+    deinterleave4(x + 3 * b, fx, fy, fz);
     const __m256d nx = _mm256_loadu_pd(table + b);
     const __m256d ny = _mm256_loadu_pd(table + stride + b);
     const __m256d nz = _mm256_loadu_pd(table + 2 * stride + b);
@@ -267,6 +281,104 @@ CoulombCounts classify_coulomb_grasp(const GraspT& grasp, const Forces& x,
   return classify_coulomb<(GraspT::fixed_size > 0 ? GraspT::fixed_size : 0)>(
       grasp.cone_table().data(), GraspT::padded_capacity, x.data(), grasp.size(), absolute_tolerance,
       relative_tolerance, modes);
+}
+
+/// True when every contact i in [0, n) pushes and lies inside or on its cone with no
+/// tolerance: f_n = x_i.a_i > 0 and |x_i - f_n a_i|^2 <= (mu_i f_n)^2, i.e. CoulombCone's
+/// `normal_part(x) > 0 && !slips(x, 0)` (solve_constrained's fast-path test). A NaN force
+/// fails; no other check of the values (a finite force beyond max_magnitude may pass). The
+/// lean form of classify_coulomb: no modes, counts or slack. Table layout as
+/// classify_coulomb_portable.
+template <class Scalar>
+bool coulomb_all_inside_portable(const Scalar* table, int stride, const Scalar* x, int n) {
+  bool inside = true;
+  for (int i = 0; i < n; ++i) {
+    const Scalar ax = table[i], ay = table[stride + i], az = table[2 * stride + i];
+    const Scalar x0 = x[3 * i], x1 = x[3 * i + 1], x2 = x[3 * i + 2];
+    const Scalar fn = x0 * ax + x1 * ay + x2 * az;
+    const Scalar t0 = x0 - fn * ax, t1 = x1 - fn * ay, t2 = x2 - fn * az;
+    const Scalar lim = table[3 * stride + i] * fn;
+    inside = inside & (fn > Scalar(0)) & (t0 * t0 + t1 * t1 + t2 * t2 <= lim * lim);
+  }
+  return inside;
+}
+
+#if GRIP_SIMD_AVX512
+/// coulomb_all_inside_portable<double>, 8 contacts per step, the last step masked (any n).
+/// Precondition as classify_coulomb_avx512.
+template <int FixedN = 0>
+bool coulomb_all_inside_avx512(const double* table, int stride, const double* x, int n_runtime) {
+  const int n = FixedN > 0 ? FixedN : n_runtime;
+  const Deinterleave8 split;
+  const __m512d zero = _mm512_setzero_pd();
+  unsigned outside = 0;
+  for (int b = 0; b < n; b += 8) {
+    __m512d fx, fy, fz;
+    split.load(x + 3 * b, n - b, fx, fy, fz);
+    const __m512d nx = _mm512_loadu_pd(table + b);
+    const __m512d ny = _mm512_loadu_pd(table + stride + b);
+    const __m512d nz = _mm512_loadu_pd(table + 2 * stride + b);
+    const __m512d fn = _mm512_fmadd_pd(fz, nz, _mm512_fmadd_pd(fy, ny, _mm512_mul_pd(fx, nx)));
+    const __m512d tx = _mm512_fnmadd_pd(fn, nx, fx), ty = _mm512_fnmadd_pd(fn, ny, fy), tz = _mm512_fnmadd_pd(fn, nz, fz);
+    const __m512d t2 = _mm512_fmadd_pd(tz, tz, _mm512_fmadd_pd(ty, ty, _mm512_mul_pd(tx, tx)));
+    const __m512d lim = _mm512_mul_pd(_mm512_loadu_pd(table + 3 * stride + b), fn);
+    const __mmask8 lanes = low_lanes(n - b);
+    const __mmask8 pushing = _mm512_mask_cmp_pd_mask(lanes, fn, zero, _CMP_GT_OQ);
+    const __mmask8 inside = _mm512_mask_cmp_pd_mask(pushing, t2, _mm512_mul_pd(lim, lim), _CMP_LE_OQ);
+    outside |= static_cast<unsigned>(lanes) & ~static_cast<unsigned>(inside);
+  }
+  return outside == 0;
+}
+#endif
+
+#if GRIP_SIMD_AVX2
+/// coulomb_all_inside_portable<double>, 4 contacts per step, a last partial step portable.
+template <int FixedN = 0>
+bool coulomb_all_inside_avx2(const double* table, int stride, const double* x, int n_runtime) {
+  const int n = FixedN > 0 ? FixedN : n_runtime;
+  const __m256d zero = _mm256_setzero_pd();
+  __m256d inside = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+  int b = 0;
+  for (; b + 4 <= n; b += 4) {
+    __m256d fx, fy, fz;
+    deinterleave4(x + 3 * b, fx, fy, fz);
+    const __m256d nx = _mm256_loadu_pd(table + b);
+    const __m256d ny = _mm256_loadu_pd(table + stride + b);
+    const __m256d nz = _mm256_loadu_pd(table + 2 * stride + b);
+    const __m256d fn = _mm256_fmadd_pd(fz, nz, _mm256_fmadd_pd(fy, ny, _mm256_mul_pd(fx, nx)));
+    const __m256d tx = _mm256_fnmadd_pd(fn, nx, fx), ty = _mm256_fnmadd_pd(fn, ny, fy), tz = _mm256_fnmadd_pd(fn, nz, fz);
+    const __m256d t2 = _mm256_fmadd_pd(tz, tz, _mm256_fmadd_pd(ty, ty, _mm256_mul_pd(tx, tx)));
+    const __m256d lim = _mm256_mul_pd(_mm256_loadu_pd(table + 3 * stride + b), fn);
+    inside = _mm256_and_pd(inside, _mm256_and_pd(_mm256_cmp_pd(fn, zero, _CMP_GT_OQ),
+                                                 _mm256_cmp_pd(t2, _mm256_mul_pd(lim, lim), _CMP_LE_OQ)));
+  }
+  return _mm256_movemask_pd(inside) == 0xf &&
+         coulomb_all_inside_portable(table + b, stride, x + 3 * b, n - b);
+}
+#endif
+
+/// coulomb_all_inside_portable through this translation unit's widest pass for double
+/// (AVX-512 from 8 contacts on, else AVX2), the portable loop for float. FixedN as classify_coulomb.
+template <int FixedN, class Scalar>
+bool coulomb_all_inside(const Scalar* table, int stride, const Scalar* x, int n) {
+  if constexpr (std::is_same<Scalar, double>::value) {
+#if GRIP_SIMD_AVX512
+    // As in classify_coulomb: below one full block the 256-bit pass is as fast.
+    if ((FixedN > 0 ? FixedN : n) >= 8) return coulomb_all_inside_avx512<FixedN>(table, stride, x, n);
+#endif
+#if GRIP_SIMD_AVX2
+    return coulomb_all_inside_avx2<FixedN>(table, stride, x, n);
+#endif
+  }
+  return coulomb_all_inside_portable(table, stride, x, n);
+}
+
+/// coulomb_all_inside over a whole hard-finger grasp and its stacked forces x.
+template <class GraspT, class Forces>
+bool coulomb_all_inside_grasp(const GraspT& grasp, const Forces& x) {
+  static_assert(GraspT::dim == 3, "the Coulomb pass is for hard fingers");
+  return coulomb_all_inside<(GraspT::fixed_size > 0 ? GraspT::fixed_size : 0)>(
+      grasp.cone_table().data(), GraspT::padded_capacity, x.data(), grasp.size());
 }
 
 }  // namespace detail

@@ -444,7 +444,7 @@ void fill_invalid(ConstrainedSolution<GraspT>& sol, int unknowns) {
 /// the constrained one). Writes it into `sol` and its multipliers into `lambda`; returns true
 /// if it is the answer (status Ok, fast_path true). One solve_range_space plus one
 /// square-root-free cone test per contact (Cone::slips with zero slack; for hard fingers all
-/// contacts at once by detail::classify_coulomb, vectorised where compiled in). The diagonal
+/// contacts at once by detail::coulomb_all_inside, vectorised where compiled in). The diagonal
 /// of G W^-1 G^T goes to `gram_diagonal` (see range_space_solve).
 template <class GraspT>
 bool constrained_fast_path(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
@@ -454,16 +454,13 @@ bool constrained_fast_path(const GraspT& grasp, const Wrench<typename GraspT::Sc
   using Cone = ExactConeT<typename GraspT::ModelType, S>;
   constexpr int d = GraspT::dim;
   Wrench<S> rhs, res;
-  if (!range_space_solve(grasp, w_ext, sol, rhs, res, &gram_diagonal)) return false;
+  // solve_constrained_impl has checked the grasp and w_ext.
+  if (!range_space_solve(grasp, w_ext, sol, rhs, res, &gram_diagonal, true)) return false;
   lambda = sol.multipliers;
   bool inside = sol.status == Status::Ok;
   if constexpr (std::is_same<Cone, CoulombCone<S>>::value) {
     // All contacts at once (SIMD where compiled in; see coulomb_kernel.hpp), zero slack.
-    if (inside) {
-      std::array<ContactMode, static_cast<std::size_t>(GraspT::capacity)> modes;
-      const detail::CoulombCounts c = detail::classify_coulomb_grasp(grasp, sol.forces, S(0), S(0), modes.data());
-      inside = c.invalid == 0 && c.sliding == 0 && c.separating == 0;
-    }
+    inside = inside && detail::coulomb_all_inside_grasp(grasp, sol.forces);
   } else {
     for (int i = 0; i < grasp.size() && inside; ++i) {
       const Cone cone = Cone::from_contact(grasp.contact(i));
@@ -472,47 +469,29 @@ bool constrained_fast_path(const GraspT& grasp, const Wrench<typename GraspT::Sc
     }
   }
   if (!inside) return false;
-  sol.objective = S(0.5) * lambda.dot(rhs + res);  // 1/2 lambda^T M lambda = F2(x)
-  sol.dual_objective = sol.objective - lambda.dot(res);
+  // F2(x) = 1/2 lambda^T M lambda = 1/2 lambda.(rhs + res); the dual is F2 - lambda.res.
+  const S l_rhs = lambda.dot(rhs), l_res = lambda.dot(res);
+  sol.objective = S(0.5) * (l_rhs + l_res);
+  sol.dual_objective = S(0.5) * (l_rhs - l_res);
   sol.iterations = 0;
   sol.fast_path = true;
   return true;
 }
 
+/// solve_constrained's iteration, after the fast path failed: `lambda` and `gram_diagonal` as
+/// constrained_fast_path left them, every field of `sol` written. Kept out of line so that
+/// the fast path (the common case of a real-time loop) does not pay for its frame.
 template <class GraspT>
-ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
-                                                   const Wrench<typename GraspT::ScalarType>& w_ext,
-                                                   const ConstrainedSettings<typename GraspT::ScalarType>& settings,
-                                                   const Wrench<typename GraspT::ScalarType>* warm) {
+EIGEN_DONT_INLINE void constrained_iterate(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
+                                           const ConstrainedSettings<typename GraspT::ScalarType>& settings,
+                                           const Wrench<typename GraspT::ScalarType>* warm,
+                                           Wrench<typename GraspT::ScalarType> lambda,
+                                           const Wrench<typename GraspT::ScalarType>& gram_diagonal,
+                                           ConstrainedSolution<GraspT>& sol) {
   using S = typename GraspT::ScalarType;
   using FV = typename GraspT::ForceVector;
   const int m = grasp.unknowns();
-  ConstrainedSolution<GraspT> sol;
-  if (!grasp.complete() || validate(w_ext) != Status::Ok || !valid_settings(settings) ||
-      (warm != nullptr && !(detail::all_in_range(*warm)))) {
-    fill_invalid(sol, m);
-    return sol;
-  }
-
   const S eps = std::numeric_limits<S>::epsilon();
-  if (grasp.size() == 0) {  // nothing can push: feasible only for w_ext = 0
-    fill_invalid(sol, m);
-    sol.residual = w_ext.norm();
-    if (sol.residual == S(0)) {
-      sol.status = Status::Ok;
-    } else {
-      sol.status = Status::Infeasible;
-      sol.certificate = w_ext / sol.residual;
-    }
-    return sol;
-  }
-
-  // Start: the unconstrained optimum (returned at once if strictly inside), or the warm start.
-  // The fast path writes every field of sol that an Ok answer documents (the rest keep their
-  // constructed values); any other outcome resets sol below.
-  Wrench<S> lambda = Wrench<S>::Zero();
-  Wrench<S> gram_diagonal = Wrench<S>::Zero();  // of G W^-1 G^T, from the fast path's solve
-  if (constrained_fast_path(grasp, w_ext, sol, lambda, gram_diagonal)) return sol;
   fill_invalid(sol, m);
   lambda = warm != nullptr ? *warm : (lambda.allFinite() ? lambda : Wrench<S>::Zero());
   Wrench<S> jacobi = gram_diagonal;
@@ -691,6 +670,41 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
     sol.dual_objective = S(0);
     if (sol.status == Status::Ok) sol.status = Status::IterationLimit;
   }
+}
+
+template <class GraspT>
+ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
+                                                   const Wrench<typename GraspT::ScalarType>& w_ext,
+                                                   const ConstrainedSettings<typename GraspT::ScalarType>& settings,
+                                                   const Wrench<typename GraspT::ScalarType>* warm) {
+  using S = typename GraspT::ScalarType;
+  const int m = grasp.unknowns();
+  ConstrainedSolution<GraspT> sol;
+  if (!grasp.complete() || validate(w_ext) != Status::Ok || !valid_settings(settings) ||
+      (warm != nullptr && !(detail::all_in_range(*warm)))) {
+    fill_invalid(sol, m);
+    return sol;
+  }
+
+  if (grasp.size() == 0) {  // nothing can push: feasible only for w_ext = 0
+    fill_invalid(sol, m);
+    sol.residual = w_ext.norm();
+    if (sol.residual == S(0)) {
+      sol.status = Status::Ok;
+    } else {
+      sol.status = Status::Infeasible;
+      sol.certificate = w_ext / sol.residual;
+    }
+    return sol;
+  }
+
+  // Start: the unconstrained optimum (returned at once if strictly inside), or the warm start.
+  // The fast path writes every field of sol that an Ok answer documents (the rest keep their
+  // constructed values); constrained_iterate resets it for any other outcome.
+  Wrench<S> lambda = Wrench<S>::Zero();
+  Wrench<S> gram_diagonal = Wrench<S>::Zero();  // of G W^-1 G^T, from the fast path's solve
+  if (constrained_fast_path(grasp, w_ext, sol, lambda, gram_diagonal)) return sol;
+  constrained_iterate(grasp, w_ext, settings, warm, lambda, gram_diagonal, sol);
   return sol;
 }
 

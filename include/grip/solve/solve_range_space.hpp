@@ -159,16 +159,23 @@ bool solve_gram_by_schur(const GramAccumulator<S>& acc, const Wrench<S>& r, S le
 /// rhs = -(w_ext + G t) and residual vector res = M lambda - rhs = G x + w_ext (up to the
 /// round-off of the recovery pass): with them F2(x) = lambda.(rhs + res) / 2 needs no other pass.
 /// With `gram_diagonal` given, also writes the diagonal of G W^-1 G^T there. Returns false (sol
-/// InvalidInput, `gram_diagonal` untouched) for invalid input.
+/// InvalidInput, rhs and res zero, `gram_diagonal` untouched) for invalid input.
+/// `inputs_checked`: the caller has already found the grasp complete and w_ext valid (as
+/// check_inputs would), so they are not checked again.
 template <class GraspT>
 bool range_space_solve(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext, Solution<GraspT>& sol,
                        Wrench<typename GraspT::ScalarType>& rhs, Wrench<typename GraspT::ScalarType>& res,
-                       Wrench<typename GraspT::ScalarType>* gram_diagonal = nullptr) {
+                       Wrench<typename GraspT::ScalarType>* gram_diagonal = nullptr, bool inputs_checked = false) {
   using S = typename GraspT::ScalarType;
   using M = typename GraspT::ModelType;
-  rhs.setZero();
-  res.setZero();
-  if (!check_inputs(grasp, w_ext, sol)) return false;
+  if (inputs_checked) {
+    sol.forces.resize(grasp.unknowns());  // every entry is written by forces_from_multipliers
+    sol.iterations = 0;
+  } else if (!check_inputs(grasp, w_ext, sol)) {
+    rhs.setZero();
+    res.setZero();
+    return false;
+  }
   GramAccumulator<S> acc;
   rhs = -w_ext;
   S k_sum(0), kr2_sum(0);
