@@ -1,5 +1,5 @@
 // The SIMD packs of core/simd.hpp (what solve/coulomb_pass.hpp computes with), lane by lane
-// against plain scalar arithmetic: the pack this translation unit compiles (CMake builds this
+// against plain scalar arithmetic (and mul_add, neg_mul_add against std::fma): the pack this translation unit compiles (CMake builds this
 // file again with -march=native and with AVX2), and the scalar pack for float. Arithmetic and
 // the square root must match bit for bit (IEEE operations, correctly rounded), comparisons
 // must be false for NaN (ordered), select must pick per lane, and the lane sums must equal the
@@ -54,6 +54,21 @@ void check_pack() {
       const S r = std::sqrt(std::abs(a[j]));
       const S got = lanes(sqrt(abs(pa)))[j];
       CHECK((same_bits(got, r) || (std::isnan(r) && std::isnan(got))));
+    }
+    // mul_add and neg_mul_add: one rounding (std::fma) in the SIMD packs; the scalar pack may
+    // round once or twice.
+    const P pc = P::load(b);  // c = b: a * b + b and b - a * b
+    for (int j = 0; j < w; ++j) {
+      const S fused = std::fma(a[j], b[j], b[j]), neg = std::fma(-a[j], b[j], b[j]);
+      const S got = lanes(mul_add(pa, pb, pc))[j], got_neg = lanes(neg_mul_add(pa, pb, pc))[j];
+      const bool nan = std::isnan(fused) && std::isnan(got), nan_neg = std::isnan(neg) && std::isnan(got_neg);
+      if (w > 1) {
+        CHECK((same_bits(got, fused) || nan));
+        CHECK((same_bits(got_neg, neg) || nan_neg));
+      } else {
+        CHECK((same_bits(got, fused) || same_bits(got, S(a[j] * b[j] + b[j])) || nan));
+        CHECK((same_bits(got_neg, neg) || same_bits(got_neg, S(b[j] - a[j] * b[j])) || nan_neg));
+      }
     }
     // Comparisons and select: lanes of a where the condition holds, else of b.
     const auto pick = [&](typename P::Mask m) {

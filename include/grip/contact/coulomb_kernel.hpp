@@ -74,6 +74,17 @@ CoulombCounts classify_coulomb_portable(const Scalar* table, int stride, const S
   return c;
 }
 
+#if GRIP_SIMD_AVX512 || GRIP_SIMD_AVX2
+/// The part of the rule every SIMD pass shares, for one pack of contacts (PackD8 or PackD4 of
+/// core/simd.hpp): f_n = x.a into `fn`, and |x - f_n a|^2 returned, with fused multiply-adds.
+template <class P>
+P coulomb_tangent_squared(P fx, P fy, P fz, P nx, P ny, P nz, P& fn) {
+  fn = mul_add(fz, nz, mul_add(fy, ny, fx * nx));
+  const P tx = neg_mul_add(fn, nx, fx), ty = neg_mul_add(fn, ny, fy), tz = neg_mul_add(fn, nz, fz);
+  return mul_add(tz, tz, mul_add(ty, ty, tx * tx));
+}
+#endif
+
 #if GRIP_SIMD_AVX512
 static_assert(static_cast<int>(ContactMode::Sticking) == 0 && static_cast<int>(ContactMode::Sliding) == 1 &&
                   static_cast<int>(ContactMode::Separating) == 2 && sizeof(ContactMode) == 4,
@@ -150,9 +161,9 @@ CoulombCounts classify_coulomb_avx512(const double* table, int stride, const dou
     const __m512i ix = _mm512_castpd_si512(bx), iy = _mm512_castpd_si512(by), iz = _mm512_castpd_si512(bz);
     const __m512i xyz = _mm512_mask_max_epu64(ix, lanes, ix, _mm512_mask_max_epu64(iy, lanes, iy, iz));
     largest = _mm512_mask_max_epu64(largest, lanes, largest, xyz);
-    const __m512d fn = _mm512_fmadd_pd(fz, nz, _mm512_fmadd_pd(fy, ny, _mm512_mul_pd(fx, nx)));
-    const __m512d tx = _mm512_fnmadd_pd(fn, nx, fx), ty = _mm512_fnmadd_pd(fn, ny, fy), tz = _mm512_fnmadd_pd(fn, nz, fz);
-    const __m512d t2 = _mm512_fmadd_pd(tz, tz, _mm512_fmadd_pd(ty, ty, _mm512_mul_pd(tx, tx)));
+    PackD8 fn_pack{};
+    const __m512d t2 = coulomb_tangent_squared(PackD8{fx}, PackD8{fy}, PackD8{fz}, PackD8{nx}, PackD8{ny}, PackD8{nz}, fn_pack).v;
+    const __m512d fn = fn_pack.v;
     const __m512d l1 = _mm512_add_pd(_mm512_add_pd(bx, by), bz);
     const __m512d lim = _mm512_fmadd_pd(mu, fn, _mm512_fmadd_pd(tol_rel, l1, tol_abs));
     const __mmask8 separating = _mm512_mask_cmp_pd_mask(lanes, fn, zero, _CMP_NGT_UQ);
@@ -228,9 +239,9 @@ CoulombCounts classify_coulomb_avx2(const double* table, int stride, const doubl
     invalid = _mm256_or_pd(invalid, _mm256_or_pd(_mm256_cmp_pd(bx, big, _CMP_NLE_UQ),
                                                  _mm256_or_pd(_mm256_cmp_pd(by, big, _CMP_NLE_UQ),
                                                               _mm256_cmp_pd(bz, big, _CMP_NLE_UQ))));
-    const __m256d fn = _mm256_fmadd_pd(fz, nz, _mm256_fmadd_pd(fy, ny, _mm256_mul_pd(fx, nx)));
-    const __m256d tx = _mm256_fnmadd_pd(fn, nx, fx), ty = _mm256_fnmadd_pd(fn, ny, fy), tz = _mm256_fnmadd_pd(fn, nz, fz);
-    const __m256d t2 = _mm256_fmadd_pd(tz, tz, _mm256_fmadd_pd(ty, ty, _mm256_mul_pd(tx, tx)));
+    PackD4 fn_pack{};
+    const __m256d t2 = coulomb_tangent_squared(PackD4{fx}, PackD4{fy}, PackD4{fz}, PackD4{nx}, PackD4{ny}, PackD4{nz}, fn_pack).v;
+    const __m256d fn = fn_pack.v;
     const __m256d l1 = _mm256_add_pd(_mm256_add_pd(bx, by), bz);
     const __m256d lim = _mm256_fmadd_pd(mu, fn, _mm256_fmadd_pd(tol_rel, l1, tol_abs));
     const int separating = _mm256_movemask_pd(_mm256_cmp_pd(fn, zero, _CMP_NGT_UQ));
@@ -321,9 +332,9 @@ bool coulomb_all_inside_avx512(const double* table, int stride, const double* x,
     const __m512d nx = _mm512_loadu_pd(table + b);
     const __m512d ny = _mm512_loadu_pd(table + stride + b);
     const __m512d nz = _mm512_loadu_pd(table + 2 * stride + b);
-    const __m512d fn = _mm512_fmadd_pd(fz, nz, _mm512_fmadd_pd(fy, ny, _mm512_mul_pd(fx, nx)));
-    const __m512d tx = _mm512_fnmadd_pd(fn, nx, fx), ty = _mm512_fnmadd_pd(fn, ny, fy), tz = _mm512_fnmadd_pd(fn, nz, fz);
-    const __m512d t2 = _mm512_fmadd_pd(tz, tz, _mm512_fmadd_pd(ty, ty, _mm512_mul_pd(tx, tx)));
+    PackD8 fn_pack{};
+    const __m512d t2 = coulomb_tangent_squared(PackD8{fx}, PackD8{fy}, PackD8{fz}, PackD8{nx}, PackD8{ny}, PackD8{nz}, fn_pack).v;
+    const __m512d fn = fn_pack.v;
     const __m512d lim = _mm512_mul_pd(_mm512_loadu_pd(table + 3 * stride + b), fn);
     const __mmask8 lanes = low_lanes(n - b);
     const __mmask8 pushing = _mm512_mask_cmp_pd_mask(lanes, fn, zero, _CMP_GT_OQ);
@@ -348,9 +359,9 @@ bool coulomb_all_inside_avx2(const double* table, int stride, const double* x, i
     const __m256d nx = _mm256_loadu_pd(table + b);
     const __m256d ny = _mm256_loadu_pd(table + stride + b);
     const __m256d nz = _mm256_loadu_pd(table + 2 * stride + b);
-    const __m256d fn = _mm256_fmadd_pd(fz, nz, _mm256_fmadd_pd(fy, ny, _mm256_mul_pd(fx, nx)));
-    const __m256d tx = _mm256_fnmadd_pd(fn, nx, fx), ty = _mm256_fnmadd_pd(fn, ny, fy), tz = _mm256_fnmadd_pd(fn, nz, fz);
-    const __m256d t2 = _mm256_fmadd_pd(tz, tz, _mm256_fmadd_pd(ty, ty, _mm256_mul_pd(tx, tx)));
+    PackD4 fn_pack{};
+    const __m256d t2 = coulomb_tangent_squared(PackD4{fx}, PackD4{fy}, PackD4{fz}, PackD4{nx}, PackD4{ny}, PackD4{nz}, fn_pack).v;
+    const __m256d fn = fn_pack.v;
     const __m256d lim = _mm256_mul_pd(_mm256_loadu_pd(table + 3 * stride + b), fn);
     inside = _mm256_and_pd(inside, _mm256_and_pd(_mm256_cmp_pd(fn, zero, _CMP_GT_OQ),
                                                  _mm256_cmp_pd(t2, _mm256_mul_pd(lim, lim), _CMP_LE_OQ)));

@@ -26,7 +26,7 @@ namespace grip {
 namespace detail {
 
 /// A register of scalars for grip's vectorised passes: `width` lanes, loaded and stored from
-/// arrays (unaligned), with lane-wise arithmetic, mul_add, comparisons giving a Mask, select,
+/// arrays (unaligned), with lane-wise arithmetic, mul_add and neg_mul_add, comparisons giving a Mask, select,
 /// abs, the correctly rounded square root (as std::sqrt) and the sum of the lanes. The generic type is
 /// one scalar (the portable fallback, and float everywhere); SimdPack<double> is 8 lanes with
 /// AVX-512, 4 with AVX2.
@@ -61,6 +61,8 @@ struct ScalarPack {
   friend ScalarPack sqrt(ScalarPack a) { return {std::sqrt(a.v)}; }
   /// a * b + c (one rounding where the pack has FMA: AVX-512, AVX2; two here).
   friend ScalarPack mul_add(ScalarPack a, ScalarPack b, ScalarPack c) { return {a.v * b.v + c.v}; }
+  /// c - a * b (one rounding where the pack has FMA, as mul_add).
+  friend ScalarPack neg_mul_add(ScalarPack a, ScalarPack b, ScalarPack c) { return {c.v - a.v * b.v}; }
 };
 
 #if GRIP_SIMD_AVX512 || GRIP_SIMD_AVX2
@@ -118,6 +120,7 @@ struct PackD8 {
   friend PackD8 abs(PackD8 a) { return {_mm512_abs_pd(a.v)}; }
   friend PackD8 sqrt(PackD8 a) { return {_mm512_sqrt_pd(a.v)}; }
   friend PackD8 mul_add(PackD8 a, PackD8 b, PackD8 c) { return {_mm512_fmadd_pd(a.v, b.v, c.v)}; }
+  friend PackD8 neg_mul_add(PackD8 a, PackD8 b, PackD8 c) { return {_mm512_fnmadd_pd(a.v, b.v, c.v)}; }
 };
 #endif
 
@@ -154,6 +157,7 @@ struct PackD4 {
   friend PackD4 abs(PackD4 a) { return {_mm256_andnot_pd(_mm256_set1_pd(-0.0), a.v)}; }
   friend PackD4 sqrt(PackD4 a) { return {_mm256_sqrt_pd(a.v)}; }
   friend PackD4 mul_add(PackD4 a, PackD4 b, PackD4 c) { return {_mm256_fmadd_pd(a.v, b.v, c.v)}; }
+  friend PackD4 neg_mul_add(PackD4 a, PackD4 b, PackD4 c) { return {_mm256_fnmadd_pd(a.v, b.v, c.v)}; }
 };
 #endif
 

@@ -23,7 +23,6 @@
 /// contacts per step with AVX-512, 4 with AVX2, one otherwise); soft fingers and frictionless
 /// points go contact by contact through the cone's projection (detail::ContactPasses).
 
-#include <array>
 #include <cmath>
 #include <cstddef>
 #include <limits>
