@@ -26,8 +26,9 @@ namespace {
 template <class S>
 ContactMode rule_mode(const Contact<S>& c, const Vector3<S>& x, S abs_tol, S rel_tol) {
   const CoulombCone<S> cone = CoulombCone<S>::from_contact(c);
-  if (!(cone.normal_part(x) > S(0))) return ContactMode::Separating;
-  return cone.slips(x, abs_tol + rel_tol * x.template lpNorm<1>()) ? ContactMode::Sliding : ContactMode::Sticking;
+  const S fn = cone.normal_part(x);
+  if (!(fn > S(0))) return ContactMode::Separating;
+  return cone.slips(x, abs_tol + rel_tol * fn) ? ContactMode::Sliding : ContactMode::Sticking;
 }
 
 // True when x lies within round-off of the slip boundary |t| = mu f_n + slack, where two
@@ -36,7 +37,7 @@ template <class S>
 bool near_boundary(const Contact<S>& c, const Vector3<S>& x, S abs_tol, S rel_tol) {
   const Vector3<double> xd = x.template cast<double>(), a = c.normal.template cast<double>();
   const double fn = xd.dot(a), t = (xd - fn * a).norm();
-  const double lim = double(c.friction) * fn + double(abs_tol) + double(rel_tol) * xd.lpNorm<1>();
+  const double lim = double(c.friction) * fn + double(abs_tol) + double(rel_tol) * fn;
   return std::abs(t - lim) <= 1e3 * double(std::numeric_limits<S>::epsilon()) * (1.0 + xd.norm()) ||
          std::abs(fn) <= 1e3 * double(std::numeric_limits<S>::epsilon()) * xd.norm();
 }
@@ -58,10 +59,10 @@ Vector3<double> mixed_force(std::mt19937& rng, const Vector3<double>& a, double 
 }
 
 template <class G>
-void check_pass(std::mt19937& rng, int n, int trials) {
+void check_pass(std::mt19937& rng, int n, int trials, typename G::ScalarType abs_tol = typename G::ScalarType(1e-6),
+                typename G::ScalarType rel_tol = ScalarTraits<typename G::ScalarType>::default_tolerance) {
   using S = typename G::ScalarType;
   constexpr int fixed = G::fixed_size > 0 ? G::fixed_size : 0;
-  const S abs_tol = S(1e-6), rel_tol = ScalarTraits<S>::default_tolerance;
   int compared = 0, kinds[3] = {0, 0, 0};
   for (int trial = 0; trial < trials; ++trial) {
     G g = grip_test::random_grasp<G>(rng, n);
@@ -130,6 +131,18 @@ TEST_CASE_TEMPLATE("Coulomb kernel: every size and block tail agrees with the co
   check_pass<Grasp<20, HardFinger, S>>(rng, 20, 200);  // compile-time size: unrolled blocks
   check_pass<Grasp<8, HardFinger, S>>(rng, 8, 100);    // exactly one block
   check_pass<Grasp<1, HardFinger, S>>(rng, 1, 100);
+  for (int n : {21, 29, 32, 37, 40}) check_pass<Grasp<Dynamic, HardFinger, S, 40>>(rng, n, 10);
+}
+
+TEST_CASE_TEMPLATE("Coulomb kernel: negative tolerances (a stricter monitor) follow the same rule", S, double, float) {
+  // The limit (mu + relative_tolerance) f_n + absolute_tolerance can then be negative while
+  // f_n > 0, which the SIMD pass tests by its sign (t^2 > lim |lim|) instead of lim^2.
+  std::mt19937 rng(2025);
+  for (int n : {3, 8, 13, 20}) {
+    check_pass<Grasp<Dynamic, HardFinger, S, 20>>(rng, n, 40, S(-0.05), S(0));
+    check_pass<Grasp<Dynamic, HardFinger, S, 20>>(rng, n, 40, S(0), S(-0.05));
+    check_pass<Grasp<Dynamic, HardFinger, S, 20>>(rng, n, 40, S(0.05), S(-0.02));
+  }
 }
 
 TEST_CASE_TEMPLATE("Coulomb kernel: NaN, Inf and huge components are found at every position", S, double, float) {
@@ -148,6 +161,19 @@ TEST_CASE_TEMPLATE("Coulomb kernel: NaN, Inf and huge components are found at ev
     GraspModes<G> modes;
     monitor.classify(g, x, modes);
     REQUIRE(modes.ok());
+    // A force longer than max_magnitude whose components all lie within it is valid: the
+    // SIMD pass's cheap test on |x|^2 must hand it to the exact check, in every position.
+    for (int i = 0; i < n; ++i) {
+      const Vector3<S> keep = x.template segment<3>(3 * i);
+      x.template segment<3>(3 * i) = Vector3<S>(S(0.9) * big, -S(0.9) * big, S(0.9) * big);
+      std::array<ContactMode, G::capacity> m{};
+      CHECK(detail::classify_coulomb<0>(g.cone_table().data(), G::padded_capacity, x.data(), n, S(0),
+                                        ScalarTraits<S>::default_tolerance, m.data())
+                .invalid == 0);
+      monitor.classify(g, x, modes);
+      CHECK(modes.ok());
+      x.template segment<3>(3 * i) = keep;
+    }
     // Exactly max_magnitude is still valid, in every position.
     for (int k = 0; k < 3 * n; ++k) {
       const S keep = x(k);

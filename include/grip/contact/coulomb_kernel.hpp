@@ -5,17 +5,19 @@
 /// AVX-512 registers, four with AVX2 + FMA, a portable loop where neither is compiled in.
 ///
 /// Every pass computes, per contact i with force x_i, normal a_i (unit) and friction mu_i:
-///   f_n = x_i.a_i,  t = x_i - f_n a_i,  slack = absolute_tolerance + relative_tolerance |x_i|_1,
-///   lim = mu_i f_n + slack;
+///   f_n = x_i.a_i,  t = x_i - f_n a_i,  slack = absolute_tolerance + relative_tolerance f_n,
+///   lim = mu_i f_n + slack = (mu_i + relative_tolerance) f_n + absolute_tolerance;
 ///   Separating if !(f_n > 0); else Sliding if lim < 0 or |t|^2 > lim^2; else Sticking;
 /// which is CoulombCone::slips() and StabilityMonitor's rule, term by term.
 /// solve_constrained's fast path needs less: whether every contact pushes and lies inside or
 /// on its cone with no tolerance. coulomb_all_inside answers that alone (no modes, counts,
 /// slack or range check), at about half the cost for 3 to 10 contacts. The SIMD passes
-/// are taken for double when the translation unit is compiled with AVX-512F (e.g.
+/// are taken for double when the translation unit is compiled with AVX-512F and VL (e.g.
 /// -march=native on a recent x86-64), else with AVX2 and FMA (-march=x86-64-v3), unless
 /// GRIP_NO_SIMD is defined. They read the normals and mu from Grasp::cone_table() (a structure
-/// of arrays) and deinterleave the stacked forces in registers. Nothing depends on the CPU at
+/// of arrays) and deinterleave the stacked forces in registers. Their range check adds up the
+/// contacts' |x|^2 (size_bound) and falls back to the component-by-component check only when a
+/// force comes near max_magnitude or holds a NaN. Nothing depends on the CPU at
 /// run time: the choice is made by the compiler flags, so a binary runs only where they allow.
 /// As with Eigen, compile every translation unit of one program with the same SIMD flags.
 
@@ -59,12 +61,11 @@ CoulombCounts classify_coulomb_portable(const Scalar* table, int stride, const S
   const Scalar* mu = table + 3 * stride;
   for (int i = 0; i < n; ++i) {
     const Scalar x0 = x[3 * i], x1 = x[3 * i + 1], x2 = x[3 * i + 2];
-    const Scalar b0 = std::abs(x0), b1 = std::abs(x1), b2 = std::abs(x2);
     constexpr Scalar big = ScalarTraits<Scalar>::max_magnitude;
-    c.invalid += int(!(b0 <= big)) + int(!(b1 <= big)) + int(!(b2 <= big));
+    c.invalid += int(!(std::abs(x0) <= big)) + int(!(std::abs(x1) <= big)) + int(!(std::abs(x2) <= big));
     const Scalar fn = x0 * ax[i] + x1 * ay[i] + x2 * az[i];
     const Scalar t0 = x0 - fn * ax[i], t1 = x1 - fn * ay[i], t2 = x2 - fn * az[i];
-    const Scalar lim = mu[i] * fn + (absolute_tolerance + relative_tolerance * (b0 + b1 + b2));
+    const Scalar lim = (mu[i] + relative_tolerance) * fn + absolute_tolerance;
     const bool separating = !(fn > Scalar(0));
     const bool sliding = (!separating) & ((lim < Scalar(0)) | (t0 * t0 + t1 * t1 + t2 * t2 > lim * lim));
     modes[i] = static_cast<ContactMode>(2 * int(separating) + int(sliding));
@@ -75,6 +76,17 @@ CoulombCounts classify_coulomb_portable(const Scalar* table, int stride, const S
 }
 
 #if GRIP_SIMD_AVX512 || GRIP_SIMD_AVX2
+/// Number of set bits of a lane mask of at most 8 lanes (a SIMD compare's result).
+inline int bit_count(unsigned m) {
+#if defined(__POPCNT__)
+  return _mm_popcnt_u32(m);
+#else
+  m = m - ((m >> 1) & 0x55u);
+  m = (m & 0x33u) + ((m >> 2) & 0x33u);
+  return static_cast<int>((m + (m >> 4)) & 0x0fu);
+#endif
+}
+
 /// The part of the rule every SIMD pass shares, for one pack of contacts (PackD8 or PackD4 of
 /// core/simd.hpp): f_n = x.a into `fn`, and |x - f_n a|^2 returned, with fused multiply-adds.
 template <class P>
@@ -90,18 +102,6 @@ static_assert(static_cast<int>(ContactMode::Sticking) == 0 && static_cast<int>(C
                   static_cast<int>(ContactMode::Separating) == 2 && sizeof(ContactMode) == 4,
               "the AVX-512 kernel stores modes as 32-bit integers 0, 1, 2");
 
-/// Number of set bits of an 8-lane mask.
-inline int lane_count(__mmask8 m) {
-#if defined(__POPCNT__)
-  return _mm_popcnt_u32(m);
-#else
-  unsigned v = m;
-  v = v - ((v >> 1) & 0x55u);
-  v = (v & 0x33u) + ((v >> 2) & 0x33u);
-  return static_cast<int>((v + (v >> 4)) & 0x0fu);
-#endif
-}
-
 /// The lowest k bits set (k clamped to [0, 8]).
 inline __mmask8 low_lanes(int k) {
   return static_cast<__mmask8>(k >= 8 ? 0xffu : k <= 0 ? 0u : (1u << static_cast<unsigned>(k)) - 1u);
@@ -109,11 +109,13 @@ inline __mmask8 low_lanes(int k) {
 
 /// Loads the stacked forces of contacts b .. b + 7 (24 values from p; only the first 3 k are
 /// read, k = contacts left, and lanes k .. 7 come out zero) into x, y and z lanes: two
-/// two-source permutes per component, first from values 0-15, then the last lanes from 16-23.
+/// two-source permutes per component, first from values 0-15, then the last lanes from 16-23
+/// (skipped when k <= 5: values 0-15 hold them all, and value 15, read by the lanes the first
+/// permute does not fill, is then a masked-out zero).
 struct Deinterleave8 {
-  __m512i from01_x = _mm512_setr_epi64(0, 3, 6, 9, 12, 15, 0, 0);
-  __m512i from01_y = _mm512_setr_epi64(1, 4, 7, 10, 13, 0, 0, 0);
-  __m512i from01_z = _mm512_setr_epi64(2, 5, 8, 11, 14, 0, 0, 0);
+  __m512i from01_x = _mm512_setr_epi64(0, 3, 6, 9, 12, 15, 15, 15);
+  __m512i from01_y = _mm512_setr_epi64(1, 4, 7, 10, 13, 15, 15, 15);
+  __m512i from01_z = _mm512_setr_epi64(2, 5, 8, 11, 14, 15, 15, 15);
   __m512i with2_x = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 10, 13);
   __m512i with2_y = _mm512_setr_epi64(0, 1, 2, 3, 4, 8, 11, 14);
   __m512i with2_z = _mm512_setr_epi64(0, 1, 2, 3, 4, 9, 12, 15);
@@ -122,30 +124,57 @@ struct Deinterleave8 {
     const int values = 3 * k;
     const __m512d v0 = _mm512_maskz_loadu_pd(low_lanes(values), p);
     const __m512d v1 = _mm512_maskz_loadu_pd(low_lanes(values - 8), p + 8);
-    const __m512d v2 = _mm512_maskz_loadu_pd(low_lanes(values - 16), p + 16);
-    fx = _mm512_permutex2var_pd(_mm512_permutex2var_pd(v0, from01_x, v1), with2_x, v2);
-    fy = _mm512_permutex2var_pd(_mm512_permutex2var_pd(v0, from01_y, v1), with2_y, v2);
-    fz = _mm512_permutex2var_pd(_mm512_permutex2var_pd(v0, from01_z, v1), with2_z, v2);
+    fx = _mm512_permutex2var_pd(v0, from01_x, v1);
+    fy = _mm512_permutex2var_pd(v0, from01_y, v1);
+    fz = _mm512_permutex2var_pd(v0, from01_z, v1);
+    if (k > 5) {
+      const __m512d v2 = _mm512_maskz_loadu_pd(low_lanes(values - 16), p + 16);
+      fx = _mm512_permutex2var_pd(fx, with2_x, v2);
+      fy = _mm512_permutex2var_pd(fy, with2_y, v2);
+      fz = _mm512_permutex2var_pd(fz, with2_z, v2);
+    }
   }
 };
 
-/// The AVX-512 pass, same contract as classify_coulomb_portable<double>. Precondition: the
-/// table has at least n rounded up to a multiple of 8 rows (Grasp::padded_capacity); modes
-/// has room for n entries (only [0, n) is written), x for 3n values (only those are read).
-/// FixedN > 0: n == FixedN known at compile time (the loop unrolls, the lane masks fold).
-template <int FixedN = 0>
-CoulombCounts classify_coulomb_avx512(const double* table, int stride, const double* x, int n_runtime,
-                                      double absolute_tolerance, double relative_tolerance, ContactMode* modes) {
+/// Squared magnitudes summed per lane over the blocks of a SIMD pass, f_n^2 + |t|^2 = |x|^2 for
+/// each contact (a unit): the pass's cheap range check. At most `size_bound` in every lane
+/// proves every component within ScalarTraits<double>::max_magnitude (a component is at most
+/// |x|, and the bound leaves room for the round-off of f_n, t and the sum); NaN or anything
+/// larger sends the pass to forces_beyond_range(), the exact component-by-component check, so
+/// the answer is the portable pass's.
+constexpr double size_bound = ScalarTraits<double>::max_magnitude * ScalarTraits<double>::max_magnitude * (1 - 1e-9);
+
+/// The number of the 3n values of x that are NaN, Inf or beyond max_magnitude.
+template <class Scalar>
+int forces_beyond_range(const Scalar* x, int n) {
+  int bad = 0;
+  for (int i = 0; i < 3 * n; ++i) bad += int(!(std::abs(x[i]) <= ScalarTraits<Scalar>::max_magnitude));
+  return bad;
+}
+
+/// Keeps a vector in a register across a loop: without it GCC rebuilds a masked constant from
+/// a general register in every step (vpbroadcastd, two operations instead of one move).
+template <class V>
+inline V in_register(V v) {
+  asm("" : "+v"(v));
+  return v;
+}
+
+/// classify_coulomb_avx512's loop. NonNegativeSlack: both tolerances are >= 0, so that
+/// lim >= 0 wherever f_n > 0 (mu >= 0 is a Contact invariant) and |t| > lim is t^2 > lim^2.
+template <int FixedN, bool NonNegativeSlack>
+EIGEN_ALWAYS_INLINE CoulombCounts classify_coulomb_avx512_pass(const double* table, int stride, const double* x,
+                                                              int n_runtime, double absolute_tolerance,
+                                                              double relative_tolerance, ContactMode* modes) {
   const int n = FixedN > 0 ? FixedN : n_runtime;
   const Deinterleave8 split;
   const __m512d abs_mask = _mm512_castsi512_pd(_mm512_set1_epi64(0x7fffffffffffffffLL));
-  const __m512d big = _mm512_set1_pd(ScalarTraits<double>::max_magnitude);
   const __m512d tol_abs = _mm512_set1_pd(absolute_tolerance);
   const __m512d tol_rel = _mm512_set1_pd(relative_tolerance);
   const __m512d zero = _mm512_setzero_pd();
-  const __m256i one = _mm256_set1_epi32(1), two = _mm256_set1_epi32(2);
+  const __m256i one = in_register(_mm256_set1_epi32(1)), two = in_register(_mm256_set1_epi32(2));
   CoulombCounts c;
-  __m512i largest = _mm512_setzero_si512();  // per lane, the largest |component| as bits
+  __m512d size = _mm512_setzero_pd();  // per lane, the sum of |x|^2 (see size_bound)
   for (int b = 0; b < n; b += 8) {
     const __mmask8 lanes = low_lanes(n - b);
     __m512d fx, fy, fz;
@@ -153,30 +182,40 @@ CoulombCounts classify_coulomb_avx512(const double* table, int stride, const dou
     const __m512d nx = _mm512_loadu_pd(table + b);
     const __m512d ny = _mm512_loadu_pd(table + stride + b);
     const __m512d nz = _mm512_loadu_pd(table + 2 * stride + b);
-    const __m512d mu = _mm512_loadu_pd(table + 3 * stride + b);
-    const __m512d bx = _mm512_and_pd(fx, abs_mask), by = _mm512_and_pd(fy, abs_mask), bz = _mm512_and_pd(fz, abs_mask);
-    // The bits of a non-negative double order as its value, with Inf and then NaN above every
-    // finite one: the largest |component| as an unsigned integer decides validity at the end.
-    // (The masked form throughout: GCC 12's unmasked _mm512_max_epu64 trips -Wuninitialized.)
-    const __m512i ix = _mm512_castpd_si512(bx), iy = _mm512_castpd_si512(by), iz = _mm512_castpd_si512(bz);
-    const __m512i xyz = _mm512_mask_max_epu64(ix, lanes, ix, _mm512_mask_max_epu64(iy, lanes, iy, iz));
-    largest = _mm512_mask_max_epu64(largest, lanes, largest, xyz);
+    const __m512d mu = _mm512_add_pd(_mm512_loadu_pd(table + 3 * stride + b), tol_rel);
     PackD8 fn_pack{};
     const __m512d t2 = coulomb_tangent_squared(PackD8{fx}, PackD8{fy}, PackD8{fz}, PackD8{nx}, PackD8{ny}, PackD8{nz}, fn_pack).v;
     const __m512d fn = fn_pack.v;
-    const __m512d l1 = _mm512_add_pd(_mm512_add_pd(bx, by), bz);
-    const __m512d lim = _mm512_fmadd_pd(mu, fn, _mm512_fmadd_pd(tol_rel, l1, tol_abs));
+    size = _mm512_add_pd(size, _mm512_fmadd_pd(fn, fn, t2));
+    // lim = (mu + relative_tolerance) f_n + absolute_tolerance; the slack is the last two terms.
+    const __m512d lim = _mm512_fmadd_pd(mu, fn, tol_abs);
     const __mmask8 separating = _mm512_mask_cmp_pd_mask(lanes, fn, zero, _CMP_NGT_UQ);
     // |t| > lim, squared with the sign kept: t^2 > lim |lim| (always true for lim < 0).
-    const __mmask8 over = _mm512_cmp_pd_mask(t2, _mm512_mul_pd(lim, _mm512_and_pd(lim, abs_mask)), _CMP_GT_OQ);
-    const __mmask8 sliding = static_cast<__mmask8>(over & lanes & static_cast<__mmask8>(~separating));
-    const __m256i mode = _mm256_mask_blend_epi32(separating, _mm256_maskz_mov_epi32(sliding, one), two);
-    _mm256_mask_storeu_epi32(modes + b, lanes, mode);
-    c.separating += lane_count(separating);
-    c.sliding += lane_count(sliding);
+    const __m512d lim_squared = _mm512_mul_pd(lim, NonNegativeSlack ? lim : _mm512_and_pd(lim, abs_mask));
+    const __mmask8 over = _mm512_mask_cmp_pd_mask(lanes, t2, lim_squared, _CMP_GT_OQ);
+    // Sliding where over and not separating: separating's 2 is written over over's 1.
+    _mm256_mask_storeu_epi32(modes + b, lanes, _mm256_mask_mov_epi32(_mm256_maskz_mov_epi32(over, one), separating, two));
+    const unsigned separating_bits = static_cast<unsigned>(separating);
+    c.separating += bit_count(separating_bits);
+    c.sliding += bit_count(static_cast<unsigned>(over) & ~separating_bits);
   }
-  c.invalid = lane_count(_mm512_cmpgt_epu64_mask(largest, _mm512_castpd_si512(big)));
+  if (_mm512_cmp_pd_mask(size, _mm512_set1_pd(size_bound), _CMP_NLE_UQ) != 0) c.invalid = forces_beyond_range(x, n);
   return c;
+}
+
+/// The AVX-512 pass, same contract as classify_coulomb_portable<double>. Precondition: the
+/// table has at least n rounded up to a multiple of 8 rows (Grasp::padded_capacity); modes
+/// has room for n entries (only [0, n) is written), x for 3n values (only those are read).
+/// FixedN > 0: n == FixedN known at compile time (the loop unrolls, the lane masks fold).
+template <int FixedN = 0>
+EIGEN_ALWAYS_INLINE CoulombCounts classify_coulomb_avx512(const double* table, int stride, const double* x, int n_runtime,
+                                                          double absolute_tolerance, double relative_tolerance,
+                                                          ContactMode* modes) {
+  if (absolute_tolerance >= 0 && relative_tolerance >= 0)
+    return classify_coulomb_avx512_pass<FixedN, true>(table, stride, x, n_runtime, absolute_tolerance,
+                                                      relative_tolerance, modes);
+  return classify_coulomb_avx512_pass<FixedN, false>(table, stride, x, n_runtime, absolute_tolerance,
+                                                     relative_tolerance, modes);
 }
 
 #endif
@@ -190,15 +229,6 @@ struct ModeLanes {
       for (int k = 0; k < 4; ++k) lane[m][k] = (m >> k) & 1 ? value : 0;
   }
 };
-
-/// Number of set bits of a 4-bit lane mask.
-inline int bit_count4(int m) {
-#if defined(__POPCNT__)
-  return _mm_popcnt_u32(static_cast<unsigned>(m));
-#else
-  return (m & 1) + ((m >> 1) & 1) + ((m >> 2) & 1) + ((m >> 3) & 1);
-#endif
-}
 
 /// Loads the stacked forces of 4 contacts (12 values from p) into x, y and z lanes: 128-bit
 /// halves put the (x, y), (z, x) and (y, z) pairs of the first two contacts in the low lane and
@@ -216,7 +246,7 @@ inline void deinterleave4(const double* p, __m256d& fx, __m256d& fy, __m256d& fz
 /// classify_coulomb_portable<double>; a last partial step of fewer than 4 contacts runs the
 /// portable loop. Precondition as classify_coulomb_avx512.
 template <int FixedN = 0>
-CoulombCounts classify_coulomb_avx2(const double* table, int stride, const double* x, int n_runtime,
+EIGEN_ALWAYS_INLINE CoulombCounts classify_coulomb_avx2(const double* table, int stride, const double* x, int n_runtime,
                                     double absolute_tolerance, double relative_tolerance, ContactMode* modes) {
   static constexpr ModeLanes sliding_lanes{1}, separating_lanes{2};
   const int n = FixedN > 0 ? FixedN : n_runtime;
@@ -242,16 +272,15 @@ CoulombCounts classify_coulomb_avx2(const double* table, int stride, const doubl
     PackD4 fn_pack{};
     const __m256d t2 = coulomb_tangent_squared(PackD4{fx}, PackD4{fy}, PackD4{fz}, PackD4{nx}, PackD4{ny}, PackD4{nz}, fn_pack).v;
     const __m256d fn = fn_pack.v;
-    const __m256d l1 = _mm256_add_pd(_mm256_add_pd(bx, by), bz);
-    const __m256d lim = _mm256_fmadd_pd(mu, fn, _mm256_fmadd_pd(tol_rel, l1, tol_abs));
+    const __m256d lim = _mm256_fmadd_pd(_mm256_add_pd(mu, tol_rel), fn, tol_abs);
     const int separating = _mm256_movemask_pd(_mm256_cmp_pd(fn, zero, _CMP_NGT_UQ));
     const int over = _mm256_movemask_pd(_mm256_cmp_pd(t2, _mm256_mul_pd(lim, _mm256_and_pd(lim, abs_mask)), _CMP_GT_OQ));
     const int sliding = over & ~separating;
     const __m128i mode = _mm_or_si128(_mm_load_si128(reinterpret_cast<const __m128i*>(separating_lanes.lane[separating])),
                                       _mm_load_si128(reinterpret_cast<const __m128i*>(sliding_lanes.lane[sliding])));
     _mm_storeu_si128(reinterpret_cast<__m128i*>(modes + b), mode);
-    c.separating += bit_count4(separating);
-    c.sliding += bit_count4(sliding);
+    c.separating += bit_count(static_cast<unsigned>(separating));
+    c.sliding += bit_count(static_cast<unsigned>(sliding));
   }
   c.invalid = _mm256_movemask_pd(invalid);
   if (b < n) {
@@ -269,7 +298,7 @@ CoulombCounts classify_coulomb_avx2(const double* table, int stride, const doubl
 /// (whole blocks of 4, the rest portable), else the portable loop; always portable for float.
 /// FixedN: the grasp's compile-time contact count (n == FixedN), or 0 (Dynamic).
 template <int FixedN, class Scalar>
-CoulombCounts classify_coulomb(const Scalar* table, int stride, const Scalar* x, int n, Scalar absolute_tolerance,
+EIGEN_ALWAYS_INLINE CoulombCounts classify_coulomb(const Scalar* table, int stride, const Scalar* x, int n, Scalar absolute_tolerance,
                                Scalar relative_tolerance, ContactMode* modes) {
   if constexpr (std::is_same<Scalar, double>::value) {
 #if GRIP_SIMD_AVX512
@@ -288,7 +317,7 @@ CoulombCounts classify_coulomb(const Scalar* table, int stride, const Scalar* x,
 /// classify_coulomb over a whole hard-finger grasp (any Grasp type): its cone_table(), its
 /// size (compile-time when fixed) and its stacked forces x (grasp.unknowns() values).
 template <class GraspT, class Forces>
-CoulombCounts classify_coulomb_grasp(const GraspT& grasp, const Forces& x,
+EIGEN_ALWAYS_INLINE CoulombCounts classify_coulomb_grasp(const GraspT& grasp, const Forces& x,
                                      typename GraspT::ScalarType absolute_tolerance,
                                      typename GraspT::ScalarType relative_tolerance, ContactMode* modes) {
   static_assert(GraspT::dim == 3, "the Coulomb pass is for hard fingers");

@@ -1,14 +1,14 @@
 #pragma once
 /// \file
 /// Which SIMD instructions grip's vectorised passes use in this translation unit, chosen by the
-/// compiler flags (nothing is detected at run time): GRIP_SIMD_AVX512 (AVX-512F, e.g.
-/// -march=native on a recent x86-64), GRIP_SIMD_AVX2 (AVX2 and FMA, -march=x86-64-v3), each 1
-/// or 0; defining GRIP_NO_SIMD turns both off. As with Eigen, compile every translation unit
+/// compiler flags (nothing is detected at run time): GRIP_SIMD_AVX512 (AVX-512F and VL, e.g.
+/// -march=native on a recent x86-64, or -march=x86-64-v4), GRIP_SIMD_AVX2 (AVX2 and FMA,
+/// -march=x86-64-v3), each 1 or 0; defining GRIP_NO_SIMD turns both off. As with Eigen, compile every translation unit
 /// of one program with the same SIMD flags.
 
 #include <cmath>
 
-#if defined(__AVX512F__) && !defined(GRIP_NO_SIMD)
+#if defined(__AVX512F__) && defined(__AVX512VL__) && !defined(GRIP_NO_SIMD)
 #define GRIP_SIMD_AVX512 1
 #else
 #define GRIP_SIMD_AVX512 0

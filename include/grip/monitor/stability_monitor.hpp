@@ -20,10 +20,11 @@ namespace grip {
 /// Tolerances of a StabilityMonitor.
 template <class Scalar>
 struct MonitorSettings {
-  /// A force x with f_n > 0 counts as inside its cone when
-  /// margin(x) >= -(absolute_tolerance + relative_tolerance |x|_1), |x|_1 the sum of the
-  /// absolute values of the contact's unknowns (N, and N m for a soft finger's moment): solvers
-  /// that put a force exactly on the cone leave round-off on either side.
+  /// A force x with normal part f_n > 0 counts as inside its cone when
+  /// margin(x) >= -(absolute_tolerance + relative_tolerance f_n): solvers that put a force
+  /// exactly on the cone leave round-off on either side. For the Coulomb cone this reads
+  /// |f_t| <= (mu + relative_tolerance) f_n + absolute_tolerance: the friction coefficient with
+  /// relative_tolerance of slack. Negative values make the monitor stricter than the cone.
   Scalar absolute_tolerance{0};                                      ///< N
   Scalar relative_tolerance{ScalarTraits<Scalar>::default_tolerance};  ///< dimensionless
 };
@@ -36,7 +37,7 @@ struct MonitorSettings {
 /// Classification of contact i with unknowns x_i and normal part f_n:
 /// - Separating if f_n <= 0 (a zero force too: eq. 5 asks f.a > 0);
 /// - else Sliding if Cone::slips(x_i, slack), i.e. margin(x_i) < -slack with
-///   slack = absolute_tolerance + relative_tolerance |x_i|_1;
+///   slack = absolute_tolerance + relative_tolerance f_n;
 /// - else Sticking.
 ///
 /// Two entry points with the same modes:
@@ -88,7 +89,7 @@ class StabilityMonitor {
       cs.moment = m.moment;
       cs.margin = m.margin;
       cs.relative_margin = m.relative_margin;
-      cs.mode = mode_of(!(m.normal_force > Scalar(0)), m.margin < -slack(x));
+      cs.mode = mode_of(!(m.normal_force > Scalar(0)), m.margin < -slack(m.normal_force));
       out.modes[static_cast<std::size_t>(i)] = cs.mode;
       ++counts[static_cast<int>(cs.mode)];
       if (i == 0 || cs.margin < out.min_margin) {
@@ -113,13 +114,18 @@ class StabilityMonitor {
   /// counts, `stable` and status as evaluate(), without margins.
   void classify(const GraspT& grasp, const ForceVector& forces, Modes& out) const {
     if constexpr (std::is_same<Cone, CoulombCone<Scalar>>::value) {
-      if (!reset(grasp, forces, out)) return;
-      const detail::CoulombCounts c = detail::classify_coulomb_grasp(
-          grasp, forces, settings_.absolute_tolerance, settings_.relative_tolerance, out.modes.data());
-      if (c.invalid != 0) return;
-      out.count = grasp.size();
-      const int counts[3] = {grasp.size() - c.sliding - c.separating, c.sliding, c.separating};
-      finish(counts, out);
+      // Every field is written once: the verdict, or the InvalidInput state.
+      if (grasp.complete() && forces.size() == grasp.unknowns()) {
+        const detail::CoulombCounts c = detail::classify_coulomb_grasp(
+            grasp, forces, settings_.absolute_tolerance, settings_.relative_tolerance, out.modes.data());
+        if (c.invalid == 0) {
+          out.count = grasp.size();
+          const int counts[3] = {grasp.size() - c.sliding - c.separating, c.sliding, c.separating};
+          finish(counts, out);
+          return;
+        }
+      }
+      invalidate(out);
     } else {
       classify_each(grasp, forces, out);
     }
@@ -141,8 +147,9 @@ class StabilityMonitor {
       const Cone cone = Cone::from_contact(grasp.contact(i));
       const typename Cone::Vector x = forces.template segment<GraspT::dim>(i * GraspT::dim);
       // Branch-free: modes of neighbouring contacts are not predictable.
-      const bool separating = !(cone.normal_part(x) > Scalar(0));
-      const bool sliding = cone.slips(x, slack(x));
+      const Scalar fn = cone.normal_part(x);
+      const bool separating = !(fn > Scalar(0));
+      const bool sliding = cone.slips(x, slack(fn));
       out.modes[static_cast<std::size_t>(i)] = mode_of(separating, sliding);
       separating_count += int(separating);
       sliding_count += int(sliding & !separating);
@@ -151,10 +158,8 @@ class StabilityMonitor {
     finish(counts, out);
   }
 
-  /// The tolerance of the slip test for contact unknowns x (N).
-  Scalar slack(const typename Cone::Vector& x) const {
-    return settings_.absolute_tolerance + settings_.relative_tolerance * x.template lpNorm<1>();
-  }
+  /// The tolerance of the slip test for a contact with normal part fn (N).
+  Scalar slack(Scalar fn) const { return settings_.absolute_tolerance + settings_.relative_tolerance * fn; }
 
   /// Separating wins over sliding.
   static ContactMode mode_of(bool separating, bool sliding) {
@@ -173,11 +178,16 @@ class StabilityMonitor {
   /// Resets the modes part of `out` to the InvalidInput state; true when the grasp is complete
   /// and `forces` has its size (the values are not checked).
   static bool reset(const GraspT& grasp, const ForceVector& forces, Modes& out) {
+    invalidate(out);
+    return grasp.complete() && forces.size() == grasp.unknowns();
+  }
+
+  /// The InvalidInput state of the modes part of `out` (modes themselves left as they are).
+  static void invalidate(Modes& out) {
     out.count = 0;
     out.sticking_count = out.sliding_count = out.separating_count = 0;
     out.stable = false;
     out.status = Status::InvalidInput;
-    return grasp.complete() && forces.size() == grasp.unknowns();
   }
 
   /// Stores the counts (indexed by ContactMode) and the verdict.
