@@ -163,7 +163,7 @@ inline V in_register(V v) {
 /// classify_coulomb_avx512's loop. NonNegativeSlack: both tolerances are >= 0, so that
 /// lim >= 0 wherever f_n > 0 (mu >= 0 is a Contact invariant) and |t| > lim is t^2 > lim^2.
 template <int FixedN, bool NonNegativeSlack>
-EIGEN_ALWAYS_INLINE CoulombCounts classify_coulomb_avx512_pass(const double* table, int stride, const double* x,
+GRIP_ALWAYS_INLINE CoulombCounts classify_coulomb_avx512_pass(const double* table, int stride, const double* x,
                                                               int n_runtime, double absolute_tolerance,
                                                               double relative_tolerance, ContactMode* modes) {
   const int n = FixedN > 0 ? FixedN : n_runtime;
@@ -208,7 +208,7 @@ EIGEN_ALWAYS_INLINE CoulombCounts classify_coulomb_avx512_pass(const double* tab
 /// has room for n entries (only [0, n) is written), x for 3n values (only those are read).
 /// FixedN > 0: n == FixedN known at compile time (the loop unrolls, the lane masks fold).
 template <int FixedN = 0>
-EIGEN_ALWAYS_INLINE CoulombCounts classify_coulomb_avx512(const double* table, int stride, const double* x, int n_runtime,
+GRIP_ALWAYS_INLINE CoulombCounts classify_coulomb_avx512(const double* table, int stride, const double* x, int n_runtime,
                                                           double absolute_tolerance, double relative_tolerance,
                                                           ContactMode* modes) {
   if (absolute_tolerance >= 0 && relative_tolerance >= 0)
@@ -246,7 +246,7 @@ inline void deinterleave4(const double* p, __m256d& fx, __m256d& fy, __m256d& fz
 /// classify_coulomb_portable<double>; a last partial step of fewer than 4 contacts runs the
 /// portable loop. Precondition as classify_coulomb_avx512.
 template <int FixedN = 0>
-EIGEN_ALWAYS_INLINE CoulombCounts classify_coulomb_avx2(const double* table, int stride, const double* x, int n_runtime,
+GRIP_ALWAYS_INLINE CoulombCounts classify_coulomb_avx2(const double* table, int stride, const double* x, int n_runtime,
                                     double absolute_tolerance, double relative_tolerance, ContactMode* modes) {
   static constexpr ModeLanes sliding_lanes{1}, separating_lanes{2};
   const int n = FixedN > 0 ? FixedN : n_runtime;
@@ -298,7 +298,7 @@ EIGEN_ALWAYS_INLINE CoulombCounts classify_coulomb_avx2(const double* table, int
 /// (whole blocks of 4, the rest portable), else the portable loop; always portable for float.
 /// FixedN: the grasp's compile-time contact count (n == FixedN), or 0 (Dynamic).
 template <int FixedN, class Scalar>
-EIGEN_ALWAYS_INLINE CoulombCounts classify_coulomb(const Scalar* table, int stride, const Scalar* x, int n, Scalar absolute_tolerance,
+GRIP_ALWAYS_INLINE CoulombCounts classify_coulomb(const Scalar* table, int stride, const Scalar* x, int n, Scalar absolute_tolerance,
                                Scalar relative_tolerance, ContactMode* modes) {
   if constexpr (std::is_same<Scalar, double>::value) {
 #if GRIP_SIMD_AVX512
@@ -317,7 +317,7 @@ EIGEN_ALWAYS_INLINE CoulombCounts classify_coulomb(const Scalar* table, int stri
 /// classify_coulomb over a whole hard-finger grasp (any Grasp type): its cone_table(), its
 /// size (compile-time when fixed) and its stacked forces x (grasp.unknowns() values).
 template <class GraspT, class Forces>
-EIGEN_ALWAYS_INLINE CoulombCounts classify_coulomb_grasp(const GraspT& grasp, const Forces& x,
+GRIP_ALWAYS_INLINE CoulombCounts classify_coulomb_grasp(const GraspT& grasp, const Forces& x,
                                      typename GraspT::ScalarType absolute_tolerance,
                                      typename GraspT::ScalarType relative_tolerance, ContactMode* modes) {
   static_assert(GraspT::dim == 3, "the Coulomb pass is for hard fingers");

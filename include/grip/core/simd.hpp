@@ -8,6 +8,16 @@
 
 #include <cmath>
 
+/// Marks a function the compiler must inline (the SIMD passes into their callers, where their
+/// small results stay in registers).
+#if defined(__GNUC__) || defined(__clang__)
+#define GRIP_ALWAYS_INLINE inline __attribute__((always_inline))
+#elif defined(_MSC_VER)
+#define GRIP_ALWAYS_INLINE __forceinline
+#else
+#define GRIP_ALWAYS_INLINE inline
+#endif
+
 #if defined(__AVX512F__) && defined(__AVX512VL__) && !defined(GRIP_NO_SIMD)
 #define GRIP_SIMD_AVX512 1
 #else
