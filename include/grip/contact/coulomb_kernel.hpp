@@ -156,7 +156,9 @@ int forces_beyond_range(const Scalar* x, int n) {
 /// a general register in every step (vpbroadcastd, two operations instead of one move).
 template <class V>
 inline V in_register(V v) {
+#if defined(__GNUC__) || defined(__clang__)
   asm("" : "+v"(v));
+#endif
   return v;
 }
 
