@@ -87,10 +87,13 @@ inline int bit_count(unsigned m) {
 #endif
 }
 
-/// The part of the rule every SIMD pass shares, for one pack of contacts (PackD8 or PackD4 of
-/// core/simd.hpp): f_n = x.a into `fn`, and |x - f_n a|^2 returned, with fused multiply-adds.
+/// The part of the rule every SIMD pass shares, for the pack of contacts b .. b + width - 1
+/// (PackD8 or PackD4 of core/simd.hpp) with force components fx, fy, fz: their normals loaded
+/// from the table (layout as classify_coulomb_portable), f_n = x.a written to `fn`, and
+/// |x - f_n a|^2 returned, with fused multiply-adds.
 template <class P>
-P coulomb_tangent_squared(P fx, P fy, P fz, P nx, P ny, P nz, P& fn) {
+P coulomb_tangent_squared(const double* table, int stride, int b, P fx, P fy, P fz, P& fn) {
+  const P nx = P::load(table + b), ny = P::load(table + stride + b), nz = P::load(table + 2 * stride + b);
   fn = mul_add(fz, nz, mul_add(fy, ny, fx * nx));
   const P tx = neg_mul_add(fn, nx, fx), ty = neg_mul_add(fn, ny, fy), tz = neg_mul_add(fn, nz, fz);
   return mul_add(tz, tz, mul_add(ty, ty, tx * tx));
@@ -181,12 +184,9 @@ GRIP_ALWAYS_INLINE CoulombCounts classify_coulomb_avx512_pass(const double* tabl
     const __mmask8 lanes = low_lanes(n - b);
     __m512d fx, fy, fz;
     split.load(x + 3 * b, n - b, fx, fy, fz);
-    const __m512d nx = _mm512_loadu_pd(table + b);
-    const __m512d ny = _mm512_loadu_pd(table + stride + b);
-    const __m512d nz = _mm512_loadu_pd(table + 2 * stride + b);
     const __m512d mu = _mm512_add_pd(_mm512_loadu_pd(table + 3 * stride + b), tol_rel);
     PackD8 fn_pack{};
-    const __m512d t2 = coulomb_tangent_squared(PackD8{fx}, PackD8{fy}, PackD8{fz}, PackD8{nx}, PackD8{ny}, PackD8{nz}, fn_pack).v;
+    const __m512d t2 = coulomb_tangent_squared(table, stride, b, PackD8{fx}, PackD8{fy}, PackD8{fz}, fn_pack).v;
     const __m512d fn = fn_pack.v;
     size = _mm512_add_pd(size, _mm512_fmadd_pd(fn, fn, t2));
     // lim = (mu + relative_tolerance) f_n + absolute_tolerance; the slack is the last two terms.
@@ -263,16 +263,13 @@ GRIP_ALWAYS_INLINE CoulombCounts classify_coulomb_avx2(const double* table, int 
   for (; b + 4 <= n; b += 4) {
     __m256d fx, fy, fz;
     deinterleave4(x + 3 * b, fx, fy, fz);
-    const __m256d nx = _mm256_loadu_pd(table + b);
-    const __m256d ny = _mm256_loadu_pd(table + stride + b);
-    const __m256d nz = _mm256_loadu_pd(table + 2 * stride + b);
     const __m256d mu = _mm256_loadu_pd(table + 3 * stride + b);
     const __m256d bx = _mm256_and_pd(fx, abs_mask), by = _mm256_and_pd(fy, abs_mask), bz = _mm256_and_pd(fz, abs_mask);
     invalid = _mm256_or_pd(invalid, _mm256_or_pd(_mm256_cmp_pd(bx, big, _CMP_NLE_UQ),
                                                  _mm256_or_pd(_mm256_cmp_pd(by, big, _CMP_NLE_UQ),
                                                               _mm256_cmp_pd(bz, big, _CMP_NLE_UQ))));
     PackD4 fn_pack{};
-    const __m256d t2 = coulomb_tangent_squared(PackD4{fx}, PackD4{fy}, PackD4{fz}, PackD4{nx}, PackD4{ny}, PackD4{nz}, fn_pack).v;
+    const __m256d t2 = coulomb_tangent_squared(table, stride, b, PackD4{fx}, PackD4{fy}, PackD4{fz}, fn_pack).v;
     const __m256d fn = fn_pack.v;
     const __m256d lim = _mm256_fmadd_pd(_mm256_add_pd(mu, tol_rel), fn, tol_abs);
     const int separating = _mm256_movemask_pd(_mm256_cmp_pd(fn, zero, _CMP_NGT_UQ));
@@ -360,11 +357,8 @@ bool coulomb_all_inside_avx512(const double* table, int stride, const double* x,
   for (int b = 0; b < n; b += 8) {
     __m512d fx, fy, fz;
     split.load(x + 3 * b, n - b, fx, fy, fz);
-    const __m512d nx = _mm512_loadu_pd(table + b);
-    const __m512d ny = _mm512_loadu_pd(table + stride + b);
-    const __m512d nz = _mm512_loadu_pd(table + 2 * stride + b);
     PackD8 fn_pack{};
-    const __m512d t2 = coulomb_tangent_squared(PackD8{fx}, PackD8{fy}, PackD8{fz}, PackD8{nx}, PackD8{ny}, PackD8{nz}, fn_pack).v;
+    const __m512d t2 = coulomb_tangent_squared(table, stride, b, PackD8{fx}, PackD8{fy}, PackD8{fz}, fn_pack).v;
     const __m512d fn = fn_pack.v;
     const __m512d lim = _mm512_mul_pd(_mm512_loadu_pd(table + 3 * stride + b), fn);
     const __mmask8 lanes = low_lanes(n - b);
@@ -387,11 +381,8 @@ bool coulomb_all_inside_avx2(const double* table, int stride, const double* x, i
   for (; b + 4 <= n; b += 4) {
     __m256d fx, fy, fz;
     deinterleave4(x + 3 * b, fx, fy, fz);
-    const __m256d nx = _mm256_loadu_pd(table + b);
-    const __m256d ny = _mm256_loadu_pd(table + stride + b);
-    const __m256d nz = _mm256_loadu_pd(table + 2 * stride + b);
     PackD4 fn_pack{};
-    const __m256d t2 = coulomb_tangent_squared(PackD4{fx}, PackD4{fy}, PackD4{fz}, PackD4{nx}, PackD4{ny}, PackD4{nz}, fn_pack).v;
+    const __m256d t2 = coulomb_tangent_squared(table, stride, b, PackD4{fx}, PackD4{fy}, PackD4{fz}, fn_pack).v;
     const __m256d fn = fn_pack.v;
     const __m256d lim = _mm256_mul_pd(_mm256_loadu_pd(table + 3 * stride + b), fn);
     inside = _mm256_and_pd(inside, _mm256_and_pd(_mm256_cmp_pd(fn, zero, _CMP_GT_OQ),

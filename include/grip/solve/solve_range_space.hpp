@@ -168,14 +168,13 @@ bool range_space_solve(const GraspT& grasp, const Wrench<typename GraspT::Scalar
                        Wrench<typename GraspT::ScalarType>* gram_diagonal = nullptr, bool inputs_checked = false) {
   using S = typename GraspT::ScalarType;
   using M = typename GraspT::ModelType;
-  if (inputs_checked) {
-    sol.forces.resize(grasp.unknowns());  // every entry is written by forces_from_multipliers
-    sol.iterations = 0;
-  } else if (!check_inputs(grasp, w_ext, sol)) {
+  if (!inputs_checked && !check_inputs(grasp, w_ext, sol)) {
     rhs.setZero();
     res.setZero();
     return false;
   }
+  sol.forces.resize(grasp.unknowns());  // every entry is written by forces_from_multipliers
+  sol.iterations = 0;
   GramAccumulator<S> acc;
   rhs = -w_ext;
   S k_sum(0), kr2_sum(0);
