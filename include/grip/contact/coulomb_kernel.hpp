@@ -2,7 +2,8 @@
 /// \file
 /// The vectorised Coulomb classification of many hard-finger contacts at once, behind
 /// StabilityMonitor::classify() and solve_constrained's fast path: eight contacts per step in
-/// AVX-512 registers, four with AVX2 + FMA, a portable loop where neither is compiled in.
+/// AVX-512 registers (classify takes a last block of 1 to 4 contacts in 256-bit registers),
+/// four with AVX2 + FMA, a portable loop where neither is compiled in.
 ///
 /// Every pass computes, per contact i with force x_i, normal a_i (unit) and friction mu_i:
 ///   f_n = x_i.a_i,  t = x_i - f_n a_i,  slack = absolute_tolerance + relative_tolerance f_n,
@@ -111,33 +112,43 @@ inline __mmask8 low_lanes(int k) {
 }
 
 /// Loads the stacked forces of contacts b .. b + 7 (24 values from p; only the first 3 k are
-/// read, k = contacts left, and lanes k .. 7 come out zero) into x, y and z lanes: two
-/// two-source permutes per component, first from values 0-15, then the last lanes from 16-23
-/// (skipped when k <= 5: values 0-15 hold them all, and value 15, read by the lanes the first
-/// permute does not fill, is then a masked-out zero).
+/// read, k = contacts left, and lanes k .. 7 come out zero) into x, y and z lanes. The values
+/// arrive in three registers, v0 = (x0 y0 z0 x1 y1 z1 x2 y2), v1 = (z2 x3 y3 z3 x4 y4 z4 x5),
+/// v2 = (y5 z5 x6 y6 z6 x7 y7 z7): each component fills lanes {0, 3, 6} of one register,
+/// {1, 4, 7} of the next and {2, 5} of the third, so two blends gather its eight values (x in
+/// the contact order 0 3 6 1 4 7 2 5, y and z the same rotated by one and two lanes) and one
+/// one-source permute puts them in contact order: 6 blends and 3 permutes, where two-source
+/// permutes took 6.
 struct Deinterleave8 {
-  __m512i from01_x = _mm512_setr_epi64(0, 3, 6, 9, 12, 15, 15, 15);
-  __m512i from01_y = _mm512_setr_epi64(1, 4, 7, 10, 13, 15, 15, 15);
-  __m512i from01_z = _mm512_setr_epi64(2, 5, 8, 11, 14, 15, 15, 15);
-  __m512i with2_x = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 10, 13);
-  __m512i with2_y = _mm512_setr_epi64(0, 1, 2, 3, 4, 8, 11, 14);
-  __m512i with2_z = _mm512_setr_epi64(0, 1, 2, 3, 4, 9, 12, 15);
+  static constexpr __mmask8 lanes_036 = 0x49, lanes_147 = 0x92, lanes_25 = 0x24;
+  __m512i order_x = _mm512_setr_epi64(0, 3, 6, 1, 4, 7, 2, 5);
+  __m512i order_y = _mm512_setr_epi64(1, 4, 7, 2, 5, 0, 3, 6);
+  __m512i order_z = _mm512_setr_epi64(2, 5, 0, 3, 6, 1, 4, 7);
 
   void load(const double* p, int k, __m512d& fx, __m512d& fy, __m512d& fz) const {
     const int values = 3 * k;
     const __m512d v0 = _mm512_maskz_loadu_pd(low_lanes(values), p);
     const __m512d v1 = _mm512_maskz_loadu_pd(low_lanes(values - 8), p + 8);
-    fx = _mm512_permutex2var_pd(v0, from01_x, v1);
-    fy = _mm512_permutex2var_pd(v0, from01_y, v1);
-    fz = _mm512_permutex2var_pd(v0, from01_z, v1);
-    if (k > 5) {
-      const __m512d v2 = _mm512_maskz_loadu_pd(low_lanes(values - 16), p + 16);
-      fx = _mm512_permutex2var_pd(fx, with2_x, v2);
-      fy = _mm512_permutex2var_pd(fy, with2_y, v2);
-      fz = _mm512_permutex2var_pd(fz, with2_z, v2);
-    }
+    const __m512d v2 = _mm512_maskz_loadu_pd(low_lanes(values - 16), p + 16);
+    fx = _mm512_permutexvar_pd(order_x, _mm512_mask_mov_pd(_mm512_mask_mov_pd(v2, lanes_036, v0), lanes_147, v1));
+    fy = _mm512_permutexvar_pd(order_y, _mm512_mask_mov_pd(_mm512_mask_mov_pd(v2, lanes_147, v0), lanes_25, v1));
+    fz = _mm512_permutexvar_pd(order_z, _mm512_mask_mov_pd(_mm512_mask_mov_pd(v2, lanes_25, v0), lanes_036, v1));
   }
 };
+
+/// Deinterleave8 for at most 4 contacts in 256-bit registers (values 0-11 of p, only the
+/// first 3 k read, lanes k .. 3 zero): v0 = (x0 y0 z0 x1), v1 = (y1 z1 x2 y2),
+/// v2 = (z2 x3 y3 z3); two blends per component give x in the order 0 3 2 1, y in 1 0 3 2 and
+/// z in 2 1 0 3, and one permute within the register puts each in contact order.
+inline void deinterleave4_masked(const double* p, int k, __m256d& fx, __m256d& fy, __m256d& fz) {
+  const int values = 3 * k;
+  const __m256d v0 = _mm256_maskz_loadu_pd(low_lanes(values), p);
+  const __m256d v1 = _mm256_maskz_loadu_pd(low_lanes(values - 4), p + 4);
+  const __m256d v2 = _mm256_maskz_loadu_pd(low_lanes(values - 8), p + 8);
+  fx = _mm256_permute4x64_pd(_mm256_blend_pd(_mm256_blend_pd(v2, v0, 0x9), v1, 0x4), 0x6c);
+  fy = _mm256_permute_pd(_mm256_blend_pd(_mm256_blend_pd(v2, v0, 0x2), v1, 0x9), 0x5);
+  fz = _mm256_permute4x64_pd(_mm256_blend_pd(_mm256_blend_pd(v2, v0, 0x4), v1, 0x2), 0xc6);
+}
 
 /// Squared magnitudes summed per lane over the blocks of a SIMD pass, f_n^2 + |t|^2 = |x|^2 for
 /// each contact (a unit): the pass's cheap range check. At most `size_bound` in every lane
@@ -180,7 +191,9 @@ GRIP_ALWAYS_INLINE CoulombCounts classify_coulomb_avx512_pass(const double* tabl
   const __m256i one = in_register(_mm256_set1_epi32(1)), two = in_register(_mm256_set1_epi32(2));
   CoulombCounts c;
   __m512d size = _mm512_setzero_pd();  // per lane, the sum of |x|^2 (see size_bound)
-  for (int b = 0; b < n; b += 8) {
+  // A last block of 1 to 4 contacts takes 256-bit registers (below): half the work.
+  const int blocks_end = n % 8 != 0 && n % 8 <= 4 ? n - n % 8 : n;
+  for (int b = 0; b < blocks_end; b += 8) {
     const __mmask8 lanes = low_lanes(n - b);
     __m512d fx, fy, fz;
     split.load(x + 3 * b, n - b, fx, fy, fz);
@@ -201,7 +214,29 @@ GRIP_ALWAYS_INLINE CoulombCounts classify_coulomb_avx512_pass(const double* tabl
     c.separating += bit_count(separating_bits);
     c.sliding += bit_count(static_cast<unsigned>(over) & ~separating_bits);
   }
-  if (_mm512_cmp_pd_mask(size, _mm512_set1_pd(size_bound), _CMP_NLE_UQ) != 0) c.invalid = forces_beyond_range(x, n);
+  __mmask8 beyond = _mm512_cmp_pd_mask(size, _mm512_set1_pd(size_bound), _CMP_NLE_UQ);
+  if (blocks_end < n) {  // the same rule on 4 lanes
+    const int b = blocks_end;
+    const __mmask8 lanes = low_lanes(n - b);
+    __m256d fx, fy, fz;
+    deinterleave4_masked(x + 3 * b, n - b, fx, fy, fz);
+    const __m256d mu = _mm256_add_pd(_mm256_loadu_pd(table + 3 * stride + b), _mm512_castpd512_pd256(tol_rel));
+    PackD4 fn_pack{};
+    const __m256d t2 = coulomb_tangent_squared(table, stride, b, PackD4{fx}, PackD4{fy}, PackD4{fz}, fn_pack).v;
+    const __m256d fn = fn_pack.v;
+    beyond |= _mm256_cmp_pd_mask(_mm256_fmadd_pd(fn, fn, t2), _mm512_castpd512_pd256(_mm512_set1_pd(size_bound)), _CMP_NLE_UQ);
+    const __m256d lim = _mm256_fmadd_pd(mu, fn, _mm512_castpd512_pd256(tol_abs));
+    const __mmask8 separating = _mm256_mask_cmp_pd_mask(lanes, fn, _mm256_setzero_pd(), _CMP_NGT_UQ);
+    const __m256d lim_squared =
+        _mm256_mul_pd(lim, NonNegativeSlack ? lim : _mm256_and_pd(lim, _mm512_castpd512_pd256(abs_mask)));
+    const __mmask8 over = _mm256_mask_cmp_pd_mask(lanes, t2, lim_squared, _CMP_GT_OQ);
+    _mm_mask_storeu_epi32(modes + b, lanes, _mm_mask_mov_epi32(_mm_maskz_mov_epi32(over, _mm256_castsi256_si128(one)),
+                                                               separating, _mm256_castsi256_si128(two)));
+    const unsigned separating_bits = static_cast<unsigned>(separating);
+    c.separating += bit_count(separating_bits);
+    c.sliding += bit_count(static_cast<unsigned>(over) & ~separating_bits);
+  }
+  if (beyond != 0) c.invalid = forces_beyond_range(x, n);
   return c;
 }
 
