@@ -99,6 +99,25 @@ P coulomb_tangent_squared(const double* table, int stride, int b, P fx, P fy, P 
   const P tx = neg_mul_add(fn, nx, fx), ty = neg_mul_add(fn, ny, fy), tz = neg_mul_add(fn, nz, fz);
   return mul_add(tz, tz, mul_add(ty, ty, tx * tx));
 }
+
+/// Loads the stacked forces of 4 contacts into x, y and z lanes, the values 2j, 2j + 1 coming
+/// from pair(2j) (an __m128d): pairs 0, 2 and 4 put the (x, y), (z, x) and (y, z) pairs of the
+/// first two contacts in the low lanes, pairs 6, 8 and 10 those of the last two in the high
+/// lanes; one shuffle per component.
+template <class Pair>
+GRIP_ALWAYS_INLINE void deinterleave4_pairs(Pair pair, __m256d& fx, __m256d& fy, __m256d& fz) {
+  const __m256d q0 = _mm256_insertf128_pd(_mm256_castpd128_pd256(pair(0)), pair(6), 1);
+  const __m256d q1 = _mm256_insertf128_pd(_mm256_castpd128_pd256(pair(2)), pair(8), 1);
+  const __m256d q2 = _mm256_insertf128_pd(_mm256_castpd128_pd256(pair(4)), pair(10), 1);
+  fx = _mm256_shuffle_pd(q0, q1, 0xa);
+  fy = _mm256_shuffle_pd(q0, q2, 0x5);
+  fz = _mm256_shuffle_pd(q1, q2, 0xa);
+}
+
+/// Loads the stacked forces of 4 contacts (12 values from p) into x, y and z lanes.
+inline void deinterleave4(const double* p, __m256d& fx, __m256d& fy, __m256d& fz) {
+  deinterleave4_pairs([p](int at) { return _mm_loadu_pd(p + at); }, fx, fy, fz);
+}
 #endif
 
 #if GRIP_SIMD_AVX512
@@ -136,18 +155,11 @@ struct Deinterleave8 {
   }
 };
 
-/// Deinterleave8 for at most 4 contacts in 256-bit registers (values 0-11 of p, only the
-/// first 3 k read, lanes k .. 3 zero): v0 = (x0 y0 z0 x1), v1 = (y1 z1 x2 y2),
-/// v2 = (z2 x3 y3 z3); two blends per component give x in the order 0 3 2 1, y in 1 0 3 2 and
-/// z in 2 1 0 3, and one permute within the register puts each in contact order.
+/// deinterleave4 for at most 4 contacts (only the first 3 k of the 12 values read, lanes
+/// k .. 3 zero): the AVX-512 pass's last block.
 inline void deinterleave4_masked(const double* p, int k, __m256d& fx, __m256d& fy, __m256d& fz) {
   const int values = 3 * k;
-  const __m256d v0 = _mm256_maskz_loadu_pd(low_lanes(values), p);
-  const __m256d v1 = _mm256_maskz_loadu_pd(low_lanes(values - 4), p + 4);
-  const __m256d v2 = _mm256_maskz_loadu_pd(low_lanes(values - 8), p + 8);
-  fx = _mm256_permute4x64_pd(_mm256_blend_pd(_mm256_blend_pd(v2, v0, 0x9), v1, 0x4), 0x6c);
-  fy = _mm256_permute_pd(_mm256_blend_pd(_mm256_blend_pd(v2, v0, 0x2), v1, 0x9), 0x5);
-  fz = _mm256_permute4x64_pd(_mm256_blend_pd(_mm256_blend_pd(v2, v0, 0x4), v1, 0x2), 0xc6);
+  deinterleave4_pairs([p, values](int at) { return _mm_maskz_loadu_pd(low_lanes(values - at), p + at); }, fx, fy, fz);
 }
 
 /// Squared magnitudes summed per lane over the blocks of a SIMD pass, f_n^2 + |t|^2 = |x|^2 for
@@ -266,18 +278,6 @@ struct ModeLanes {
       for (int k = 0; k < 4; ++k) lane[m][k] = (m >> k) & 1 ? value : 0;
   }
 };
-
-/// Loads the stacked forces of 4 contacts (12 values from p) into x, y and z lanes: 128-bit
-/// halves put the (x, y), (z, x) and (y, z) pairs of the first two contacts in the low lane and
-/// of the last two in the high lane; one shuffle per component.
-inline void deinterleave4(const double* p, __m256d& fx, __m256d& fy, __m256d& fz) {
-  const __m256d q0 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p)), _mm_loadu_pd(p + 6), 1);
-  const __m256d q1 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p + 2)), _mm_loadu_pd(p + 8), 1);
-  const __m256d q2 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p + 4)), _mm_loadu_pd(p + 10), 1);
-  fx = _mm256_shuffle_pd(q0, q1, 0xa);
-  fy = _mm256_shuffle_pd(q0, q2, 0x5);
-  fz = _mm256_shuffle_pd(q1, q2, 0xa);
-}
 
 /// The AVX2 + FMA pass (4 contacts per step, 256-bit registers), same contract as
 /// classify_coulomb_portable<double>; a last partial step of fewer than 4 contacts runs the

@@ -115,7 +115,7 @@ class StabilityMonitor {
   void classify(const GraspT& grasp, const ForceVector& forces, Modes& out) const {
     if constexpr (std::is_same<Cone, CoulombCone<Scalar>>::value) {
       // Every field is written once: the verdict, or the InvalidInput state.
-      if (grasp.complete() && forces.size() == grasp.unknowns()) {
+      if (shape_ok(grasp, forces)) {
         const detail::CoulombCounts c = detail::classify_coulomb_grasp(
             grasp, forces, settings_.absolute_tolerance, settings_.relative_tolerance, out.modes.data());
         if (c.invalid == 0) {
@@ -170,15 +170,14 @@ class StabilityMonitor {
   /// Resets the modes part of `out` to the InvalidInput state; true when the input is valid
   /// (and then count = grasp.size()).
   static bool start(const GraspT& grasp, const ForceVector& forces, Modes& out) {
-    if (!reset(grasp, forces, out) || !detail::cone_input_valid(forces)) return false;
+    invalidate(out);
+    if (!shape_ok(grasp, forces) || !detail::cone_input_valid(forces)) return false;
     out.count = grasp.size();
     return true;
   }
 
-  /// Resets the modes part of `out` to the InvalidInput state; true when the grasp is complete
-  /// and `forces` has its size (the values are not checked).
-  static bool reset(const GraspT& grasp, const ForceVector& forces, Modes& out) {
-    invalidate(out);
+  /// True when the grasp is complete and `forces` has its size (the values are not checked).
+  static bool shape_ok(const GraspT& grasp, const ForceVector& forces) {
     return grasp.complete() && forces.size() == grasp.unknowns();
   }
 
