@@ -20,10 +20,7 @@ using namespace grip;
 
 namespace {
 
-template <class S>
-double tol_of(double d, double f) {
-  return std::is_same<S, float>::value ? f : d;
-}
+using grip_test::tol_of;
 
 // The regions of the reference: 0 interior, 1 boundary part, 2 polar (or invalid v).
 template <class S>
@@ -71,9 +68,17 @@ void compare_pass(const GraspT& g, const Wrench<typename GraspT::ScalarType>& w_
   const Matrix6<S> m = h.matrix(), m_ref = h_ref.matrix();
   CHECK(double((m - m_ref).norm()) <= tol * (1.0 + double(m_ref.norm())));
   CHECK(double((m - m.transpose()).norm()) == 0.0);
-  CHECK((p2.residual == p.residual));
-  CHECK(p2.f2 == p.f2);
-  CHECK(((cols2.x == cols.x).all() && (cols2.y == cols.y).all() && (cols2.z == cols.z).all()));
+  // The same pass without the Hessian gives the same forces and sums to round-off. Not bit for
+  // bit: the two instantiations may fuse different multiplies and adds into FMAs (g++ contracts
+  // by default, -ffp-contract=fast), which moves the last bits.
+  const double same = tol_of<S>(1e-14, 2e-6);
+  CHECK(double((p2.residual - p.residual).norm()) <= same * (double(w_ext.norm()) + scale));
+  CHECK(std::abs(double(p2.f2 - p.f2)) <= same * (1.0 + double(std::abs(p.f2))));
+  for (int i = 0; i < g.size(); ++i) {
+    CAPTURE(i);
+    const Vector3<S> a(cols.x(i), cols.y(i), cols.z(i)), b(cols2.x(i), cols2.y(i), cols2.z(i));
+    CHECK(double((a - b).norm()) <= same * (1.0 + double(a.norm())));
+  }
 }
 
 template <class S>

@@ -149,9 +149,15 @@ struct Deinterleave8 {
     const __m512d v0 = _mm512_maskz_loadu_pd(low_lanes(values), p);
     const __m512d v1 = _mm512_maskz_loadu_pd(low_lanes(values - 8), p + 8);
     const __m512d v2 = _mm512_maskz_loadu_pd(low_lanes(values - 16), p + 16);
-    fx = _mm512_permutexvar_pd(order_x, _mm512_mask_mov_pd(_mm512_mask_mov_pd(v2, lanes_036, v0), lanes_147, v1));
-    fy = _mm512_permutexvar_pd(order_y, _mm512_mask_mov_pd(_mm512_mask_mov_pd(v2, lanes_147, v0), lanes_25, v1));
-    fz = _mm512_permutexvar_pd(order_z, _mm512_mask_mov_pd(_mm512_mask_mov_pd(v2, lanes_25, v0), lanes_036, v1));
+    // Zero-masked permutes with every lane kept: the same vpermpd as the plain intrinsic, whose
+    // undefined source g++ 12 reports as used uninitialized.
+    constexpr __mmask8 all = 0xFF;
+    const __m512d gx = _mm512_mask_mov_pd(_mm512_mask_mov_pd(v2, lanes_036, v0), lanes_147, v1);
+    const __m512d gy = _mm512_mask_mov_pd(_mm512_mask_mov_pd(v2, lanes_147, v0), lanes_25, v1);
+    const __m512d gz = _mm512_mask_mov_pd(_mm512_mask_mov_pd(v2, lanes_25, v0), lanes_036, v1);
+    fx = _mm512_maskz_permutexvar_pd(all, order_x, gx);
+    fy = _mm512_maskz_permutexvar_pd(all, order_y, gy);
+    fz = _mm512_maskz_permutexvar_pd(all, order_z, gz);
   }
 };
 

@@ -26,14 +26,15 @@ Wrench<Scalar> gravity_wrench(Scalar mass, const Vector3<Scalar>& g) {
 /// (rad/s) with angular acceleration `alpha` (rad/s^2), all world axes, it is
 /// `[-m a; -(I alpha + omega x I omega)]`, I = body.world_inertia(). Adding it to the
 /// real external wrench makes Newton-Euler a statics problem: the contacts must balance
-/// the sum (design.md: G f + w_ext = 0).
+/// the sum (docs/conventions.md: G f + w_ext = 0).
 template <class Scalar>
 Wrench<Scalar> inertial_wrench(const RigidBody<Scalar>& body, const Vector3<Scalar>& a,
                                const Vector3<Scalar>& alpha) {
   const Matrix3<Scalar> inertia = body.world_inertia();
   const Vector3<Scalar>& omega = body.angular_velocity;
-  Wrench<Scalar> w;
-  w << -body.mass * a, -(inertia * alpha + omega.cross(inertia * omega));
+  Wrench<Scalar> w;  // fixed-size halves: see penalty_wrench()
+  w.template head<3>() = -body.mass * a;
+  w.template tail<3>() = -(inertia * alpha + omega.cross(inertia * omega));
   return w;
 }
 
@@ -46,7 +47,7 @@ struct ExternalWrench {
   Wrench<Scalar> obstacles{Wrench<Scalar>::Zero()};  ///< sum of penalty_wrench()
   Status status{Status::InvalidInput};  ///< Ok, or InvalidInput (then every term is zero)
 
-  /// The sum of the terms: the paper's (F_ext, N_ext), i.e. w_ext of design.md.
+  /// The sum of the terms: the paper's (F_ext, N_ext), i.e. grip's w_ext.
   Wrench<Scalar> total() const { return gravity + inertial + obstacles; }
   /// The real (non-inertial) part, gravity + obstacles: what accelerates a free object.
   Wrench<Scalar> applied() const { return gravity + obstacles; }

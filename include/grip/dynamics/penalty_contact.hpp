@@ -60,8 +60,11 @@ Scalar penalty_force(const PenaltyContact<Scalar>& c, const PenaltyMaterial<Scal
 template <class Scalar>
 Wrench<Scalar> penalty_wrench(const PenaltyContact<Scalar>& c, const PenaltyMaterial<Scalar>& m) {
   const Vector3<Scalar> f = penalty_force(c, m) * c.normal;
+  // Fixed-size halves, not the comma initializer: g++ 12 -O3 with AVX2 reports a false
+  // array-bounds warning on the initializer's dynamic-size blocks (packets of 4 over 3 values).
   Wrench<Scalar> w;
-  w << f, c.point.cross(f);
+  w.template head<3>() = f;
+  w.template tail<3>() = c.point.cross(f);
   return w;
 }
 
