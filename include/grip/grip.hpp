@@ -5,6 +5,7 @@
 #include "grip/core/scalar_traits.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
+#include "grip/core/version.hpp"
 #include "grip/core/simd.hpp"
 
 #include "grip/contact/contact.hpp"

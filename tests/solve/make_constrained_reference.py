@@ -10,7 +10,7 @@ with Debian's python3-cvxopt (interior point, coneqp), and writes them to
 constrained_reference.txt next to this script. The C++ test reads that file; it does
 not need Python. Run:  /usr/bin/python3 tests/solve/make_constrained_reference.py
 
-Cones (design.md conventions, normal a_i unit INTO the object):
+Cones (grip's conventions, docs/conventions.md: normal a_i unit INTO the object):
   H  hard finger,   x = f (3):      |f - (a.f) a| <= mu (a.f)              (eq. 4-5)
   S  soft finger,   x = (f, m) (4): |f_t|^2/mu^2 + m^2/mu_t^2 <= (a.f)^2   (elliptic)
   F  frictionless,  x = f_n (1):    f_n >= 0

@@ -46,7 +46,7 @@ struct GraspMetrics {
   Scalar closure_margin{0};        ///< Its margin (force_closure.hpp).
   Epsilon<Scalar> epsilon_l1{};    ///< Ferrari-Canny L1 (if requested).
   Epsilon<Scalar> epsilon_linf{};  ///< Ferrari-Canny L-infinity (if requested).
-  Status status{Status::InvalidInput};
+  Status status{Status::InvalidInput};  ///< Ok, or the first non-Ok status met (see above).
 };
 
 /// All requested metrics of one grasp, K-sided linearised cones for epsilon. No heap.

@@ -101,18 +101,23 @@ int contact_primitives(const Contact<S>& c, S rho, Wrench<S>* out) {
 /// the caller), not in a small embedded stack.
 template <class S, int MaxVertices = 512, int MaxFacets = 16384>
 struct EpsilonWorkspace {
-  static constexpr int max_vertices = MaxVertices;
-  static constexpr int max_facets = MaxFacets;
+  static constexpr int max_vertices = MaxVertices;  ///< most support points kept
+  static constexpr int max_facets = MaxFacets;      ///< most facets kept (and horizon ridges per step)
   /// One facet: six vertex indices (sorted), unit outward normal, offset (normal . x = offset).
   struct Facet {
-    std::array<int, 6> v;
-    Wrench<S> normal;
-    S offset;
+    std::array<int, 6> v;  ///< indices into `vertices`, ascending
+    Wrench<S> normal;      ///< unit normal, pointing away from the polytope's centre
+    S offset;              ///< normal . x on the facet: the origin's distance to it when the origin is inside
   };
+  /// Support points of W found so far: the vertices of the inner polytope Q.
   std::array<Wrench<S>, static_cast<std::size_t>(MaxVertices)> vertices;
+  /// The facets of Q, a compact list (Epsilon::facets of them in use at the end).
   std::array<Facet, static_cast<std::size_t>(MaxFacets)> facets;
+  /// Scratch of one step: indices of the facets that see the new support point.
   std::array<int, static_cast<std::size_t>(MaxFacets)> visible;
+  /// Scratch of one step: the horizon ridges (five sorted vertex indices) that close the hole.
   std::array<std::array<int, 5>, static_cast<std::size_t>(MaxFacets)> horizon;
+  /// Scratch of one step: per facet, whether it sees the new support point.
   std::array<bool, static_cast<std::size_t>(MaxFacets)> is_visible;
 };
 
@@ -132,7 +137,7 @@ struct Epsilon {
   bool closure{false};  ///< epsilon > tolerance * scale: linearised force closure.
   int vertices{0};      ///< support points used.
   int facets{0};        ///< facets of the final inner polytope.
-  Status status{Status::InvalidInput};
+  Status status{Status::InvalidInput};  ///< Ok, IterationLimit or InvalidInput (see above).
 };
 
 namespace detail {

@@ -51,7 +51,7 @@ struct ConicAnalysisSettings {
 /// false. InvalidInput: incomplete or empty grasp, bad settings; everything zero.
 template <class GraspT>
 struct ForceClosure {
-  using Scalar = typename GraspT::ScalarType;
+  using Scalar = typename GraspT::ScalarType;  ///< The grasp's scalar type.
   bool closure{false};   ///< Force closure, decided with margin > 10 * settings.tolerance.
   /// The margin above (dimensionless): when the solver converged, the one `internal_force`
   /// achieves (a witnessed lower bound, within the tolerance of the optimum); <= 0 or tiny
@@ -68,7 +68,7 @@ struct ForceClosure {
   Scalar residual{0};   ///< |G internal_force| (N and N m).
   int rank{0};          ///< Rank of G restricted to the cone spans (6 needed).
   int iterations{0};    ///< Newton steps used.
-  Status status{Status::InvalidInput};
+  Status status{Status::InvalidInput};  ///< Ok, IterationLimit or InvalidInput (see above).
 };
 
 /// Decides force closure of `grasp` with its exact cones (see the file comment), returning

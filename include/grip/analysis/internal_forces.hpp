@@ -40,7 +40,7 @@ struct ForceDecomposition {
   Status status{Status::InvalidInput};   ///< See above.
 };
 
-/// Splits the contact force vector `x` (grasp.unknowns() values, design.md's order) into
+/// Splits the contact force vector `x` (grasp.unknowns() values, in grip's order: docs/conventions.md) into
 /// its external part (balances the wrench G x, W-orthogonal to every internal force) and
 /// its internal part (G x_int = 0). Cost O(n): one closed-form 6x6 Gram, one 6x6 solve.
 /// No heap.
@@ -85,7 +85,7 @@ struct InternalForceBasis {
   /// max_unknowns columns (bounded storage, no heap); unknowns - 6 when G has rank 6.
   using Matrix = Eigen::Matrix<typename GraspT::ScalarType, GraspT::unknowns_at_compile_time, Dynamic,
                                Eigen::ColMajor, GraspT::max_unknowns, GraspT::max_unknowns>;
-  Matrix basis;
+  Matrix basis;                         ///< unknowns() - rank columns spanning null(G); none under InvalidInput.
   int rank{0};                          ///< rank of G (numerical, relative tolerance rank_tolerance).
   Status status{Status::InvalidInput};  ///< Ok (rank 6), Singular (rank < 6; basis still exact), InvalidInput (0 columns).
 };

@@ -31,13 +31,13 @@ namespace grip {
 /// grasp, direction zero/non-finite, budget not finite and > 0, bad settings; zeros.
 template <class GraspT>
 struct ResistibleWrench {
-  using Scalar = typename GraspT::ScalarType;
+  using Scalar = typename GraspT::ScalarType;  ///< The grasp's scalar type.
   Scalar scale{0};  ///< s*: w_ext = s* d is the largest resisted wrench along d (0: none).
   /// Contact forces that resist about -G x ~ scale * d within the cones and the budget.
   typename GraspT::ForceVector forces;
   Scalar residual{0};  ///< |G forces + scale d| (N and N m): the gap of the estimate.
   int iterations{0};   ///< Newton steps used.
-  Status status{Status::InvalidInput};
+  Status status{Status::InvalidInput};  ///< Ok, IterationLimit or InvalidInput (see above).
 };
 
 /// Largest s such that the external wrench s * direction can be balanced by contact forces

@@ -10,7 +10,7 @@
 
 namespace grip {
 
-/// One contact point, in the conventions of design.md.
+/// One contact point, in grip's conventions (docs/conventions.md).
 ///
 /// Invariants checked by validate() (and by every Grasp and solver that takes it):
 /// all fields finite and within ScalarTraits::max_magnitude; |normal| = 1 within

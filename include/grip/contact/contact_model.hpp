@@ -3,7 +3,7 @@
 /// Contact models as policy types: FrictionlessPoint, HardFinger, SoftFinger.
 ///
 /// A model fixes what a contact can transmit. Each policy provides, for a Contact c:
-/// - `dim`: unknowns per contact (1, 3 or 4), in design.md's order;
+/// - `dim`: unknowns per contact (1, 3 or 4), in grip's order (docs/conventions.md);
 /// - `basis(c)`: the 6 x dim block G_i of the grasp matrix (eq. 3 for HardFinger);
 /// - `target(c)`: the dim-vector t_i that F2 pulls x_i towards (eq. 7);
 /// - `wrench(c, x)`: G_i x, the wrench the contact applies on the object;
@@ -29,10 +29,10 @@ namespace grip {
 /// this form.
 template <class Scalar>
 struct GramAccumulator {
-  Scalar k0{0};
-  Vector3<Scalar> s1{Vector3<Scalar>::Zero()};
-  Matrix3<Scalar> s2{Matrix3<Scalar>::Zero()};
-  Matrix6<Scalar> extra{Matrix6<Scalar>::Zero()};
+  Scalar k0{0};                                    ///< k0 = sum k: the force block is k0 I
+  Vector3<Scalar> s1{Vector3<Scalar>::Zero()};     ///< s1 = sum k r: the coupling blocks are -[s1]x, [s1]x
+  Matrix3<Scalar> s2{Matrix3<Scalar>::Zero()};     ///< S2 = sum k (|r|^2 I - r r^T), upper triangle only
+  Matrix6<Scalar> extra{Matrix6<Scalar>::Zero()};  ///< the terms not of that form, full 6x6
 
   /// The diagonal of matrix(), without forming it.
   Wrench<Scalar> diagonal() const {
@@ -79,11 +79,13 @@ struct GramAccumulator {
 /// Point contact without friction: transmits only a compressive force along the normal.
 /// Unknown: the normal magnitude x (N); f = x a. G_i = [a; r x a] (6x1). Target t_i = s_i.
 struct FrictionlessPoint {
-  static constexpr int dim = 1;
+  static constexpr int dim = 1;                        ///< the normal magnitude x (N)
   static constexpr bool identity_force_block = false;  ///< the whole block is in `extra`
+  /// One contact's unknown x.
   template <class Scalar>
   using Vector = Eigen::Matrix<Scalar, dim, 1>;
 
+  /// G_i = [a; r x a] (6 x 1): the wrench of a unit normal force.
   template <class Scalar>
   static Eigen::Matrix<Scalar, 6, dim> basis(const Contact<Scalar>& c) {
     Eigen::Matrix<Scalar, 6, dim> g;
@@ -91,18 +93,22 @@ struct FrictionlessPoint {
     g.template tail<3>() = c.position.cross(c.normal);
     return g;
   }
+  /// t_i = s_i (N).
   template <class Scalar>
   static Vector<Scalar> target(const Contact<Scalar>& c) {
     return Vector<Scalar>::Constant(c.squeeze);
   }
+  /// G_i x = [x a; r x (x a)]: the wrench the contact applies on the object.
   template <class Scalar>
   static Wrench<Scalar> wrench(const Contact<Scalar>& c, const Vector<Scalar>& x) {
     return basis(c) * x;
   }
+  /// G_i^T l = a . l_f + (r x a) . l_m, for a 6-vector l = [l_f; l_m].
   template <class Scalar>
   static Vector<Scalar> wrench_transpose(const Contact<Scalar>& c, const Wrench<Scalar>& l) {
     return basis(c).transpose() * l;
   }
+  /// Adds k G_i G_i^T to acc.extra (a rank-one 6x6 update).
   template <class Scalar>
   static void accumulate(GramAccumulator<Scalar>& acc, const Contact<Scalar>& c, Scalar k) {
     const Eigen::Matrix<Scalar, 6, 1> g = basis(c);
@@ -113,21 +119,25 @@ struct FrictionlessPoint {
 /// Hard finger, the paper's model: point contact with Coulomb friction, transmits a force.
 /// Unknown: f_i (N, 3). G_i = [I3; R_i], R_i = [r_i]x (eq. 3). Target t_i = s_i a_i.
 struct HardFinger {
-  static constexpr int dim = 3;
-  static constexpr bool identity_force_block = true;
+  static constexpr int dim = 3;                       ///< the force f_i (N)
+  static constexpr bool identity_force_block = true;  ///< accumulate() is add_point_force() alone
+  /// One contact's unknowns f_i.
   template <class Scalar>
   using Vector = Eigen::Matrix<Scalar, dim, 1>;
 
+  /// G_i = [I3; [r_i]x] (6 x 3), eq. 3.
   template <class Scalar>
   static Eigen::Matrix<Scalar, 6, dim> basis(const Contact<Scalar>& c) {
     Eigen::Matrix<Scalar, 6, dim> g;
     g << Matrix3<Scalar>::Identity(), skew(c.position);
     return g;
   }
+  /// t_i = s_i a_i (N): the squeeze along the inward normal.
   template <class Scalar>
   static Vector<Scalar> target(const Contact<Scalar>& c) {
     return c.squeeze * c.normal;
   }
+  /// G_i f = [f; r_i x f]: the wrench the contact applies on the object.
   template <class Scalar>
   static Wrench<Scalar> wrench(const Contact<Scalar>& c, const Vector<Scalar>& f) {
     const Scalar rx = c.position.x(), ry = c.position.y(), rz = c.position.z();
@@ -140,6 +150,7 @@ struct HardFinger {
     w(5) = rx * f.y() - ry * f.x();
     return w;
   }
+  /// G_i^T l = l_f - r_i x l_m, for a 6-vector l = [l_f; l_m].
   template <class Scalar>
   static Vector<Scalar> wrench_transpose(const Contact<Scalar>& c, const Wrench<Scalar>& l) {
     // [I, R^T] l = l_f - r x l_m
@@ -147,6 +158,7 @@ struct HardFinger {
     return Vector<Scalar>(l(0) - (ry * l(5) - rz * l(4)), l(1) - (rz * l(3) - rx * l(5)),
                           l(2) - (rx * l(4) - ry * l(3)));
   }
+  /// Adds k G_i G_i^T in closed form (GramAccumulator::add_point_force).
   template <class Scalar>
   static void accumulate(GramAccumulator<Scalar>& acc, const Contact<Scalar>& c, Scalar k) {
     acc.add_point_force(k, c.position);
@@ -157,17 +169,20 @@ struct HardFinger {
 /// Unknowns: f_i (N, 3) then the torsional moment m_i (N m). G_i = [[I3, 0], [R_i, a_i]] (6x4).
 /// Target t_i = (s_i a_i, 0): no torsion is asked for.
 struct SoftFinger {
-  static constexpr int dim = 4;
+  static constexpr int dim = 4;                       ///< f_i (N), then m_i (N m)
   static constexpr bool identity_force_block = true;  ///< torsion adds to the moment block only
+  /// One contact's unknowns (f_i, m_i).
   template <class Scalar>
   using Vector = Eigen::Matrix<Scalar, dim, 1>;
 
+  /// G_i = [[I3, 0], [[r_i]x, a_i]] (6 x 4).
   template <class Scalar>
   static Eigen::Matrix<Scalar, 6, dim> basis(const Contact<Scalar>& c) {
     Eigen::Matrix<Scalar, 6, dim> g;
     g << Matrix3<Scalar>::Identity(), Vector3<Scalar>::Zero(), skew(c.position), c.normal;
     return g;
   }
+  /// t_i = (s_i a_i, 0): no torsion is asked for.
   template <class Scalar>
   static Vector<Scalar> target(const Contact<Scalar>& c) {
     Vector<Scalar> t;
@@ -175,6 +190,7 @@ struct SoftFinger {
     t(3) = Scalar(0);
     return t;
   }
+  /// G_i x = [f; r_i x f + m a_i]: the wrench the contact applies on the object.
   template <class Scalar>
   static Wrench<Scalar> wrench(const Contact<Scalar>& c, const Vector<Scalar>& x) {
     Wrench<Scalar> w;
@@ -183,6 +199,7 @@ struct SoftFinger {
     w.template tail<3>() = c.position.cross(f) + x(3) * c.normal;
     return w;
   }
+  /// G_i^T l = (l_f - r_i x l_m, a_i . l_m), for a 6-vector l = [l_f; l_m].
   template <class Scalar>
   static Vector<Scalar> wrench_transpose(const Contact<Scalar>& c, const Wrench<Scalar>& l) {
     Vector<Scalar> x;
@@ -190,6 +207,7 @@ struct SoftFinger {
     x(3) = c.normal.dot(l.template tail<3>());
     return x;
   }
+  /// Adds k G_i G_i^T: the hard-finger closed form, plus k a_i a_i^T in the moment block of `extra`.
   template <class Scalar>
   static void accumulate(GramAccumulator<Scalar>& acc, const Contact<Scalar>& c, Scalar k) {
     acc.add_point_force(k, c.position);

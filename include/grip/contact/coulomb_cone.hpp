@@ -23,7 +23,7 @@ namespace grip {
 /// mu >= 0 finite (from_contact() of a validated Contact guarantees it).
 template <class Scalar>
 struct CoulombCone {
-  using ScalarType = Scalar;
+  using ScalarType = Scalar;                         ///< the scalar type (float or double)
   static constexpr int dim = 3;                      ///< size of the contact unknown
   using Vector = Eigen::Matrix<Scalar, 3, 1>;        ///< a contact force f (N)
 

@@ -19,17 +19,20 @@ namespace grip {
 template <class Model, class Scalar>
 struct ExactCone;
 
+/// A frictionless point keeps its normal force magnitude in {x >= 0}.
 template <class Scalar>
 struct ExactCone<FrictionlessPoint, Scalar> {
-  using type = CompressionCone<Scalar>;
+  using type = CompressionCone<Scalar>;  ///< the compression-only cone x >= 0
 };
+/// A hard finger keeps its force in the Coulomb cone |f_t| <= mu f_n.
 template <class Scalar>
 struct ExactCone<HardFinger, Scalar> {
-  using type = CoulombCone<Scalar>;
+  using type = CoulombCone<Scalar>;  ///< the Coulomb cone of eq. 4-5
 };
+/// A soft finger keeps its (f, m) in the elliptic soft-finger cone.
 template <class Scalar>
 struct ExactCone<SoftFinger, Scalar> {
-  using type = SoftFingerCone<Scalar, SoftFingerNorm::Elliptic>;
+  using type = SoftFingerCone<Scalar, SoftFingerNorm::Elliptic>;  ///< t^2/mu^2 + m^2/mu_t^2 <= f_n^2
 };
 
 /// Shorthand for `typename ExactCone<Model, Scalar>::type`.

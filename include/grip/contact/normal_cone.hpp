@@ -17,7 +17,7 @@ namespace grip {
 /// cone_support.hpp (outside, margins cone_margin_floor(), projection 0).
 template <class Scalar>
 struct CompressionCone {
-  using ScalarType = Scalar;
+  using ScalarType = Scalar;                         ///< the scalar type (float or double)
   static constexpr int dim = 1;                      ///< size of the contact unknown
   using Vector = Eigen::Matrix<Scalar, 1, 1>;        ///< the normal magnitude x (N)
 

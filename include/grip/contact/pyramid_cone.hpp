@@ -40,7 +40,7 @@ class PyramidCone {
   static_assert(K >= 3, "a pyramid needs at least 3 sides");
 
  public:
-  using ScalarType = Scalar;
+  using ScalarType = Scalar;                   ///< the scalar type (float or double)
   static constexpr int dim = 3;                ///< size of the contact unknown
   static constexpr int sides = K;              ///< number of faces (and edges)
   static constexpr PyramidFit fit = Fit;       ///< inscribed or circumscribed

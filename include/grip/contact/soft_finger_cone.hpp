@@ -20,7 +20,7 @@ enum class SoftFingerNorm {
   Decoupled,  ///< t <= mu f_n and |m| <= mu_t f_n (the dual of Linear; contains Elliptic)
 };
 
-/// The soft-finger cone over the contact unknown x = (f, m) (4-vector, design.md's order:
+/// The soft-finger cone over the contact unknown x = (f, m) (4-vector, grip's order, docs/conventions.md:
 /// force on the object in N, then the moment about the inward normal a in N m).
 ///
 /// Writing rho(x) = N(t/mu, |m|/mu_t) for the normal force the tangential load needs
@@ -28,7 +28,7 @@ enum class SoftFingerNorm {
 /// infinite), the cone is {rho(x) <= f_n}.
 ///
 /// Margin (N), positive inside, 0 on the boundary, negative outside:
-/// - mu > 0, mu_t > 0: mu (f_n - rho) (for m = 0 this is CoulombCone's mu f_n - |f_f|);
+/// - mu > 0, mu_t > 0: mu (f_n - rho) (for m = 0 this is CoulombCone's mu f_n - |f_t|);
 /// - mu > 0, mu_t = 0 (no torsion transmissible): mu f_n - t if m = 0, else
 ///   min(mu f_n - t, 0) - |m| / (1 m) (a moment counts as the force over a 1 m lever);
 /// - mu = 0, mu_t > 0: -t if |m| <= mu_t f_n, else -t - (|m|/mu_t - f_n);
@@ -39,10 +39,11 @@ enum class SoftFingerNorm {
 /// Invalid input follows cone_support.hpp. Preconditions: |a| = 1, mu, mu_t >= 0 finite.
 template <class Scalar, SoftFingerNorm Norm = SoftFingerNorm::Elliptic>
 struct SoftFingerCone {
-  using ScalarType = Scalar;
+  using ScalarType = Scalar;                         ///< the scalar type (float or double)
   static constexpr int dim = 4;                      ///< size of the contact unknown (f, m)
   static constexpr SoftFingerNorm norm = Norm;       ///< the coupling of force and moment
   using Vector = Eigen::Matrix<Scalar, 4, 1>;        ///< (f (N), m (N m))
+  /// The norm of dual(): Elliptic -> Elliptic, Linear <-> Decoupled.
   static constexpr SoftFingerNorm dual_norm = Norm == SoftFingerNorm::Linear      ? SoftFingerNorm::Decoupled
                                               : Norm == SoftFingerNorm::Decoupled ? SoftFingerNorm::Linear
                                                                                   : SoftFingerNorm::Elliptic;

@@ -27,10 +27,15 @@ struct ScalarTraits<double> {
 /// Tolerances for float.
 template <>
 struct ScalarTraits<float> {
+  /// Largest accepted |normal| - 1 (a normal must be unit length within this).
   static constexpr float normal_tolerance = 1e-4f;
+  /// Relative pivot below which a (Jacobi-scaled) matrix is treated as rank deficient.
   static constexpr float rank_tolerance = 1e-5f;
+  /// Largest accepted magnitude of any input coordinate (m, N, N m, weight).
   static constexpr float max_magnitude = 1e9f;
+  /// Smallest accepted objective weight (weights are divided by).
   static constexpr float min_weight = 1e-6f;
+  /// Default relative tolerance for comparisons in tests and iterative solvers.
   static constexpr float default_tolerance = 1e-4f;
 };
 

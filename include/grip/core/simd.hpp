@@ -18,11 +18,15 @@
 #define GRIP_ALWAYS_INLINE inline
 #endif
 
+/// 1 when the vectorised passes use AVX-512 (the compiler targets AVX-512F and AVX-512VL and
+/// GRIP_NO_SIMD is not defined), else 0.
 #if defined(__AVX512F__) && defined(__AVX512VL__) && !defined(GRIP_NO_SIMD)
 #define GRIP_SIMD_AVX512 1
 #else
 #define GRIP_SIMD_AVX512 0
 #endif
+/// 1 when the vectorised passes may use AVX2 (the compiler targets AVX2 and FMA and GRIP_NO_SIMD
+/// is not defined), else 0. Set independently of GRIP_SIMD_AVX512: an AVX-512 build usually has both.
 #if defined(__AVX2__) && defined(__FMA__) && !defined(GRIP_NO_SIMD)
 #define GRIP_SIMD_AVX2 1
 #else

@@ -42,7 +42,7 @@ void rotate_about_principal_axis(int k, Scalar h, const Vector3<Scalar>& moments
 /// Integrator (a symmetric splitting, second order, symplectic for conservative loads):
 /// 1. half kick:  v += dt/2 F/m;  L += dt/2 tau   (L = world angular momentum)
 /// 2. drift:      x += dt v; the torque-free rotation for dt by the splitting of Dullweber,
-///    Reich and McLachlan (1997): the free-body energy is a sum over principal axes of
+///    Leimkuhler and McLachlan (1997): the free-body energy is a sum over principal axes of
 ///    L_k^2 / (2 I_k), each flowing exactly (a rotation about axis k), composed as
 ///    axis 0 (dt/2), axis 1 (dt/2), axis 2 (dt), axis 1 (dt/2), axis 0 (dt/2)
 /// 3. half kick:  v += dt/2 F/m;  L += dt/2 tau;  omega = I_world^-1 L.

@@ -14,7 +14,7 @@
 
 namespace grip {
 
-/// A rigid object, in the conventions of design.md (SI units, one world-aligned frame).
+/// A rigid object, in grip's conventions (docs/conventions.md: SI units, one world-aligned frame).
 ///
 /// - The body frame has its origin at the centre of mass and its axes along the principal
 ///   axes of inertia, so the body-frame inertia tensor is `diag(principal_inertia)`

@@ -67,7 +67,7 @@ template <class Scalar, int Capacity>
 class SphericalOctree {
  public:
   static constexpr int capacity = Capacity;  ///< Most cells held.
-  using Tree = SphereTree<Scalar, Capacity, 8>;
+  using Tree = SphereTree<Scalar, Capacity, 8>;  ///< The cells: a sphere tree of branching 8.
 
   /// Builds the octree of `shape` down to `max_depth` (0 .. max_octree_depth; 0 gives the
   /// root cell alone). Statuses: InvalidInput if the shape is empty or holds bad numbers,

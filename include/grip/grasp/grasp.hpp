@@ -32,14 +32,18 @@ class Grasp {
   static_assert(N != Dynamic || MaxN >= 1, "a Dynamic grasp needs a compile-time bound MaxN >= 1");
 
  public:
-  using ScalarType = Scalar;
-  using ModelType = Model;
+  using ScalarType = Scalar;                                    ///< the scalar type (float or double).
+  using ModelType = Model;                                      ///< the contact model policy.
   static constexpr int fixed_size = N;                          ///< N (or Dynamic).
   static constexpr int capacity = N == Dynamic ? MaxN : N;      ///< most contacts held.
   static constexpr int dim = Model::dim;                        ///< unknowns per contact.
+  /// Unknowns N * dim, or Dynamic for a Dynamic grasp (the Eigen size of ForceVector).
   static constexpr int unknowns_at_compile_time = times_or_dynamic(N, dim);
+  /// Most unknowns, capacity * dim: the storage bound of ForceVector and GraspMatrix.
   static constexpr int max_unknowns = capacity * dim;
+  /// KKT size 6 + N * dim, or Dynamic (the Eigen size of KktMatrix and KktVector).
   static constexpr int kkt_size_at_compile_time = plus_or_dynamic(6, unknowns_at_compile_time);
+  /// Largest KKT size, 6 + max_unknowns: the storage bound of KktMatrix and KktVector.
   static constexpr int max_kkt_size = 6 + max_unknowns;
   /// The rows of cone_table(): for double, capacity rounded up to a multiple of 8, so that the
   /// vectorised Coulomb pass reads whole blocks of 8 contacts (512 bits) without a bounds
@@ -58,6 +62,7 @@ class Grasp {
   using KktVector = Eigen::Matrix<Scalar, kkt_size_at_compile_time, 1, Eigen::ColMajor, max_kkt_size, 1>;
   /// One contact's unknowns.
   using ContactVector = Eigen::Matrix<Scalar, dim, 1>;
+  /// One contact.
   using ContactType = Contact<Scalar>;
   /// The cone data of the contacts as a structure of arrays (padded_capacity x 4, column-major,
   /// each column contiguous): columns 0-2 the normal a_i (x, y, z), column 3 mu_i. Rows

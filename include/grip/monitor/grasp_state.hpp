@@ -66,6 +66,7 @@ struct GraspModes {
 /// cone_margin_floor().
 template <class GraspT>
 struct GraspState : GraspModes<GraspT> {
+  /// The grasp's scalar type (float or double).
   using Scalar = typename GraspT::ScalarType;
 
   /// Per-contact states; entries [0, size()) are meaningful.

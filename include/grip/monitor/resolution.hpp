@@ -20,6 +20,7 @@ namespace grip {
 /// grasp.unknowns() values when that is known, else empty) and the wrenches are zero.
 template <class GraspT>
 struct Resolution {
+  /// The grasp's scalar type (float or double).
   using Scalar = typename GraspT::ScalarType;
   /// Per contact: sticking -> its force unchanged; sliding -> the projection onto its cone (the
   /// kinetic friction force the finger can transmit); separating -> 0.

@@ -53,11 +53,11 @@ struct MonitorSettings {
 template <class GraspT, class Cone = ExactConeT<typename GraspT::ModelType, typename GraspT::ScalarType>>
 class StabilityMonitor {
  public:
-  using Scalar = typename GraspT::ScalarType;
-  using ConeType = Cone;
-  using State = GraspState<GraspT>;
-  using Modes = GraspModes<GraspT>;
-  using ForceVector = typename GraspT::ForceVector;
+  using Scalar = typename GraspT::ScalarType;        ///< the grasp's scalar type
+  using ConeType = Cone;                             ///< the cone policy the forces are tested against
+  using State = GraspState<GraspT>;                  ///< what evaluate() reports
+  using Modes = GraspModes<GraspT>;                  ///< what classify() reports
+  using ForceVector = typename GraspT::ForceVector;  ///< stacked contact unknowns, grasp.unknowns() values
   static_assert(Cone::dim == GraspT::dim, "the cone must act on the contact model's unknowns");
   static_assert(std::is_same<typename Cone::ScalarType, Scalar>::value, "cone and grasp scalars differ");
 

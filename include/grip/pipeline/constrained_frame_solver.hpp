@@ -17,11 +17,14 @@ namespace grip {
 /// go). `settings` are solve_constrained's (tolerances, iteration bound).
 template <class Scalar>
 struct ConstrainedFrameSolver {
-  static constexpr bool enforces_cones = true;
+  static constexpr bool enforces_cones = true;  ///< forces come back inside their exact cones
   ConstrainedSettings<Scalar> settings{};      ///< tolerances and bounds of every solve
   Wrench<Scalar> warm{Wrench<Scalar>::Zero()};  ///< multipliers of the last usable solve
   bool has_warm{false};                         ///< whether `warm` holds any
 
+  /// min F2 s.t. G x + w_ext = 0 and x_i in K_i for this frame's grasp (GraspT::ScalarType must be
+  /// Scalar), warm-started when `has_warm`; keeps the multipliers of an Ok or IterationLimit solve
+  /// with finite multipliers for the next frame, else clears `has_warm`. Returns the Solution part.
   template <class GraspT>
   Solution<GraspT> operator()(const GraspT& grasp, const Wrench<Scalar>& w_ext) {
     const ConstrainedSolution<GraspT> sol =

@@ -25,7 +25,9 @@ struct RangeSpaceFrameSolver {
 /// The paper's section 5 method (Gaussian elimination on H): same optimum as
 /// RangeSpaceFrameSolver, O(n^3); a baseline for benchmarks.
 struct KktFrameSolver {
+  /// Whether the solver keeps forces inside the friction cones itself.
   static constexpr bool enforces_cones = false;
+  /// min F2 s.t. G x + w_ext = 0 for this frame's grasp, by solve_kkt.
   template <class GraspT>
   Solution<GraspT> operator()(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext) {
     return solve_kkt(grasp, w_ext);

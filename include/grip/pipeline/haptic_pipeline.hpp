@@ -36,11 +36,12 @@ namespace grip {
 /// tracker needs a filter to supply them (left to the user).
 template <class Scalar>
 struct WristState {
+  /// Hand frame to world: rotation orthonormal, translation the wrist origin (m).
   Eigen::Transform<Scalar, 3, Eigen::Isometry> pose{Eigen::Transform<Scalar, 3, Eigen::Isometry>::Identity()};
-  Vector3<Scalar> linear_velocity{Vector3<Scalar>::Zero()};
-  Vector3<Scalar> angular_velocity{Vector3<Scalar>::Zero()};
-  Vector3<Scalar> linear_acceleration{Vector3<Scalar>::Zero()};
-  Vector3<Scalar> angular_acceleration{Vector3<Scalar>::Zero()};
+  Vector3<Scalar> linear_velocity{Vector3<Scalar>::Zero()};       ///< of the wrist origin (m/s)
+  Vector3<Scalar> angular_velocity{Vector3<Scalar>::Zero()};      ///< of the hand (rad/s)
+  Vector3<Scalar> linear_acceleration{Vector3<Scalar>::Zero()};   ///< of the wrist origin (m/s^2)
+  Vector3<Scalar> angular_acceleration{Vector3<Scalar>::Zero()};  ///< of the hand (rad/s^2)
 };
 
 /// Settings of a HapticPipeline (SI units).
@@ -134,6 +135,7 @@ class HapticPipeline {
  public:
   /// The grasp type of one frame: up to one hard-finger contact per phalanx.
   using GraspType = Grasp<Dynamic, HardFinger, Scalar, hand_phalanx_count>;
+  /// A rigid transform (rotation and translation): the poses of the wrist and the object.
   using Isometry = Eigen::Transform<Scalar, 3, Eigen::Isometry>;
 
   /// A pipeline over `scene` with `settings`, the object starting in state `object` (free).

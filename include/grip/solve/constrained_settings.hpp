@@ -13,6 +13,7 @@ namespace grip {
 /// or the solver answers InvalidInput.
 template <class Scalar>
 struct ConstrainedSettings {
+  /// True when Scalar is float: selects the float defaults below.
   static constexpr bool is_float = std::is_same<Scalar, float>::value;
 
   /// Relative equilibrium tolerance: Ok when |G x + w_ext| <= tolerance * (|w_ext| + sum_i |x_i|)

@@ -15,8 +15,9 @@ namespace grip {
 /// `multipliers` are zero and `residual` is the largest finite Scalar.
 template <class GraspT>
 struct Solution {
+  /// The grasp's scalar type (float or double).
   using Scalar = typename GraspT::ScalarType;
-  /// Contact unknowns x = (x_1, ..., x_n), grasp.unknowns() values, design.md's order
+  /// Contact unknowns x = (x_1, ..., x_n), grasp.unknowns() values, in grip's order (docs/conventions.md)
   /// (hard finger: f_i in N, the force ON the object; the hand feels -f_i).
   typename GraspT::ForceVector forces;
   /// Lagrange multipliers lambda (6) of the equilibrium rows: W (x - t) = G^T lambda.

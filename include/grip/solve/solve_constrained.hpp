@@ -49,6 +49,7 @@ namespace grip {
 /// (they are projections), except under InvalidInput, where everything is zero.
 template <class GraspT>
 struct ConstrainedSolution : Solution<GraspT> {
+  /// The grasp's scalar type (float or double).
   using Scalar = typename GraspT::ScalarType;
   /// Infeasible: a unit 6-vector y with G_i^T y in the dual cone K_i^* for every contact (its
   /// distance to K_i^* at most ConstrainedSettings::certificate_tolerance (1 + |r_i|)) and
