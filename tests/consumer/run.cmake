@@ -1,20 +1,108 @@
-# Builds tests/consumer/project against grip: MODE=find_package (after installing grip to a
-# scratch prefix) or MODE=add_subdirectory. Fails the test on any error.
-set(build ${WORK}/${MODE})
-file(REMOVE_RECURSE ${build})
+# One consumer test (tests/consumer/CMakeLists.txt): cmake -DMODE=<mode> -DGRIP_SOURCE=<grip>
+#   -DWORK=<scratch dir> -DCXX=<compiler> -DEIGEN_INCLUDE=<dir> -DVERSION=<x.y.z> -P run.cmake
+# Fails on any error, printing the failing command's output.
+file(REMOVE_RECURSE ${WORK})
+file(MAKE_DIRECTORY ${WORK}/consumer)
+set(app ${WORK}/consumer)
+file(COPY ${GRIP_SOURCE}/examples/01_quick_start/main.cpp DESTINATION ${app})
+
 function(run)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
   if(NOT rc EQUAL 0)
     message(FATAL_ERROR "failed: ${ARGN}\n${out}")
   endif()
 endfunction()
-set(args -DCMAKE_CXX_COMPILER=${CXX} -DGRIP_CONSUMER_MODE=${MODE} -DGRIP_SOURCE=${GRIP_SOURCE})
-if(MODE STREQUAL "find_package")
-  run(${CMAKE_COMMAND} -S ${GRIP_SOURCE} -B ${build}/grip -DCMAKE_CXX_COMPILER=${CXX} -DGRIP_BUILD_TESTS=OFF
-      -DGRIP_BUILD_BENCH=OFF -DGRIP_BUILD_EXAMPLES=OFF -DCMAKE_INSTALL_PREFIX=${build}/prefix)
-  run(${CMAKE_COMMAND} --install ${build}/grip)
-  list(APPEND args -DCMAKE_PREFIX_PATH=${build}/prefix)
+
+# The README's CMake snippet that follows the line "<!-- consumer: NAME -->".
+function(readme_snippet name out_var)
+  file(READ ${GRIP_SOURCE}/README.md readme)
+  string(FIND "${readme}" "<!-- consumer: ${name} -->" at)
+  if(at EQUAL -1)
+    message(FATAL_ERROR "README.md has no snippet marked <!-- consumer: ${name} -->")
+  endif()
+  string(SUBSTRING "${readme}" ${at} -1 rest)
+  string(REGEX MATCH "```cmake\n([^`]*)```" _ "${rest}")
+  if(NOT CMAKE_MATCH_1)
+    message(FATAL_ERROR "the README's ${name} snippet is not a ```cmake block")
+  endif()
+  set(${out_var} "${CMAKE_MATCH_1}" PARENT_SCOPE)
+endfunction()
+
+# The lines every consumer starts with when a snippet is only the part about grip.
+set(head "cmake_minimum_required(VERSION 3.16...3.28)\nproject(my_app LANGUAGES CXX)\nadd_executable(my_app main.cpp)\n")
+
+# grip configured and installed into ${WORK}/prefix, with extra configure arguments.
+function(install_grip)
+  run(${CMAKE_COMMAND} -S ${GRIP_SOURCE} -B ${WORK}/grip-build -DCMAKE_CXX_COMPILER=${CXX} -DGRIP_BUILD_TESTS=OFF
+      -DGRIP_BUILD_EXAMPLES=OFF -DGRIP_BUILD_DOCS=OFF -DGRIP_INSTALL=ON -DCMAKE_INSTALL_PREFIX=${WORK}/prefix ${ARGN})
+  run(${CMAKE_COMMAND} --install ${WORK}/grip-build)
+endfunction()
+
+set(configure_args -DCMAKE_CXX_COMPILER=${CXX})
+if(MODE STREQUAL "find_package" OR MODE STREQUAL "find_package_no_file_sets" OR MODE STREQUAL "find_package_cmake_3_22")
+  if(MODE STREQUAL "find_package_no_file_sets")
+    install_grip(-DGRIP_USE_FILE_SETS=OFF)
+  else()
+    install_grip()
+  endif()
+  readme_snippet(find_package lists)
+  if(MODE STREQUAL "find_package_cmake_3_22")
+    # The installed targets file declares the file set only for CMake >= 3.23; shadowing
+    # CMAKE_VERSION makes it take the older consumers' branch: the include path alone.
+    string(REPLACE "find_package(grip" "set(CMAKE_VERSION 3.22.1)\nfind_package(grip" lists "${lists}")
+  endif()
+  list(APPEND configure_args -DCMAKE_PREFIX_PATH=${WORK}/prefix)
+elseif(MODE STREQUAL "add_subdirectory")
+  file(MAKE_DIRECTORY ${app}/third_party)
+  file(CREATE_LINK ${GRIP_SOURCE} ${app}/third_party/grip SYMBOLIC)
+  readme_snippet(add_subdirectory part)
+  set(lists "${head}${part}")
+elseif(MODE STREQUAL "fetchcontent")
+  # A release archive as `git archive` makes one: a top directory grip-<version>.
+  set(stage ${WORK}/stage/grip-${VERSION})
+  file(MAKE_DIRECTORY ${stage})
+  file(COPY ${GRIP_SOURCE}/CMakeLists.txt ${GRIP_SOURCE}/LICENSE ${GRIP_SOURCE}/cmake ${GRIP_SOURCE}/include
+       DESTINATION ${stage})
+  file(MAKE_DIRECTORY ${app}/third_party)
+  run(${CMAKE_COMMAND} -E chdir ${WORK}/stage ${CMAKE_COMMAND} -E tar czf ${app}/third_party/grip-${VERSION}.tar.gz
+      grip-${VERSION})
+  readme_snippet(fetchcontent part)
+  set(lists "${head}${part}")
+elseif(MODE STREQUAL "vendored_eigen")
+  install_grip()
+  file(MAKE_DIRECTORY ${WORK}/vendored)
+  file(CREATE_LINK ${EIGEN_INCLUDE} ${WORK}/vendored/eigen3 SYMBOLIC)
+  file(READ ${GRIP_SOURCE}/tests/consumer/vendored_eigen/CMakeLists.txt lists)
+  foreach(how add_subdirectory find_package)
+    file(WRITE ${app}/CMakeLists.txt "${lists}")
+    run(${CMAKE_COMMAND} -S ${app} -B ${WORK}/build-${how} ${configure_args} -DGRIP_SOURCE=${GRIP_SOURCE}
+        -DHOW=${how} -DVENDORED_EIGEN=${WORK}/vendored/eigen3 -DCMAKE_PREFIX_PATH=${WORK}/prefix)
+    run(${CMAKE_COMMAND} --build ${WORK}/build-${how})
+    run(${WORK}/build-${how}/my_app)
+  endforeach()
+  return()
+elseif(MODE STREQUAL "pkg_config")
+  install_grip()
+  find_program(pkg_config pkg-config REQUIRED)
+  set(ENV{PKG_CONFIG_PATH} ${WORK}/prefix/share/pkgconfig)
+  execute_process(COMMAND ${pkg_config} --cflags grip RESULT_VARIABLE rc OUTPUT_VARIABLE cflags
+                  ERROR_VARIABLE err OUTPUT_STRIP_TRAILING_WHITESPACE)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "pkg-config --cflags grip failed: ${err}")
+  endif()
+  execute_process(COMMAND ${pkg_config} --modversion grip OUTPUT_VARIABLE modversion OUTPUT_STRIP_TRAILING_WHITESPACE)
+  if(NOT modversion STREQUAL VERSION)
+    message(FATAL_ERROR "grip.pc says version '${modversion}', the project ${VERSION}")
+  endif()
+  separate_arguments(cflags UNIX_COMMAND "${cflags}")
+  run(${CXX} -std=c++17 ${cflags} ${app}/main.cpp -o ${app}/my_app)
+  run(${app}/my_app)
+  return()
+else()
+  message(FATAL_ERROR "unknown MODE ${MODE}")
 endif()
-run(${CMAKE_COMMAND} -S ${GRIP_SOURCE}/tests/consumer/project -B ${build}/consumer ${args})
-run(${CMAKE_COMMAND} --build ${build}/consumer)
-run(${build}/consumer/consumer)
+
+file(WRITE ${app}/CMakeLists.txt "${lists}")
+run(${CMAKE_COMMAND} -S ${app} -B ${WORK}/build ${configure_args})
+run(${CMAKE_COMMAND} --build ${WORK}/build)
+run(${WORK}/build/my_app)
