@@ -1,5 +1,5 @@
 // The whole haptic frame (collision, external wrench, solve, monitor, feedback) over the
-// scripted session of examples/haptic_loop, frame by frame: median, p99 and worst frame.
+// scripted session of examples/06_haptic_loop, frame by frame: median, p99 and worst frame.
 // Target: >= 20 kHz on one core, i.e. a median frame <= 50 us. Baseline in the same run: the
 // same frames solved by the paper's Gaussian elimination on H (KktFrameSolver).
 #include <benchmark/benchmark.h>
@@ -12,7 +12,7 @@
 #include <grip/geometry/shape.hpp>
 #include <grip/pipeline/octree_scene.hpp>
 
-#include "../examples/haptic_loop/session.hpp"
+#include "../examples/06_haptic_loop/session.hpp"
 
 #if __has_include(<grip/pipeline/constrained_frame_solver.hpp>)
 #include <grip/pipeline/constrained_frame_solver.hpp>

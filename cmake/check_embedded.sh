@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Builds examples/embedded/ for a Cortex-M4F with Debian's arm-none-eabi-g++ (freestanding
+# Builds examples/07_embedded/ for a Cortex-M4F with Debian's arm-none-eabi-g++ (freestanding
 # style: -fno-exceptions -fno-rtti -DEIGEN_NO_MALLOC, -Os, no linking), then checks:
 #   1. every translation unit compiles, warnings as errors;
 #   2. no object references malloc, free, calloc, realloc, operator new/delete or __cxa_throw;
@@ -24,7 +24,7 @@ check() {  # check NAME CONDITION-EXIT-CODE
   if [ "$2" -eq 0 ]; then passed=$((passed + 1)); echo "  ok    $1"; else failed=$((failed + 1)); echo "  FAIL  $1"; fi
 }
 printf '%-22s %10s %14s %18s\n' object ".text (B)" "max frame (B)" "worst stack (B)"
-for src in examples/embedded/*.cpp; do
+for src in examples/07_embedded/*.cpp; do
   name=$(basename "$src" .cpp)
   rm -f "$out/$name.o" "$out/$name.su" "$out/$name.ci"
   if ! (cd "$out" && $cxx "${flags[@]/#-Iinclude/-I$OLDPWD/include}" -c "$OLDPWD/$src" -o "$name.o"); then

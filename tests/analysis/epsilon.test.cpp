@@ -102,7 +102,7 @@ TEST_CASE_TEMPLATE("epsilon of the symmetric cube grasp, derived by hand", S, do
   CHECK(double(e0.direction.template head<3>().norm()) <= tol);  // the weak direction is a moment
 }
 
-TEST_CASE_TEMPLATE("epsilon L1 equals a brute-force facet enumeration; L-inf brackets", S, double, float) {
+TEST_CASE_TEMPLATE("epsilon L1 equals a brute-force facet enumeration, L-inf brackets", S, double, float) {
   std::mt19937 rng(31);
   auto ws = std::make_unique<EpsilonWorkspace<S>>();
   const double rho = 0.05;

@@ -12,7 +12,7 @@ using namespace grip;
 
 namespace {
 
-constexpr double kPi = 3.141592653589793;
+using grip_test::pi;
 
 // True if u is (to tol) a certificate: G_i^T u in the dual cone K_i^* for every contact,
 // checked with the dual cone written out by hand: v_n >= sqrt(mu^2 |v_t|^2 + mu_t^2 v_m^2).
@@ -65,7 +65,7 @@ TEST_CASE_TEMPLATE("three hard fingers at 120 degrees, mu = 0.5: closure with ma
   // Hand derivation: t <= x_n,i for every i and sum x_n,i = 1, so t <= 1/3; the equal
   // squeeze x_i = a_i / 3 is internal (sum a_i = 0, r_i x a_i = 0) and has margin 1/3.
   Grasp<3, HardFinger, S> g;
-  for (int i = 0; i < 3; ++i) REQUIRE(g.set(i, on_sphere<S>(kPi / 2, 2 * kPi / 3 * i, 0.5)) == Status::Ok);
+  for (int i = 0; i < 3; ++i) REQUIRE(g.set(i, on_sphere<S>(pi / 2, 2 * pi / 3 * i, 0.5)) == Status::Ok);
   ForceClosure<Grasp<3, HardFinger, S>> fc;
   {
     grip_test::NoHeapScope scope;
@@ -85,8 +85,8 @@ TEST_CASE_TEMPLATE("not in closure: frictionless antipodal, mu = 0 on a sphere, 
   const double tol = std::is_same<S, float>::value ? 1e-3 : 1e-7;
   // Two frictionless antipodal contacts: G has rank 1 (only the force along the line).
   Grasp<2, FrictionlessPoint, S> p;
-  REQUIRE(p.set(0, on_sphere<S>(kPi / 2, 0, 0)) == Status::Ok);
-  REQUIRE(p.set(1, on_sphere<S>(kPi / 2, kPi, 0)) == Status::Ok);
+  REQUIRE(p.set(0, on_sphere<S>(pi / 2, 0, 0)) == Status::Ok);
+  REQUIRE(p.set(1, on_sphere<S>(pi / 2, pi, 0)) == Status::Ok);
   const auto fp = force_closure(p);
   CHECK(fp.status == Status::Ok);
   CHECK_FALSE(fp.closure);
@@ -98,7 +98,7 @@ TEST_CASE_TEMPLATE("not in closure: frictionless antipodal, mu = 0 on a sphere, 
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   for (int n = 3; n <= 10; ++n) {
     Grasp<Dynamic, HardFinger, S, 10> h;
-    for (int i = 0; i < n; ++i) REQUIRE(h.add(on_sphere<S>(std::acos(1 - 2 * u01(rng)), 2 * kPi * u01(rng), 0.0)) == Status::Ok);
+    for (int i = 0; i < n; ++i) REQUIRE(h.add(on_sphere<S>(std::acos(1 - 2 * u01(rng)), 2 * pi * u01(rng), 0.0)) == Status::Ok);
     const auto f = force_closure(h);
     CHECK(f.status == Status::Ok);
     CHECK_FALSE(f.closure);
@@ -108,8 +108,8 @@ TEST_CASE_TEMPLATE("not in closure: frictionless antipodal, mu = 0 on a sphere, 
   }
   // Two hard fingers (any mu): no moment about the line through them; rank 5.
   Grasp<2, HardFinger, S> two;
-  REQUIRE(two.set(0, on_sphere<S>(kPi / 3, 0.4, 1.5)) == Status::Ok);
-  REQUIRE(two.set(1, on_sphere<S>(2 * kPi / 3, 0.4 + kPi, 1.5)) == Status::Ok);
+  REQUIRE(two.set(0, on_sphere<S>(pi / 3, 0.4, 1.5)) == Status::Ok);
+  REQUIRE(two.set(1, on_sphere<S>(2 * pi / 3, 0.4 + pi, 1.5)) == Status::Ok);
   const auto ft = force_closure(two);
   CHECK_FALSE(ft.closure);
   CHECK(ft.rank == 5);
@@ -121,7 +121,7 @@ TEST_CASE_TEMPLATE("two soft fingers: closure iff the line lies in both cones (N
   // Contacts at polar angles 0 and alpha on a sphere: the line between them makes the angle
   // beta = pi/2 - alpha/2 with each inward normal (isosceles triangle with the centre), so
   // closure holds iff mu > tan(beta) = cot(alpha/2). alpha = 120 deg: mu* = 1/sqrt(3).
-  const double alpha = 2 * kPi / 3, mu_star = 1.0 / std::tan(alpha / 2);
+  const double alpha = 2 * pi / 3, mu_star = 1.0 / std::tan(alpha / 2);
   auto closure_at = [&](double mu) {
     Grasp<2, SoftFinger, S> g;
     REQUIRE(g.set(0, on_sphere<S>(0.0, 0.0, mu, 0.01)) == Status::Ok);
@@ -176,7 +176,7 @@ TEST_CASE_TEMPLATE("largest resistible wrench along a direction, by hand", S, do
   // z: |sum f_z| <= sum mu f_n <= mu B, attained by f_n = B/3, f_z = mu B / 3 each (normals
   // cancel; moments sum to (sum r_i) x f_z z = 0). So s* = mu B = 5 for B = 10.
   Grasp<3, HardFinger, S> g;
-  for (int i = 0; i < 3; ++i) REQUIRE(g.set(i, on_sphere<S>(kPi / 2, 2 * kPi / 3 * i, 0.5)) == Status::Ok);
+  for (int i = 0; i < 3; ++i) REQUIRE(g.set(i, on_sphere<S>(pi / 2, 2 * pi / 3 * i, 0.5)) == Status::Ok);
   Wrench<S> d = Wrench<S>::Zero();
   d(2) = S(-1);
   ResistibleWrench<Grasp<3, HardFinger, S>> r;
@@ -193,8 +193,8 @@ TEST_CASE_TEMPLATE("largest resistible wrench along a direction, by hand", S, do
   CHECK(inside_cones(g, r.forces, 0.0, 10 * rel));
   // Two frictionless antipodal contacts, force along the line: s* = B (one finger pushes B).
   Grasp<2, FrictionlessPoint, S> p;
-  REQUIRE(p.set(0, on_sphere<S>(kPi / 2, 0, 0)) == Status::Ok);
-  REQUIRE(p.set(1, on_sphere<S>(kPi / 2, kPi, 0)) == Status::Ok);
+  REQUIRE(p.set(0, on_sphere<S>(pi / 2, 0, 0)) == Status::Ok);
+  REQUIRE(p.set(1, on_sphere<S>(pi / 2, pi, 0)) == Status::Ok);
   Wrench<S> dx = Wrench<S>::Zero();
   dx(0) = S(1);
   CHECK(double(max_resistible_wrench(p, dx, S(4)).scale) == doctest::Approx(4.0).epsilon(rel));

@@ -6,6 +6,8 @@
 #include "support/allocation_counter.hpp"
 #include "support/fixtures.hpp"
 
+using grip_test::pi;
+
 using namespace grip;
 
 TEST_CASE_TEMPLATE("singular values of three hard fingers at 120 degrees, by hand", S, double, float) {
@@ -29,7 +31,6 @@ TEST_CASE_TEMPLATE("singular values of three hard fingers at 120 degrees, by han
   for (int k = 0; k < 6; ++k) CHECK(double(q.singular_values(k)) == doctest::Approx(expect[k]).epsilon(1e-4));
   CHECK(double(q.sigma_min) == doctest::Approx(R * std::sqrt(1.5)).epsilon(1e-4));
   CHECK(double(q.isotropy) == doctest::Approx(R * std::sqrt(0.5)).epsilon(1e-4));
-  const double pi = 3.14159265358979323846;
   const double vol = pi * pi * pi / 6.0 * s3 * s3 * s3 * R * s3 * R * R * 1.5;
   CHECK(double(q.volume) == doctest::Approx(vol).epsilon(1e-4));
   // Torque scale rho = R: the moment rows become sqrt 3, sqrt 1.5 (twice).

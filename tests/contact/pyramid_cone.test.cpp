@@ -12,6 +12,7 @@
 
 #include "support/allocation_counter.hpp"
 #include "support/cone_sampling.hpp"
+#include "support/constants.hpp"
 
 using namespace grip;
 using grip_test::rel_tol;
@@ -23,14 +24,14 @@ template class grip::PyramidCone<5, float, PyramidFit::Inscribed>;
 
 namespace {
 
-const double kPi = 3.141592653589793;
+using grip_test::pi;
 
 // Edge rays of the pyramid rebuilt from its definition (not from the class's own tables):
 // a + R (cos th_j t1 + sin th_j t2), th_j = (2 j + h) pi / K.
 template <int K, class S, PyramidFit F>
 Vector3<double> edge(const PyramidCone<K, S, F>& p, int j) {
-  const double th = (2 * j + p.half_step()) * kPi / K;
-  const double big_r = F == PyramidFit::Inscribed ? double(p.mu()) : double(p.mu()) / std::cos(kPi / K);
+  const double th = (2 * j + p.half_step()) * pi / K;
+  const double big_r = F == PyramidFit::Inscribed ? double(p.mu()) : double(p.mu()) / std::cos(pi / K);
   return p.normal().template cast<double>() +
          big_r * (std::cos(th) * p.basis().t1.template cast<double>() + std::sin(th) * p.basis().t2.template cast<double>());
 }
@@ -38,7 +39,7 @@ Vector3<double> edge(const PyramidCone<K, S, F>& p, int j) {
 template <int K, class S>
 void check_containment(std::mt19937& rng) {
   std::uniform_real_distribution<double> u01(0.0, 1.0);
-  const double c = std::cos(kPi / K);
+  const double c = std::cos(pi / K);
   int in_count = 0;
   for (int k = 0; k < 2500; ++k) {
     const Vector3<double> ad = grip_test::random_unit(rng);

@@ -21,10 +21,10 @@ template struct grip::HandContacts<float>;
 namespace {
 template <class S>
 using Iso = Eigen::Transform<S, 3, Eigen::Isometry>;
-constexpr int cap = 32768;
+constexpr int octree_capacity = 32768;
 template <class S>
-SphericalOctree<S, cap>& octree() {
-  static SphericalOctree<S, cap> t;
+SphericalOctree<S, octree_capacity>& octree() {
+  static SphericalOctree<S, octree_capacity> t;
   return t;
 }
 // A posture whose phalanges are all far away (10 m) except phalanx k = [a, b] of radius r.
@@ -43,7 +43,7 @@ HandPosture<S> single(int k, const Vector3<S>& a, const Vector3<S>& b, S r) {
 }
 // The documented accuracy of an octree leaf model (spherical_octree.hpp): e = 3 h^2 (R + s) / (2 R^2).
 template <class S>
-double curved_tolerance(const SphericalOctree<S, cap>& oct, int depth, double R, double s) {
+double curved_tolerance(const SphericalOctree<S, octree_capacity>& oct, int depth, double R, double s) {
   const double h = double(oct.cell_half_edge(depth));
   return 3 * h * h * (R + std::max(s, 0.0)) / (2 * R * R);
 }
@@ -132,7 +132,7 @@ TEST_CASE_TEMPLATE("a box face: exact depth (planar), and the leaf over-reach th
   CHECK(out.count == 0);
 }
 
-TEST_CASE_TEMPLATE("a cylinder: side (curved) and cap (planar) at known depths; apart gives nothing", S, double,
+TEST_CASE_TEMPLATE("a cylinder: side (curved) and cap (planar) at known depths, apart gives nothing", S, double,
                    float) {
   // Cylinder R = 35 mm, half height 70 mm, axis z. A phalanx of radius 8 mm parallel to the
   // axis at radial distance R + r - 2 mm along direction (cos 0.3, sin 0.3): depth 2 mm, normal

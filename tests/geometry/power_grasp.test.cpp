@@ -21,13 +21,13 @@ template struct grip::ContactParameters<float>;
 namespace {
 template <class S>
 using Iso = Eigen::Transform<S, 3, Eigen::Isometry>;
-constexpr int cap = 16384;
+constexpr int cylinder_octree_capacity = 16384;
 
 // The scene: cylinder R = 35 mm, height 140 mm, axis along the hand's y (across the palm),
 // centre 20 mm distal of the index MCP, top 1 mm below the straight fingers' palmar side.
 template <class S>
 struct Scene {
-  SphericalOctree<S, cap> octree;
+  SphericalOctree<S, cylinder_octree_capacity> octree;
   Shape<S> shape{make_cylinder<S>(S(0.035), S(0.07))};
   HandDimensions<S> dims{HandDimensions<S>::standard()};
   Iso<S> pose{Iso<S>::Identity()};

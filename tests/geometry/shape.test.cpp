@@ -58,7 +58,7 @@ TEST_CASE_TEMPLATE("primitive distances and outward normals at derived points", 
   CHECK((n + Vector3<S>::UnitZ()).norm() <= S(10) * eps<S>());
 }
 
-TEST_CASE_TEMPLATE("SDFs are 1-Lipschitz with unit gradients; the gradient matches finite differences", S, double,
+TEST_CASE_TEMPLATE("SDFs are 1-Lipschitz with unit gradients, the gradient matches finite differences", S, double,
                    float) {
   Matrix3<S> R = Eigen::AngleAxis<S>(S(0.4), Vector3<S>(S(1), S(1), S(0)).normalized()).toRotationMatrix();
   const ShapePrimitive<S> prims[4] = {make_sphere<S>(S(0.03)), make_box<S>(Vector3<S>(S(0.03), S(0.02), S(0.01)), Vector3<S>::Zero(), R),
@@ -88,7 +88,7 @@ TEST_CASE_TEMPLATE("SDFs are 1-Lipschitz with unit gradients; the gradient match
   }
 }
 
-TEST_CASE_TEMPLATE("union: minimum of the primitives; validation of bad primitives", S, double, float) {
+TEST_CASE_TEMPLATE("union: minimum of the primitives, validation of bad primitives", S, double, float) {
   Shape<S, 2> two;
   CHECK(two.add(make_sphere<S>(S(0.02), Vector3<S>(S(-0.05), S(0), S(0)))) == Status::Ok);
   CHECK(two.add(make_box<S>(Vector3<S>(S(0.01), S(0.01), S(0.01)), Vector3<S>(S(0.05), S(0), S(0)))) == Status::Ok);

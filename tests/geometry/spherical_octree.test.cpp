@@ -9,6 +9,9 @@
 #include <grip/geometry/spherical_octree.hpp>
 
 #include "support/allocation_counter.hpp"
+#include "support/constants.hpp"
+
+using grip_test::pi;
 
 using namespace grip;
 
@@ -116,7 +119,6 @@ TEST_CASE_TEMPLATE("octree: leaf volume converges to the shape's volume from abo
   // sphere test, so its points lie within 2 rho = 2 sqrt(3) h of the surface: V_leaves - V is
   // at most the shell of thickness 2 rho outside the surface, about area * 2 rho (+ curvature).
   auto& oct = scratch_octree<S>();
-  const double pi = 3.141592653589793;
   for (int which : {0, 2}) {
     const Shape<S, 2> shape = test_shape<S>(which);
     const double V = double(shape.primitive(0).volume());

@@ -27,7 +27,7 @@ TEST_CASE_TEMPLATE("F1 and F2 of a two-contact grasp, by hand", S, double, float
   CHECK(objective_f2(g, g.target()) == S(0));
 }
 
-TEST_CASE("soft finger targets ask for no torsion; frictionless targets are s_i") {
+TEST_CASE("soft finger targets ask for no torsion, frictionless targets are s_i") {
   Grasp<1, SoftFinger> soft;
   Contact<double> c;
   c.normal << 0, 1, 0;

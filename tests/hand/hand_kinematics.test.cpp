@@ -101,7 +101,7 @@ TEST_CASE_TEMPLATE("zero angles give the documented rest pose", S, double, float
   (void)L;
 }
 
-TEST_CASE_TEMPLATE("flexion: a right-angle MCP turns the finger palmar; the wrist pose moves everything", S, double,
+TEST_CASE_TEMPLATE("flexion: a right-angle MCP turns the finger palmar, the wrist pose moves everything", S, double,
                    float) {
   const HandDimensions<S> d = HandDimensions<S>::standard();
   JointAngles<S> q = JointAngles<S>::Zero();

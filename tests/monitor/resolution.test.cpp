@@ -11,6 +11,8 @@
 #include "support/cone_sampling.hpp"
 #include "support/fixtures.hpp"
 
+using grip_test::pi;
+
 using namespace grip;
 
 template struct grip::Resolution<Grasp<4, HardFinger, double>>;
@@ -61,7 +63,6 @@ TEST_CASE_TEMPLATE("Resolution: a stable balanced grasp leaves nothing unbalance
   using G = Grasp<Dynamic, HardFinger, S, 8>;
   std::mt19937 rng(82);
   G g;
-  const double pi = 3.141592653589793;
   for (int i = 0; i < 6; ++i) REQUIRE(g.add(grip_test::sphere_contact<S>(pi / 2, i * pi / 3, 0.05, 0.9, 8.0)) == Status::Ok);
   Wrench<S> w = Wrench<S>::Zero();
   w(2) = S(-2);
@@ -79,7 +80,6 @@ TEST_CASE_TEMPLATE("Resolution: re-solve on the sticking contacts balances the l
   // kinetic friction of the slipping ones; the combined forces balance the object again.
   using G = Grasp<Dynamic, HardFinger, S, 8>;
   G g;
-  const double pi = 3.141592653589793;
   for (int i = 0; i < 6; ++i)
     REQUIRE(g.add(grip_test::sphere_contact<S>(pi / 2 + 0.3 * (i % 2), i * pi / 3, 0.05, i < 2 ? 0.01 : 1.0, 4.0)) ==
             Status::Ok);

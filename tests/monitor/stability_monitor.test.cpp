@@ -13,6 +13,8 @@
 #include "support/cone_sampling.hpp"
 #include "support/fixtures.hpp"
 
+using grip_test::pi;
+
 using namespace grip;
 
 template class grip::StabilityMonitor<Grasp<5, HardFinger, double>>;
@@ -95,7 +97,6 @@ TEST_CASE_TEMPLATE("Monitor: a squeezed grasp holds, the same grasp with little 
   // the range-space forces (squeeze + share of the load) stay in the cones.
   using G = Grasp<4, HardFinger, S>;
   G g;
-  const double pi = 3.141592653589793;
   for (int i = 0; i < 4; ++i) REQUIRE(g.set(i, grip_test::sphere_contact<S>(pi / 2, i * pi / 2, 0.04, 0.8, 5.0)) == Status::Ok);
   Wrench<S> w = Wrench<S>::Zero();
   w(2) = S(-1);  // gravity on a 0.1 kg object
@@ -255,7 +256,7 @@ void check_classify_matches(std::mt19937& rng, int trials, int n, double fn_low)
 
 }  // namespace
 
-TEST_CASE_TEMPLATE("Monitor: classify() gives evaluate()'s modes; evaluate() into reused storage", S, double, float) {
+TEST_CASE_TEMPLATE("Monitor: classify() gives evaluate()'s modes, evaluate() into reused storage", S, double, float) {
   std::mt19937 rng(73);
   check_classify_matches<CoulombCone<S>, Grasp<Dynamic, HardFinger, S, 20>>(rng, 200, 20, -2.0);
   check_classify_matches<PyramidCone<8, S>, Grasp<Dynamic, HardFinger, S, 20>>(rng, 100, 20, -2.0);

@@ -21,10 +21,7 @@ template struct grip::ConstrainedSettings<float>;
 
 namespace {
 
-template <class S>
-double tol_of(double d, double f) {
-  return std::is_same<S, float>::value ? f : d;
-}
+using grip_test::tol_of;
 
 grip::Contact<double> as_double(const Contact<float>& c) {
   Contact<double> o;

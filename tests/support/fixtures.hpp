@@ -5,6 +5,8 @@
 
 #include <grip/grip.hpp>
 
+#include "support/constants.hpp"
+
 namespace grip_test {
 
 /// Tolerance for "equal at round-off" comparisons of O(1) quantities, per scalar type.

@@ -1,5 +1,5 @@
 #pragma once
-// The scripted session of examples/haptic_loop, shared with bench/bench_haptic_loop.cpp:
+// The scripted session of examples/06_haptic_loop, shared with bench/bench_haptic_loop.cpp:
 // it stands in for a glove (14 joint angles) and a tracker (wrist pose and its derivatives)
 // at 1 kHz. A cylinder lies on a table; the hand closes on it (Table 1 power grip), lifts
 // it, holds it still, shakes it, swings it into the table's edge, and lets go above the table.

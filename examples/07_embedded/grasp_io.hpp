@@ -1,6 +1,6 @@
 #pragma once
 // Plain C structs at the controller's boundary and their conversion to grip types
-// (examples/embedded only).
+// (examples/07_embedded only).
 #include <grip/contact/contact.hpp>
 #include <grip/grasp/grasp.hpp>
 #include <grip/monitor/grasp_state.hpp>
