@@ -14,10 +14,7 @@
 
 #include "../examples/06_haptic_loop/session.hpp"
 
-#if __has_include(<grip/pipeline/constrained_frame_solver.hpp>)
 #include <grip/pipeline/constrained_frame_solver.hpp>
-#define GRIP_BENCH_HAS_CONSTRAINED 1
-#endif
 
 namespace {
 
@@ -110,7 +107,6 @@ void BM_Frame_OctreeCollision_Kkt_baseline(benchmark::State& s) {
   run_session<grip::OctreeScene<S, octree_capacity>, grip::KktFrameSolver>(s, octree_scene());
 }
 
-#ifdef GRIP_BENCH_HAS_CONSTRAINED
 void BM_Frame_AnalyticContacts_Constrained_warm(benchmark::State& s) {
   run_session<grip::CylinderScene<S>, grip::ConstrainedFrameSolver<S>>(s, scene());
 }
@@ -119,7 +115,6 @@ void BM_Frame_OctreeCollision_Constrained_warm(benchmark::State& s) {
 }
 BENCHMARK(BM_Frame_AnalyticContacts_Constrained_warm)->Iterations(2 * session_frames)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Frame_OctreeCollision_Constrained_warm)->Iterations(2 * session_frames)->Unit(benchmark::kMicrosecond);
-#endif
 BENCHMARK(BM_Frame_AnalyticContacts_RangeSpace)->Iterations(2 * session_frames)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Frame_AnalyticContacts_Kkt_baseline)->Iterations(2 * session_frames)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Frame_OctreeCollision_RangeSpace)->Iterations(2 * session_frames)->Unit(benchmark::kMicrosecond);

@@ -12,16 +12,11 @@
 
 #include "session.hpp"
 
-// The friction-constrained solver (issue 5) with warm start when the library has it;
-// otherwise the paper's equality-constrained optimum, monitored.
-#if __has_include(<grip/pipeline/constrained_frame_solver.hpp>)
 #include <grip/pipeline/constrained_frame_solver.hpp>
+
+// The optimum inside the exact friction cones, warm-started from the previous frame.
 using FrameSolver = grip::ConstrainedFrameSolver<haptic_session::S>;
 constexpr const char* solver_name = "solve_constrained (exact cones, warm-started)";
-#else
-using FrameSolver = grip::RangeSpaceFrameSolver;
-constexpr const char* solver_name = "solve_range_space + monitor";
-#endif
 
 namespace {
 

@@ -1,9 +1,8 @@
 // The same controller step with the friction cones imposed (solve_constrained, warm-started
 // from the previous period's multipliers) instead of monitored. Built by
-// cmake/check_embedded.sh like grasp_step.cpp; compiled only once solve_constrained exists.
+// cmake/check_embedded.sh like grasp_step.cpp.
 #include "grasp_io.hpp"
 
-#if __has_include(<grip/solve/solve_constrained.hpp>)
 #include <grip/monitor/stability_monitor.hpp>
 #include <grip/solve/solve_constrained.hpp>
 
@@ -22,4 +21,3 @@ extern "C" int grip_constrained_step(const GripContactIn* contacts, const float*
   for (int k = 0; k < 6; ++k) multipliers[k] = sol.multipliers(k);
   return static_cast<int>(sol.status);
 }
-#endif

@@ -5,7 +5,7 @@
 // Eigen's heap check armed. Any broken promise aborts, which libFuzzer reports as a crash.
 //
 // Build and run (N minutes = 60 N seconds), from the source tree:
-//   cmake --workflow --preset fuzz && bash cmake/fuzz.sh 600
+//   cmake --workflow --preset ci-fuzz && bash cmake/fuzz.sh 600
 #define EIGEN_RUNTIME_NO_MALLOC
 #include <cstddef>
 #include <cstdint>
