@@ -6,7 +6,7 @@
 /// std::thread allocates internally (its state and stack) and may fail to start, which
 /// terminates the program in builds without exceptions. The library code itself allocates
 /// nothing: the caller provides the grasps and the result storage; each worker keeps its
-/// EpsilonWorkspace on its own stack (about 1.7 MB for double; thread stacks are 8 MB by
+/// EpsilonWorkspace on its own stack (about 2.0 MB for double; thread stacks are 8 MB by
 /// default on Linux).
 ///
 /// Determinism: every grasp is evaluated by the same function, evaluate_grasp(), on one

@@ -97,7 +97,7 @@ int contact_primitives(const Contact<S>& c, S rho, Wrench<S>* out) {
 }
 
 /// Storage of the expanding-polytope search: at most MaxVertices support points and
-/// MaxFacets facets. Default ~1.7 MB for double: keep one per thread (static or heap in
+/// MaxFacets facets. Default ~2.0 MB (1.9 MiB) for double: keep one per thread (static or heap in
 /// the caller), not in a small embedded stack.
 template <class S, int MaxVertices = 512, int MaxFacets = 16384>
 struct EpsilonWorkspace {
@@ -113,11 +113,11 @@ struct EpsilonWorkspace {
   std::array<Wrench<S>, static_cast<std::size_t>(MaxVertices)> vertices;
   /// The facets of Q, a compact list (Epsilon::facets of them in use at the end).
   std::array<Facet, static_cast<std::size_t>(MaxFacets)> facets;
-  /// Scratch of one step: indices of the facets that see the new support point.
+  /// Scratch of one step: indices of the facets that see the added support point.
   std::array<int, static_cast<std::size_t>(MaxFacets)> visible;
   /// Scratch of one step: the horizon ridges (five sorted vertex indices) that close the hole.
   std::array<std::array<int, 5>, static_cast<std::size_t>(MaxFacets)> horizon;
-  /// Scratch of one step: per facet, whether it sees the new support point.
+  /// Scratch of one step: per facet, whether it sees the added support point.
   std::array<bool, static_cast<std::size_t>(MaxFacets)> is_visible;
 };
 
@@ -378,7 +378,7 @@ Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, 
   return out;
 }
 
-/// As above with a workspace of the default size on the stack (about 1.7 MB for double).
+/// As above with a workspace of the default size on the stack (about 2.0 MB for double).
 template <int K, class GraspT>
 Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, EpsilonNorm norm,
                                                            typename GraspT::ScalarType torque_scale) {

@@ -8,7 +8,7 @@ namespace grip {
 /// numbers, whatever the status; each function documents which numbers.
 enum class Status {
   Ok,              ///< Success: the result is the exact answer, to round-off or tolerance.
-  InvalidInput,    ///< NaN/Inf, zero or non-unit normal, negative friction/squeeze, weight <= 0,
+  InvalidInput,    ///< NaN/Inf, zero or non-unit normal, negative friction/squeeze, weight below min_weight,
                    ///< magnitude beyond ScalarTraits::max_magnitude, index or capacity exceeded.
   Singular,        ///< The grasp matrix has rank < 6: some wrench cannot be balanced at all.
   Infeasible,      ///< No forces inside the friction cones balance the wrench (the grasp slips).
