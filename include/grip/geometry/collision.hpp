@@ -1,26 +1,39 @@
 #pragma once
 /// \file
-/// Two-stage recursive collision detection between the hand's sphere hierarchy and an
-/// object's spherical octree (paper section 3), giving one contact per phalanx in contact.
+/// Contacts between the posed hand and an object (paper section 3): the hand's sphere
+/// hierarchy and the object's spherical octree find what can touch (the broad phase); the
+/// object's own signed distance field decides depth, point and normal (the narrow phase).
 ///
-/// Stage 1 (hand hierarchy): the hand's sphere, then each digit's, then each phalanx tree's
-/// root is tested against the octree's root sphere; whole digits and phalanges are pruned.
-/// Stage 2 (per phalanx): recursive descent of the octree against the phalanx's tree: an
-/// octree node whose sphere does not reach the phalanx is dropped with everything below it.
-/// (The phalanx tree's spheres are collinear, so its descent is done in closed form: the node
-/// is tested against the capsule the leaves sweep, and at an octree leaf the samples in reach
-/// are an index range along the axis; the leaf pairs are exactly those of sphere-by-sphere
-/// descent, see detect_contacts_exhaustive.) At a pair of leaves
-/// (sample sphere (x_j, r), octree leaf with surface model phi_leaf, see spherical_octree.hpp)
-/// the sample's signed distance estimate is raised to phi_leaf(x_j) if larger: the estimate
-/// of sample j is phi_j = max over overlapping leaves of phi_leaf(x_j) (each a lower bound of
-/// the true distance for a convex shape; the best of them).
+/// Broad phase (the paper's two-stage recursive detection). Stage 1 tests the hand's sphere,
+/// then each digit's, then each phalanx tree's root against the octree's root sphere; stage 2
+/// descends the octree against each remaining phalanx (detail/octree_descent.hpp). A sample
+/// sphere is "in reach" when, inflated by half the sample spacing, it overlaps a solid leaf.
+/// The leaves cover the object, so a sample farther than that from the object is the only
+/// kind ever skipped.
 ///
-/// Combining per phalanx: sample j penetrates by p_j = r - phi_j > 0. The phalanx's contact
-/// has depth dr = max_j p_j; inward normal = -(sum_j p_j n_j) / |sum_j p_j n_j| (the
-/// depth-weighted mean of the leaves' outward normals, reversed); point = depth-weighted mean
-/// of the samples' projections x_j - phi_j n_j onto the object's surface. Accuracy: the
-/// octree's e(d) (spherical_octree.hpp) plus the sampling term (hand_collision_model.hpp).
+/// Narrow phase (detail/narrow_phase.hpp). The field gives each sample in reach its exact
+/// signed distance phi_j and outward normal n_j; each local minimum of phi_j within half a
+/// spacing of touching is refined along the axis towards the capsule's deepest point; what
+/// penetrates becomes at most K contacts per phalanx (K = HandContacts' PerPhalanx): depth
+/// dr = r - phi at the contact's axis point x, normal -n(x) (into the object), point
+/// x - phi(x) n(x), the surface point nearest x.
+///
+/// Bounds (r the phalanx radius, s its sample spacing; tests/geometry/collision_bounds.test.cpp):
+/// - Convex fields (sphere, box, cylinder, capsule; a union where the deepest point's
+///   primitive is the only one within reach), with K = 1: the contact is the capsule's exact
+///   deepest point, on faces, edges, rims, corners and for deep samples alike: depth
+///   r - min_t phi(t) within the bisection's tolerance (s 2^-refine_iterations times the
+///   slope of phi, at most 1), the point and normal of that axis point exactly; no contact
+///   unless the capsule penetrates, and none missed where it does.
+/// - Any field (meshes, unions): every depth is a true penetration of the capsule (never
+///   more than its deepest), at least that of the deepest sample, and at least the capsule's
+///   true depth minus s / 2 (phi is 1-Lipschitz); each contact's point and normal are exact
+///   for its axis point.
+/// - Inside a union the field is a bound (shape.hpp): depths there are a lower bound.
+/// - The paper mode (detect_contacts without a field) measures depth against the octree
+///   leaves' tangent planes: exact on planar faces, within e(d) of spherical_octree.hpp on
+///   curved ones, and wrong near edges, rims and corners (a leaf carries one face's plane).
+///   It needs no distance field at run time.
 
 #include <algorithm>
 #include <array>
@@ -31,152 +44,178 @@
 
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
+#include "grip/geometry/detail/narrow_phase.hpp"
+#include "grip/geometry/detail/octree_descent.hpp"
 #include "grip/geometry/hand_collision_model.hpp"
+#include "grip/geometry/hand_contact.hpp"
 #include "grip/geometry/spherical_octree.hpp"
 #include "grip/hand/hand_model.hpp"
-#include "grip/hand/squeeze.hpp"
 
 namespace grip {
 
-/// One phalanx's contact with an object, in the world frame.
+/// A rigid transform (rotation and translation), e.g. an object's pose: object frame to world.
 template <class Scalar>
-struct HandContact {
-  Finger finger{Finger::Thumb};                     ///< Which digit.
-  Phalanx phalanx{Phalanx::Proximal};               ///< Which phalanx.
-  Vector3<Scalar> point{Vector3<Scalar>::Zero()};   ///< Contact point on the object's surface (m), world.
-  Vector3<Scalar> normal{Vector3<Scalar>::UnitZ()}; ///< Unit normal INTO the object (the push direction), world.
-  Scalar depth{0};                                  ///< Interpenetration dr_i (m), > 0.
-  int samples{0};                                   ///< How many of the phalanx's samples penetrate.
-};
+using Isometry3 = Eigen::Transform<Scalar, 3, Eigen::Isometry>;
 
-/// The contacts of one frame, at most one per phalanx, in phalanx order (hand_model.hpp).
-template <class Scalar>
-struct HandContacts {
-  std::array<HandContact<Scalar>, hand_phalanx_count> items{};  ///< items[0 .. count).
-  int count{0};                                                  ///< Number of contacts.
-  /// Contact i, 0 <= i < count.
-  const HandContact<Scalar>& operator[](int i) const { return items[static_cast<std::size_t>(i)]; }
-  /// The contact of a finger's phalanx, or nullptr if it has none.
-  const HandContact<Scalar>* find(Finger f, Phalanx p) const {
-    for (int i = 0; i < count; ++i)
-      if (items[static_cast<std::size_t>(i)].finger == f && items[static_cast<std::size_t>(i)].phalanx == p)
-        return &items[static_cast<std::size_t>(i)];
-    return nullptr;
-  }
-};
+/// The per-frame entry point: contacts between the posed hand and an object whose octree and
+/// distance field `field` (a Shape, a MeshShape, ...: see spherical_octree.hpp) are given in
+/// the object's frame, placed in the world by `object_pose` (object point -> world point).
+/// Writes out.items[0 .. out.count): at most PerPhalanx contacts per phalanx, phalanx order.
+/// Statuses: InvalidInput (out.count = 0) if the model was never posed, the octree is empty,
+/// the pose is not finite and rigid (rotation orthonormal within 1e-3), or the settings are
+/// out of range (refine_iterations in [0, 64], cluster_angle in [0, pi]); Ok otherwise
+/// (out.count may be 0). `phalanx_mask` (bit k = phalanx k) skips phalanges whose bit is
+/// clear. No heap; recursion depth at most the octree's depth.
+template <class Scalar, int Samples, int Capacity, class Field, int PerPhalanx>
+Status detect_contacts(const HandCollisionModel<Scalar, Samples>& hand, const SphericalOctree<Scalar, Capacity>& octree,
+                       const Field& field, const Isometry3<Scalar>& object_pose, HandContacts<Scalar, PerPhalanx>& out,
+                       const ContactSettings<Scalar>& settings = ContactSettings<Scalar>{},
+                       std::uint32_t phalanx_mask = all_phalanges);
 
-/// The phalanx mask of detect_contacts() selecting all 14 phalanges (bit k = phalanx k).
-constexpr std::uint32_t all_phalanges = (1u << hand_phalanx_count) - 1u;
+/// The same contacts without the octree: every sample of every phalanx whose sphere tree
+/// reaches the field's bounding box is evaluated. For analytic shapes, whose distance is
+/// cheap (CylinderScene), and as the reference of the octree's broad phase (identical
+/// results). Statuses as detect_contacts, and InvalidInput for an empty field.
+template <class Scalar, int Samples, class Field, int PerPhalanx>
+Status detect_contacts_direct(const HandCollisionModel<Scalar, Samples>& hand, const Field& field,
+                              const Isometry3<Scalar>& object_pose, HandContacts<Scalar, PerPhalanx>& out,
+                              const ContactSettings<Scalar>& settings = ContactSettings<Scalar>{},
+                              std::uint32_t phalanx_mask = all_phalanges);
+
+/// Diagnosis of phalanx k (0 .. 13): its sample centres, each one's exact signed distance and
+/// outward normal (evaluated for every sample, in reach or not), and which ones the broad
+/// phase found in reach. InvalidInput for k out of range, an unposed model, an empty octree
+/// or a bad pose (out unchanged); Ok otherwise.
+template <class Scalar, int Samples, int Capacity, class Field>
+Status query_samples(const HandCollisionModel<Scalar, Samples>& hand, const SphericalOctree<Scalar, Capacity>& octree,
+                     const Field& field, const Isometry3<Scalar>& object_pose, int k,
+                     PhalanxSamples<Scalar, Samples>& out);
+
+/// The paper mode: depths from the octree leaves' tangent planes alone (no distance field at
+/// run time; see the file comment for its bounds). At most one contact per phalanx: sample j
+/// takes the best (largest) leaf-plane distance phi_j over the leaves it overlaps; with
+/// p_j = r - phi_j > 0, depth = max_j p_j, inward normal = -(sum_j p_j n_j) / |sum_j p_j n_j|,
+/// point = the p_j-weighted mean of x_j - phi_j n_j. Statuses as detect_contacts.
+template <class Scalar, int Samples, int Capacity>
+Status detect_contacts(const HandCollisionModel<Scalar, Samples>& hand, const SphericalOctree<Scalar, Capacity>& object,
+                       const Isometry3<Scalar>& object_pose, HandContacts<Scalar>& out,
+                       std::uint32_t phalanx_mask = all_phalanges);
+
+/// The paper mode with no pruning: every phalanx sample against every octree leaf (the
+/// reference of the descent; same result, since every sphere contains its descendants).
+template <class Scalar, int Samples, int Capacity>
+Status detect_contacts_exhaustive(const HandCollisionModel<Scalar, Samples>& hand,
+                                  const SphericalOctree<Scalar, Capacity>& object,
+                                  const Isometry3<Scalar>& object_pose, HandContacts<Scalar>& out);
+
+// ---------------------------------------------------------------------------------------------
+// Definitions.
 
 namespace detail {
 
-/// Per-phalanx state of the stage-2 descent (object frame).
+template <class Scalar>
+bool rigid_pose_ok(const Isometry3<Scalar>& pose) {
+  if (!pose.matrix().allFinite()) return false;
+  const Matrix3<Scalar> R = pose.linear();
+  return (R.transpose() * R - Matrix3<Scalar>::Identity()).cwiseAbs().maxCoeff() <= Scalar(1e-3);
+}
+
+template <class Scalar>
+bool settings_ok(const ContactSettings<Scalar>& s) {
+  return s.refine_iterations >= 0 && s.refine_iterations <= 64 && s.cluster_angle >= Scalar(0) &&
+         s.cluster_angle <= Scalar(3.14159265358979323846);
+}
+
+/// Phalanx k of the posed hand in the object frame.
 template <class Scalar, int Samples>
-struct PhalanxQuery {
-  std::array<BoundingSphere<Scalar>, 2 * Samples - 1> nodes;  // phalanx tree in the object frame
-  std::array<Scalar, Samples> phi;                            // best estimate per sample
-  std::array<int, Samples> leaf;                              // leaf giving it, -1 none
+PhalanxAxis<Scalar> object_axis(const HandCollisionModel<Scalar, Samples>& hand, int k,
+                                const Isometry3<Scalar>& to_object) {
+  const PhalanxCapsule<Scalar>& c = hand.capsule(k);
+  return PhalanxAxis<Scalar>{to_object * c.base, to_object * c.tip, c.radius};
+}
+
+/// The broad phase's margin of phalanx k: half its sample spacing when refining, else 0.
+template <class Scalar, int Samples>
+Scalar reach_margin(const HandCollisionModel<Scalar, Samples>& hand, int k, const ContactSettings<Scalar>& settings) {
+  if (settings.refine_iterations <= 0) return Scalar(0);
+  const PhalanxCapsule<Scalar>& c = hand.capsule(k);
+  return Scalar(0.5) * (c.tip - c.base).norm() / Scalar(Samples - 1);
+}
+
+/// Marks the samples the octree descent finds in reach; stops when all are.
+template <class Scalar, int Samples>
+struct MarkReach {
+  SampleField<Scalar, Samples>* field;
+  int marked{0};
+  bool operator()(int, int j0, int j1) {
+    for (int j = j0; j <= j1; ++j) {
+      bool& r = field->reach[static_cast<std::size_t>(j)];
+      marked += r ? 0 : 1;
+      r = true;
+    }
+    return marked < Samples;
+  }
 };
 
-template <class Scalar, int Samples, int Capacity>
-void leaf_pair(PhalanxQuery<Scalar, Samples>& q, int j, const SphericalOctree<Scalar, Capacity>& oct, int o) {
-  const SurfacePlane<Scalar>& pl = oct.plane(o);
-  const Vector3<Scalar>& x = q.nodes[static_cast<std::size_t>(Samples - 1 + j)].center;
-  const Scalar phi = pl.distance + pl.normal.dot(x - oct.tree().node(o).center);
-  std::size_t sj = static_cast<std::size_t>(j);
-  if (q.leaf[sj] < 0 || phi > q.phi[sj]) {
-    q.phi[sj] = phi;
-    q.leaf[sj] = o;
+/// Narrow phase of one phalanx (samples in reach marked in s) and its contacts appended to out.
+template <class Scalar, int Samples, class Field, int PerPhalanx>
+void emit_contacts(const Field& field, const PhalanxAxis<Scalar>& ax, SampleField<Scalar, Samples>& s, int k,
+                   const ContactSettings<Scalar>& settings, const Isometry3<Scalar>& pose,
+                   HandContacts<Scalar, PerPhalanx>& out) {
+  evaluate_samples(field, ax, s);
+  std::array<Penetration<Scalar>, PerPhalanx> found;
+  std::array<int, PerPhalanx> members{};
+  const int n = phalanx_contacts<PerPhalanx>(field, ax, s, settings, found, members);
+  for (int i = 0; i < n; ++i) {
+    const Penetration<Scalar>& p = found[static_cast<std::size_t>(i)];
+    HandContact<Scalar>& c = out.items[static_cast<std::size_t>(out.count++)];
+    c.finger = phalanx_finger(k);
+    c.phalanx = phalanx_kind(k);
+    c.depth = p.depth;
+    c.samples = members[static_cast<std::size_t>(i)];
+    c.sample = p.sample;
+    c.axis_parameter = p.t;
+    c.point = pose * Vector3<Scalar>(ax.at(p.t) - p.phi * p.normal);
+    c.normal = -(pose.linear() * p.normal).normalized();
   }
 }
 
-// Stage 2 descent of the octree against phalanx segment [a, b] (object frame) of radius r.
-// The phalanx tree's leaves are collinear spheres (x_j, r), so instead of splitting its inner
-// spheres the descent tests each octree node against the swept sphere (the capsule, a tighter
-// bound than any inner sphere), and at an octree leaf takes the samples whose spheres reach
-// it directly: |x_j - c| <= r + rho  <=>  |s_j - s_c| <= sqrt((r + rho)^2 - d_perp^2) along
-// the axis. Same leaf pairs as the sphere-by-sphere test, fewer node visits.
-template <class Scalar, int Samples>
-struct SegmentQuery {
-  Vector3<Scalar> a, axis;  // a = sample 0; axis = unit direction (zero for a point)
-  Scalar length{0}, spacing{0}, radius{0};
+/// Paper mode: per-sample best leaf-plane estimate.
+template <class Scalar, int Samples, int Capacity>
+struct PlaneEstimates {
+  const SphericalOctree<Scalar, Capacity>* oct;
+  std::array<Vector3<Scalar>, Samples> x;  // sample centres, object frame
+  std::array<Scalar, Samples> phi;
+  std::array<int, Samples> leaf;
+  bool operator()(int o, int j0, int j1) {
+    const SurfacePlane<Scalar>& pl = oct->plane(o);
+    for (int j = j0; j <= j1; ++j) {
+      const auto sj = static_cast<std::size_t>(j);
+      const Scalar d = pl.distance + pl.normal.dot(x[sj] - oct->tree().node(o).center);
+      if (leaf[sj] < 0 || d > phi[sj]) {
+        phi[sj] = d;
+        leaf[sj] = o;
+      }
+    }
+    return true;
+  }
 };
 
-// Squared distance from point v (relative to sample 0) to the segment, and the axial
-// coordinate s of v (unclamped).
-template <class Scalar, int Samples>
-Scalar segment_distance2(const SegmentQuery<Scalar, Samples>& seg, const Vector3<Scalar>& v, Scalar& s) {
-  s = v.dot(seg.axis);
-  const Scalar sc = std::min(std::max(s, Scalar(0)), seg.length);
-  return (v - sc * seg.axis).squaredNorm();
-}
-
-// Octree leaf o (solid) in reach of the segment: the samples j whose spheres reach it.
+/// Paper mode: the estimates of phalanx k into at most one contact (world frame out).
 template <class Scalar, int Samples, int Capacity>
-void leaf_samples(PhalanxQuery<Scalar, Samples>& q, const SegmentQuery<Scalar, Samples>& seg,
-                  const SphericalOctree<Scalar, Capacity>& oct, int o, const Vector3<Scalar>& v, Scalar s,
-                  Scalar reach) {
-  if (!(seg.spacing > Scalar(0))) {  // a point-like phalanx: every sample is at a
-    for (int j = 0; j < Samples; ++j) leaf_pair(q, j, oct, o);
-    return;
-  }
-  const Scalar perp2 = v.squaredNorm() - s * s;
-  const Scalar w = std::sqrt(std::max(reach * reach - perp2, Scalar(0)));
-  const Scalar jlo = std::ceil((s - w) / seg.spacing), jhi = std::floor((s + w) / seg.spacing);
-  const int j0 = jlo < Scalar(0) ? 0 : static_cast<int>(jlo);
-  const int j1 = jhi > Scalar(Samples - 1) ? Samples - 1 : static_cast<int>(jhi);
-  for (int j = j0; j <= j1; ++j) leaf_pair(q, j, oct, o);
-}
-
-// Visits the children of octree node o (itself in reach): each child in reach is a leaf to
-// evaluate or a node to descend into. (The reach test is done here, before the call, so that
-// the many children out of reach cost no call.)
-template <class Scalar, int Samples, int Capacity>
-void descend(PhalanxQuery<Scalar, Samples>& q, const SegmentQuery<Scalar, Samples>& seg,
-             const SphericalOctree<Scalar, Capacity>& oct, int o) {
-  const SphereNode<Scalar>& on = oct.tree().node(o);
-  const int end = on.first_child + on.child_count;
-  for (int k = on.first_child; k < end; ++k) {
-    const SphereNode<Scalar>& cn = oct.tree().node(k);
-    const Vector3<Scalar> v = cn.center - seg.a;
-    Scalar s;
-    const Scalar reach = seg.radius + cn.radius;
-    if (segment_distance2(seg, v, s) > reach * reach) continue;
-    if (cn.child_count > 0) descend(q, seg, oct, k);
-    else if (oct.kind(k) != CellKind::Empty) leaf_samples(q, seg, oct, k, v, s, reach);
-  }
-}
-
-// Stage 2 from the octree's root.
-template <class Scalar, int Samples, int Capacity>
-void descend_from_root(PhalanxQuery<Scalar, Samples>& q, const SegmentQuery<Scalar, Samples>& seg,
-                       const SphericalOctree<Scalar, Capacity>& oct) {
-  const SphereNode<Scalar>& root = oct.tree().node(0);
-  const Vector3<Scalar> v = root.center - seg.a;
-  Scalar s;
-  const Scalar reach = seg.radius + root.radius;
-  if (segment_distance2(seg, v, s) > reach * reach) return;
-  if (root.child_count > 0) descend(q, seg, oct, 0);
-  else if (oct.kind(0) != CellKind::Empty) leaf_samples(q, seg, oct, 0, v, s, reach);
-}
-
-/// Turns the per-sample estimates of phalanx k into at most one contact (object frame in,
-/// world frame out). Returns true if the phalanx penetrates.
-template <class Scalar, int Samples, int Capacity>
-bool combine(const PhalanxQuery<Scalar, Samples>& q, Scalar radius, const SphericalOctree<Scalar, Capacity>& oct,
-             const Eigen::Transform<Scalar, 3, Eigen::Isometry>& pose, HandContact<Scalar>& out) {
+bool combine_planes(const PlaneEstimates<Scalar, Samples, Capacity>& q, Scalar radius, const Isometry3<Scalar>& pose,
+                    HandContact<Scalar>& out) {
   Scalar depth = Scalar(0), wsum = Scalar(0);
   int count = 0, deepest = -1;
   Vector3<Scalar> nsum = Vector3<Scalar>::Zero(), psum = Vector3<Scalar>::Zero();
   for (int j = 0; j < Samples; ++j) {
-    const std::size_t sj = static_cast<std::size_t>(j);
+    const auto sj = static_cast<std::size_t>(j);
     if (q.leaf[sj] < 0) continue;
     const Scalar p = radius - q.phi[sj];
     if (!(p > Scalar(0))) continue;
-    const Vector3<Scalar>& n = oct.plane(q.leaf[sj]).normal;
-    const Vector3<Scalar>& x = q.nodes[static_cast<std::size_t>(Samples - 1 + j)].center;
+    const Vector3<Scalar>& n = q.oct->plane(q.leaf[sj]).normal;
     nsum += p * n;
-    psum += p * (x - q.phi[sj] * n);
+    psum += p * (q.x[sj] - q.phi[sj] * n);
     wsum += p;
     ++count;
     if (p > depth) {
@@ -186,101 +225,162 @@ bool combine(const PhalanxQuery<Scalar, Samples>& q, Scalar radius, const Spheri
   }
   if (count == 0) return false;
   const Scalar nn = nsum.norm();
-  Vector3<Scalar> n_out = nn > Scalar(1e-3) * wsum ? Vector3<Scalar>(nsum / nn)
-                                                   : oct.plane(q.leaf[static_cast<std::size_t>(deepest)]).normal;
+  const Vector3<Scalar> n_out = nn > Scalar(1e-3) * wsum
+                                    ? Vector3<Scalar>(nsum / nn)
+                                    : q.oct->plane(q.leaf[static_cast<std::size_t>(deepest)]).normal;
   out.depth = depth;
   out.samples = count;
+  out.sample = deepest;
+  out.axis_parameter = Scalar(deepest) / Scalar(Samples - 1);
   out.point = pose * Vector3<Scalar>(psum / wsum);
-  out.normal = -(pose.linear() * n_out);
-  out.normal.normalize();
+  out.normal = -(pose.linear() * n_out).normalized();
   return true;
 }
 
-template <class Scalar>
-bool rigid_pose_ok(const Eigen::Transform<Scalar, 3, Eigen::Isometry>& pose) {
-  if (!pose.matrix().allFinite()) return false;
-  const Matrix3<Scalar> R = pose.linear();
-  return (R.transpose() * R - Matrix3<Scalar>::Identity()).cwiseAbs().maxCoeff() <= Scalar(1e-3);
+/// Paper mode: the estimates of phalanx k reset, sample centres in the object frame.
+template <class Scalar, int Samples, int Capacity>
+void reset_estimates(PlaneEstimates<Scalar, Samples, Capacity>& q, const HandCollisionModel<Scalar, Samples>& hand,
+                     int k, const Isometry3<Scalar>& to_object) {
+  for (int j = 0; j < Samples; ++j)
+    q.x[static_cast<std::size_t>(j)] = to_object * hand.phalanx_node(k, Samples - 1 + j).center;
+  q.leaf.fill(-1);
+}
+
+/// Stage 1 and the per-phalanx loop shared by the octree entry points: calls
+/// per_phalanx(k, to_object) for each phalanx in the mask whose tree root (inflated by
+/// `margin`) overlaps the octree's root sphere.
+template <class Scalar, int Samples, int Capacity, class PerPhalanxFn>
+void for_phalanges_in_reach(const HandCollisionModel<Scalar, Samples>& hand,
+                            const SphericalOctree<Scalar, Capacity>& octree, const Isometry3<Scalar>& object_pose,
+                            Scalar margin, std::uint32_t mask, PerPhalanxFn&& per_phalanx) {
+  const Isometry3<Scalar> to_object = object_pose.inverse(Eigen::Isometry);
+  const SphereNode<Scalar>& root = octree.tree().node(0);
+  const BoundingSphere<Scalar> root_world{object_pose * root.center, root.radius + margin};
+  if (!overlap(hand.hand_sphere(), root_world)) return;
+  for (int f = 0; f < 5; ++f) {
+    if (!overlap(hand.finger_sphere(f), root_world)) continue;
+    const int first = HandCollisionModel<Scalar, Samples>::first_phalanx(f);
+    for (int k = first; k < first + HandCollisionModel<Scalar, Samples>::phalanges_of(f); ++k)
+      if (((mask >> k) & 1u) && overlap(hand.phalanx_node(k, 0), root_world)) per_phalanx(k, to_object);
+  }
 }
 
 }  // namespace detail
 
-/// The per-frame entry point: contacts between the posed hand and one object (or obstacle),
-/// whose octree is built in its own frame and placed in the world by `object_pose`
-/// (object-frame point -> world point). Writes out.items[0 .. out.count), phalanx order.
-/// Statuses: InvalidInput (out.count = 0) if the model was never posed, the octree is empty,
-/// or the pose is not finite and rigid (rotation orthonormal within 1e-3); Ok otherwise
-/// (out.count may be 0: no contact). No heap; recursion depth <= octree depth.
-/// `phalanx_mask` (bit k = phalanx k, default all 14) skips the phalanges whose bit is clear.
-template <class Scalar, int Samples, int Capacity>
-Status detect_contacts(const HandCollisionModel<Scalar, Samples>& hand, const SphericalOctree<Scalar, Capacity>& object,
-                       const Eigen::Transform<Scalar, 3, Eigen::Isometry>& object_pose, HandContacts<Scalar>& out,
-                       std::uint32_t phalanx_mask = all_phalanges) {
+template <class Scalar, int Samples, int Capacity, class Field, int PerPhalanx>
+Status detect_contacts(const HandCollisionModel<Scalar, Samples>& hand, const SphericalOctree<Scalar, Capacity>& octree,
+                       const Field& field, const Isometry3<Scalar>& object_pose, HandContacts<Scalar, PerPhalanx>& out,
+                       const ContactSettings<Scalar>& settings, std::uint32_t phalanx_mask) {
   out.count = 0;
-  if (!hand.posed() || object.tree().empty() || !detail::rigid_pose_ok(object_pose)) return Status::InvalidInput;
-  const Eigen::Transform<Scalar, 3, Eigen::Isometry> to_object = object_pose.inverse(Eigen::Isometry);
-  const SphereNode<Scalar>& root = object.tree().node(0);
-  const BoundingSphere<Scalar> root_world{object_pose * root.center, root.radius};
-  if (!overlap(hand.hand_sphere(), root_world)) return Status::Ok;
-  detail::PhalanxQuery<Scalar, Samples> q;
-  for (int f = 0; f < 5; ++f) {
-    if (!overlap(hand.finger_sphere(f), root_world)) continue;
-    const int first = HandCollisionModel<Scalar, Samples>::first_phalanx(f);
-    for (int k = first; k < first + HandCollisionModel<Scalar, Samples>::phalanges_of(f); ++k) {
-      if (!((phalanx_mask >> k) & 1u) || !overlap(hand.phalanx_node(k, 0), root_world)) continue;
-      for (int i = 0; i < 2 * Samples - 1; ++i) {
-        q.nodes[static_cast<std::size_t>(i)].center = to_object * hand.phalanx_node(k, i).center;
-        q.nodes[static_cast<std::size_t>(i)].radius = hand.phalanx_node(k, i).radius;
-      }
-      q.leaf.fill(-1);
-      detail::SegmentQuery<Scalar, Samples> seg;
-      seg.a = q.nodes[static_cast<std::size_t>(Samples - 1)].center;
-      const Vector3<Scalar> ab = q.nodes[static_cast<std::size_t>(2 * Samples - 2)].center - seg.a;
-      seg.length = ab.norm();
-      seg.axis = seg.length > Scalar(0) ? Vector3<Scalar>(ab / seg.length) : Vector3<Scalar>::Zero();
-      seg.spacing = seg.length / Scalar(Samples - 1);
-      seg.radius = hand.capsule(k).radius;
-      detail::descend_from_root(q, seg, object);
-      HandContact<Scalar>& c = out.items[static_cast<std::size_t>(out.count)];
-      if (detail::combine(q, hand.capsule(k).radius, object, object_pose, c)) {
-        c.finger = phalanx_finger(k);
-        c.phalanx = phalanx_kind(k);
-        ++out.count;
-      }
-    }
+  if (!hand.posed() || octree.tree().empty() || !detail::rigid_pose_ok(object_pose) || !detail::settings_ok(settings))
+    return Status::InvalidInput;
+  Scalar margin = Scalar(0);
+  for (int k = 0; k < hand_phalanx_count; ++k) margin = std::max(margin, detail::reach_margin(hand, k, settings));
+  detail::for_phalanges_in_reach(hand, octree, object_pose, margin, phalanx_mask,
+                                 [&](int k, const Isometry3<Scalar>& to_object) {
+    const detail::PhalanxAxis<Scalar> ax = detail::object_axis(hand, k, to_object);
+    detail::SampleField<Scalar, Samples> s;
+    detail::MarkReach<Scalar, Samples> mark{&s};
+    const auto seg = detail::SegmentQuery<Scalar>::make(ax.a, ax.b, ax.radius + detail::reach_margin(hand, k, settings),
+                                                         Samples);
+    detail::descend_from_root(seg, octree, mark);
+    if (mark.marked > 0) detail::emit_contacts(field, ax, s, k, settings, object_pose, out);
+  });
+  return Status::Ok;
+}
+
+template <class Scalar, int Samples, class Field, int PerPhalanx>
+Status detect_contacts_direct(const HandCollisionModel<Scalar, Samples>& hand, const Field& field,
+                              const Isometry3<Scalar>& object_pose, HandContacts<Scalar, PerPhalanx>& out,
+                              const ContactSettings<Scalar>& settings, std::uint32_t phalanx_mask) {
+  out.count = 0;
+  Vector3<Scalar> lo, hi;
+  if (!hand.posed() || !detail::rigid_pose_ok(object_pose) || !detail::settings_ok(settings) ||
+      !field.bounding_box(lo, hi) || !lo.allFinite() || !hi.allFinite())
+    return Status::InvalidInput;
+  const Isometry3<Scalar> to_object = object_pose.inverse(Eigen::Isometry);
+  const BoundingSphere<Scalar> bounds{object_pose * Vector3<Scalar>((lo + hi) / Scalar(2)), (hi - lo).norm() / Scalar(2)};
+  for (int k = 0; k < hand_phalanx_count; ++k) {
+    if (!((phalanx_mask >> k) & 1u)) continue;
+    BoundingSphere<Scalar> root = hand.phalanx_node(k, 0);
+    root.radius += detail::reach_margin(hand, k, settings);
+    if (!overlap(root, bounds)) continue;
+    detail::SampleField<Scalar, Samples> s;
+    s.reach.fill(true);
+    detail::emit_contacts(field, detail::object_axis(hand, k, to_object), s, k, settings, object_pose, out);
   }
   return Status::Ok;
 }
 
-/// Reference version of detect_contacts() with no pruning: every phalanx sample against
-/// every octree leaf (the baseline of bench/bench_collision.cpp; same result, since every
-/// octree and hand sphere contains its descendants).
+template <class Scalar, int Samples, int Capacity, class Field>
+Status query_samples(const HandCollisionModel<Scalar, Samples>& hand, const SphericalOctree<Scalar, Capacity>& octree,
+                     const Field& field, const Isometry3<Scalar>& object_pose, int k,
+                     PhalanxSamples<Scalar, Samples>& out) {
+  if (k < 0 || k >= hand_phalanx_count || !hand.posed() || octree.tree().empty() || !detail::rigid_pose_ok(object_pose))
+    return Status::InvalidInput;
+  const Isometry3<Scalar> to_object = object_pose.inverse(Eigen::Isometry);
+  const detail::PhalanxAxis<Scalar> ax = detail::object_axis(hand, k, to_object);
+  detail::SampleField<Scalar, Samples> s;
+  detail::MarkReach<Scalar, Samples> mark{&s};
+  const ContactSettings<Scalar> settings{};
+  detail::descend_from_root(
+      detail::SegmentQuery<Scalar>::make(ax.a, ax.b, ax.radius + detail::reach_margin(hand, k, settings), Samples),
+      octree, mark);
+  out.radius = ax.radius;
+  for (int j = 0; j < Samples; ++j) {
+    const auto sj = static_cast<std::size_t>(j);
+    Vector3<Scalar> n;
+    const Vector3<Scalar> x = ax.at(Scalar(j) / Scalar(Samples - 1));
+    out.distance[sj] = field.distance(x, n);
+    out.center[sj] = object_pose * x;
+    out.normal[sj] = object_pose.linear() * n;
+    out.in_reach[sj] = s.reach[sj];
+  }
+  return Status::Ok;
+}
+
+template <class Scalar, int Samples, int Capacity>
+Status detect_contacts(const HandCollisionModel<Scalar, Samples>& hand, const SphericalOctree<Scalar, Capacity>& object,
+                       const Isometry3<Scalar>& object_pose, HandContacts<Scalar>& out, std::uint32_t phalanx_mask) {
+  out.count = 0;
+  if (!hand.posed() || object.tree().empty() || !detail::rigid_pose_ok(object_pose)) return Status::InvalidInput;
+  detail::PlaneEstimates<Scalar, Samples, Capacity> q{&object, {}, {}, {}};
+  detail::for_phalanges_in_reach(hand, object, object_pose, Scalar(0), phalanx_mask,
+                                 [&](int k, const Isometry3<Scalar>& to_object) {
+    detail::reset_estimates(q, hand, k, to_object);
+    const Scalar r = hand.capsule(k).radius;
+    detail::descend_from_root(detail::SegmentQuery<Scalar>::make(q.x[0], q.x[Samples - 1], r, Samples), object, q);
+    HandContact<Scalar>& c = out.items[static_cast<std::size_t>(out.count)];
+    if (detail::combine_planes(q, r, object_pose, c)) {
+      c.finger = phalanx_finger(k);
+      c.phalanx = phalanx_kind(k);
+      ++out.count;
+    }
+  });
+  return Status::Ok;
+}
+
 template <class Scalar, int Samples, int Capacity>
 Status detect_contacts_exhaustive(const HandCollisionModel<Scalar, Samples>& hand,
                                   const SphericalOctree<Scalar, Capacity>& object,
-                                  const Eigen::Transform<Scalar, 3, Eigen::Isometry>& object_pose,
-                                  HandContacts<Scalar>& out) {
+                                  const Isometry3<Scalar>& object_pose, HandContacts<Scalar>& out) {
   out.count = 0;
   if (!hand.posed() || object.tree().empty() || !detail::rigid_pose_ok(object_pose)) return Status::InvalidInput;
-  const Eigen::Transform<Scalar, 3, Eigen::Isometry> to_object = object_pose.inverse(Eigen::Isometry);
-  detail::PhalanxQuery<Scalar, Samples> q;
+  const Isometry3<Scalar> to_object = object_pose.inverse(Eigen::Isometry);
+  detail::PlaneEstimates<Scalar, Samples, Capacity> q{&object, {}, {}, {}};
   for (int k = 0; k < hand_phalanx_count; ++k) {
-    for (int i = 0; i < 2 * Samples - 1; ++i) {
-      q.nodes[static_cast<std::size_t>(i)].center = to_object * hand.phalanx_node(k, i).center;
-      q.nodes[static_cast<std::size_t>(i)].radius = hand.phalanx_node(k, i).radius;
-    }
-    q.leaf.fill(-1);
+    detail::reset_estimates(q, hand, k, to_object);
+    const Scalar r = hand.capsule(k).radius;
     for (int o = 0; o < object.tree().size(); ++o) {
       if (!object.is_solid_leaf(o)) continue;
       const SphereNode<Scalar>& on = object.tree().node(o);
       for (int j = 0; j < Samples; ++j) {
-        const BoundingSphere<Scalar>& s = q.nodes[static_cast<std::size_t>(Samples - 1 + j)];
-        const Scalar r = s.radius + on.radius;
-        if ((s.center - on.center).squaredNorm() <= r * r) detail::leaf_pair(q, j, object, o);
+        const Scalar reach = r + on.radius;
+        if ((q.x[static_cast<std::size_t>(j)] - on.center).squaredNorm() <= reach * reach) q(o, j, j);
       }
     }
     HandContact<Scalar>& c = out.items[static_cast<std::size_t>(out.count)];
-    if (detail::combine(q, hand.capsule(k).radius, object, object_pose, c)) {
+    if (detail::combine_planes(q, r, object_pose, c)) {
       c.finger = phalanx_finger(k);
       c.phalanx = phalanx_kind(k);
       ++out.count;

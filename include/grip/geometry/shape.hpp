@@ -215,6 +215,15 @@ class Shape {
   /// Primitive i, 0 <= i < size().
   const ShapePrimitive<Scalar>& primitive(int i) const { return prims_[static_cast<std::size_t>(i)]; }
 
+  /// The parts of the field (collision.hpp's multi-contact narrow phase): the primitives.
+  static constexpr int max_parts = MaxPrimitives;
+  /// Number of parts: size().
+  int part_count() const { return count_; }
+  /// Signed distance (m) of p from part i (primitive i, 0 <= i < size()), its outward normal.
+  Scalar part_distance(int i, const Vector3<Scalar>& p, Vector3<Scalar>& normal) const {
+    return prims_[static_cast<std::size_t>(i)].distance(p, normal);
+  }
+
   /// Signed distance (m) of object-frame point p (min over primitives; +max_magnitude for an
   /// empty shape); `normal` receives the unit outward gradient of the nearest primitive.
   Scalar distance(const Vector3<Scalar>& p, Vector3<Scalar>& normal) const {

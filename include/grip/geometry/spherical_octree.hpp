@@ -1,6 +1,14 @@
 #pragma once
 /// \file
-/// Spherical octrees of objects (paper section 3), built from a signed distance Shape.
+/// Spherical octrees of objects (paper section 3), built from a signed distance field: a
+/// Shape (shape.hpp), a mesh's field (mesh_shape.hpp), or any type with
+///   Scalar distance(const Vector3<Scalar>& p, Vector3<Scalar>& outward_normal) const;
+///   bool bounding_box(Vector3<Scalar>& lo, Vector3<Scalar>& hi) const;
+/// whose distance is exact outside and never larger than the true depth inside.
+///
+/// The octree is the broad phase of collision detection (collision.hpp): its leaves cover the
+/// shape, so a sphere that touches the shape overlaps a solid leaf. Its per-leaf surface model
+/// (below) is what the paper mode of collision.hpp measures depths with.
 ///
 /// The root is the cube around the shape's bounding box; a cell of half edge h is bounded by
 /// the sphere of radius sqrt(3) h around its centre c. With phi the shape's SDF:
@@ -69,13 +77,14 @@ class SphericalOctree {
   static constexpr int capacity = Capacity;  ///< Most cells held.
   using Tree = SphereTree<Scalar, Capacity, 8>;  ///< The cells: a sphere tree of branching 8.
 
-  /// Builds the octree of `shape` down to `max_depth` (0 .. max_octree_depth; 0 gives the
-  /// root cell alone). Statuses: InvalidInput if the shape is empty or holds bad numbers,
-  /// max_depth is out of range, or the cells do not fit in Capacity (then the tree is left
-  /// empty: raise Capacity or lower max_depth; required_capacity() tells how many).
+  /// Builds the octree of the distance field `shape` (a Shape, a MeshShape, ...: see the file
+  /// comment) down to `max_depth` (0 .. max_octree_depth; 0 gives the root cell alone).
+  /// Statuses: InvalidInput if the shape is empty, holds bad numbers or gives a non-finite
+  /// distance, max_depth is out of range, or the cells do not fit in Capacity (then the tree
+  /// is left empty: raise Capacity or lower max_depth; required_capacity() tells how many).
   /// Children are visited in octant order o = 0..7: bit 0 set = +x half, bit 1 = +y, bit 2 = +z.
-  template <int MaxPrimitives>
-  Status build(const Shape<Scalar, MaxPrimitives>& shape, int max_depth) {
+  template <class Field>
+  Status build(const Field& shape, int max_depth) {
     tree_.clear();
     depth_ = 0;
     needed_ = 0;
@@ -90,6 +99,7 @@ class SphericalOctree {
     for (int l = 1; l <= max_octree_depth; ++l) half_edge_[static_cast<std::size_t>(l)] = half_edge_[static_cast<std::size_t>(l - 1)] / Scalar(2);
     Vector3<Scalar> n;
     const Scalar phi0 = shape.distance(c0, n);
+    if (!std::isfinite(phi0) || !n.allFinite()) return Status::InvalidInput;
     tree_.add_root(c0, sqrt3 * half_edge_[0]);
     planes_[0] = SurfacePlane<Scalar>{phi0, n};
     kind_[0] = phi0 < -sqrt3 * half_edge_[0] ? CellKind::Interior : CellKind::Boundary;
@@ -107,6 +117,11 @@ class SphericalOctree {
         const Vector3<Scalar> c = parent_center + Vector3<Scalar>((o & 1) ? hc : -hc, (o & 2) ? hc : -hc,
                                                                   (o & 4) ? hc : -hc);
         const Scalar d = shape.distance(c, n);
+        if (!std::isfinite(d) || !n.allFinite()) {
+          tree_.clear();
+          depth_ = 0;
+          return Status::InvalidInput;
+        }
         if (d > rc) continue;
         ++needed_;
         if (overflow) continue;

@@ -1,0 +1,222 @@
+#pragma once
+/// \file
+/// The exact narrow phase of collision.hpp, for one phalanx in the object's frame: signed
+/// distances of its samples from the object's own distance field, refinement along the axis
+/// towards the capsule's deepest point, and the clustering of what penetrates into at most K
+/// contacts.
+///
+/// Refinement. phi(t) = field distance at a + t (b - a). A sample j that is a local minimum
+/// of the sampled phi (and within half a spacing of touching, see collision.hpp) starts a
+/// bisection on the sign of phi'(t) = n(x(t)) . (b - a) over the half-interval towards
+/// which phi decreases, [t_{j-1}, t_j] or [t_j, t_{j+1}]; the deepest point evaluated is kept.
+/// For a convex field phi(t) is convex, so the minimiser of phi over [0, 1] lies within one
+/// spacing of the best sample and the bisection converges to it: the phalanx's depth is its
+/// capsule's, r - min_t phi(t), to the bisection's tolerance.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <type_traits>
+#include <utility>
+
+#include "grip/core/types.hpp"
+#include "grip/geometry/hand_contact.hpp"
+
+namespace grip {
+namespace detail {
+
+/// Fields made of parts (a Shape's primitives) give each sample one candidate per part with
+/// PerPhalanx > 1, so that a phalanx lying in a groove between two parts touches both walls.
+/// A field opts in with `static constexpr int max_parts`, `int part_count() const` and
+/// `Scalar part_distance(int, const Vector3&, Vector3&) const`.
+template <class Field, class = void>
+struct field_parts {
+  static constexpr int max = 1;
+};
+template <class Field>
+struct field_parts<Field, std::void_t<decltype(Field::max_parts), decltype(std::declval<const Field&>().part_count())>> {
+  static constexpr int max = Field::max_parts;
+};
+
+/// A phalanx's axis in the object frame: points a + t (b - a), t in [0, 1], and its radius.
+template <class Scalar>
+struct PhalanxAxis {
+  Vector3<Scalar> a{Vector3<Scalar>::Zero()};  ///< base
+  Vector3<Scalar> b{Vector3<Scalar>::Zero()};  ///< tip
+  Scalar radius{0};                            ///< capsule radius
+
+  Vector3<Scalar> at(Scalar t) const { return a + t * (b - a); }
+};
+
+/// The exact distances of a phalanx's samples (object frame), and which ones the broad
+/// phase put in reach (those not in reach are farther than the margin: never evaluated).
+template <class Scalar, int Samples>
+struct SampleField {
+  std::array<Scalar, Samples> phi{};
+  std::array<Vector3<Scalar>, Samples> normal{};
+  std::array<bool, Samples> reach{};
+};
+
+/// A place where the phalanx penetrates: a sample, or the deepest point a refinement found.
+template <class Scalar>
+struct Penetration {
+  Scalar depth{0};                                  // r - phi
+  Scalar t{0};                                      // axis parameter
+  Scalar phi{0};                                    // signed distance of the axis point
+  Vector3<Scalar> normal{Vector3<Scalar>::UnitZ()};  // outward
+  int sample{0};                                    // the sample it comes from
+  bool is_sample{false};                            // a sample itself (counted in HandContact::samples)
+};
+
+/// Evaluates the field at the samples in reach.
+template <class Scalar, int Samples, class Field>
+void evaluate_samples(const Field& field, const PhalanxAxis<Scalar>& ax, SampleField<Scalar, Samples>& s) {
+  for (int j = 0; j < Samples; ++j) {
+    const auto sj = static_cast<std::size_t>(j);
+    if (s.reach[sj]) s.phi[sj] = field.distance(ax.at(Scalar(j) / Scalar(Samples - 1)), s.normal[sj]);
+  }
+}
+
+/// The deepest point of the axis near sample j (see the file comment): bisection on the sign
+/// of phi' over the half-interval where phi decreases, `iterations` evaluations.
+template <class Scalar, int Samples, class Field>
+Penetration<Scalar> refine(const Field& field, const PhalanxAxis<Scalar>& ax, const SampleField<Scalar, Samples>& s,
+                           int j, int iterations) {
+  const auto sj = static_cast<std::size_t>(j);
+  const Scalar h = Scalar(1) / Scalar(Samples - 1);
+  Penetration<Scalar> best;
+  best.t = Scalar(j) * h;
+  best.phi = s.phi[sj];
+  best.normal = s.normal[sj];
+  best.sample = j;
+  const Vector3<Scalar> d = ax.b - ax.a;
+  const Scalar slope = s.normal[sj].dot(d);
+  Scalar lo = best.t, hi = best.t;
+  if (slope > Scalar(0) && j > 0) lo = best.t - h;
+  else if (slope < Scalar(0) && j < Samples - 1) hi = best.t + h;
+  if (!(d.squaredNorm() > Scalar(0))) iterations = 0;
+  for (int it = 0; it < iterations && lo < hi; ++it) {
+    const Scalar m = Scalar(0.5) * (lo + hi);
+    Vector3<Scalar> n;
+    const Scalar phi = field.distance(ax.at(m), n);
+    if (phi < best.phi) {
+      best.phi = phi;
+      best.t = m;
+      best.normal = n;
+    }
+    if (n.dot(d) > Scalar(0)) hi = m;
+    else lo = m;
+  }
+  best.depth = ax.radius - best.phi;
+  return best;
+}
+
+/// Sample j's penetration.
+template <class Scalar>
+Penetration<Scalar> sample_penetration(const PhalanxAxis<Scalar>& ax, int j, int samples, Scalar phi,
+                                       const Vector3<Scalar>& normal) {
+  Penetration<Scalar> p;
+  p.depth = ax.radius - phi;
+  p.t = Scalar(j) / Scalar(samples - 1);
+  p.phi = phi;
+  p.normal = normal;
+  p.sample = j;
+  p.is_sample = true;
+  return p;
+}
+
+/// Sample j's penetrations of each part whose nearest point lies on the field's surface (not
+/// buried in another part), appended to cand from index nc; returns the new count.
+template <int Parts, int Samples, class Scalar, class Field, std::size_t N>
+int part_candidates(const Field& field, const PhalanxAxis<Scalar>& ax, int j, std::array<Penetration<Scalar>, N>& cand,
+                    int nc) {
+  constexpr int samples = Samples;
+  const Vector3<Scalar> x = ax.at(Scalar(j) / Scalar(samples - 1));
+  const int count = std::min(field.part_count(), Parts);
+  const Scalar slack = Scalar(64) * std::numeric_limits<Scalar>::epsilon() * (x.norm() + ax.radius);
+  for (int i = 0; i < count; ++i) {
+    Vector3<Scalar> n;
+    const Scalar phi = field.part_distance(i, x, n);
+    if (!(phi < ax.radius)) continue;
+    const Vector3<Scalar> q = x - phi * n;
+    bool buried = false;
+    for (int o = 0; o < count && !buried; ++o) {
+      Vector3<Scalar> no;
+      buried = o != i && field.part_distance(o, q, no) < -slack;
+    }
+    if (!buried) cand[static_cast<std::size_t>(nc++)] = sample_penetration(ax, j, samples, phi, n);
+  }
+  return nc;
+}
+
+/// The contacts of one phalanx (object frame), at most K, deepest first; returns their
+/// number. Candidates: every refined local minimum of the sampled distance within `band` of
+/// the axis (band = r + half a spacing when refining, r otherwise) that penetrates, and every
+/// penetrating sample. They are taken deepest first: one within `cluster_angle` of a
+/// contact's normal joins it (the nearest such), another starts a new contact while fewer
+/// than K exist, else joins the contact of the nearest normal.
+template <int K, class Scalar, int Samples, class Field>
+int phalanx_contacts(const Field& field, const PhalanxAxis<Scalar>& ax, const SampleField<Scalar, Samples>& s,
+                     const ContactSettings<Scalar>& settings, std::array<Penetration<Scalar>, K>& out,
+                     std::array<int, K>& members) {
+  constexpr int parts = K > 1 ? field_parts<Field>::max : 1;
+  std::array<Penetration<Scalar>, (1 + parts) * Samples> cand;
+  int nc = 0;
+  const bool refining = settings.refine_iterations > 0 && (ax.b - ax.a).squaredNorm() > Scalar(0);
+  const Scalar band = ax.radius + (refining ? Scalar(0.5) * (ax.b - ax.a).norm() / Scalar(Samples - 1) : Scalar(0));
+  for (int j = 0; j < Samples; ++j) {
+    const auto sj = static_cast<std::size_t>(j);
+    if (!s.reach[sj]) continue;
+    const Scalar phi = s.phi[sj];
+    // A local minimum of the sampled distance: the first of a run of equal values.
+    const bool left = j == 0 || !s.reach[sj - 1] || phi < s.phi[sj - 1];
+    const bool right = j == Samples - 1 || !s.reach[sj + 1] || phi <= s.phi[sj + 1];
+    if (left && right && phi < band) {
+      const Penetration<Scalar> p = refine(field, ax, s, j, refining ? settings.refine_iterations : 0);
+      if (p.depth > Scalar(0)) cand[static_cast<std::size_t>(nc++)] = p;
+    }
+    if constexpr (parts > 1) {
+      nc = part_candidates<parts, Samples>(field, ax, j, cand, nc);
+    } else {
+      if (phi < ax.radius) cand[static_cast<std::size_t>(nc++)] = sample_penetration(ax, j, Samples, phi, s.normal[sj]);
+    }
+  }
+  // Deepest first (insertion sort: at most 2 Samples candidates); a refined point before the
+  // sample it was refined from when both are equally deep.
+  for (int i = 1; i < nc; ++i) {
+    const Penetration<Scalar> p = cand[static_cast<std::size_t>(i)];
+    int k = i;
+    for (; k > 0; --k) {
+      const Penetration<Scalar>& q = cand[static_cast<std::size_t>(k - 1)];
+      if (q.depth > p.depth || (q.depth == p.depth && (!q.is_sample || p.is_sample))) break;
+      cand[static_cast<std::size_t>(k)] = q;
+    }
+    cand[static_cast<std::size_t>(k)] = p;
+  }
+  const Scalar cos_join = std::cos(settings.cluster_angle);
+  int count = 0;
+  for (int i = 0; i < nc; ++i) {
+    const Penetration<Scalar>& p = cand[static_cast<std::size_t>(i)];
+    int nearest = -1;
+    Scalar best = Scalar(-2);
+    for (int c = 0; c < count; ++c) {
+      const Scalar dot = p.normal.dot(out[static_cast<std::size_t>(c)].normal);
+      if (dot > best) {
+        best = dot;
+        nearest = c;
+      }
+    }
+    if (nearest < 0 || (best < cos_join && count < K)) {
+      out[static_cast<std::size_t>(count)] = p;
+      members[static_cast<std::size_t>(count)] = p.is_sample ? 1 : 0;
+      ++count;
+    } else if (p.is_sample) {
+      ++members[static_cast<std::size_t>(nearest)];
+    }
+  }
+  return count;
+}
+
+}  // namespace detail
+}  // namespace grip

@@ -1,0 +1,97 @@
+#pragma once
+/// \file
+/// What collision detection (collision.hpp) reports: the contacts of the hand's phalanges
+/// with an object, the settings of the exact narrow phase, and the per-sample view a user
+/// inspects to diagnose a contact.
+
+#include <array>
+#include <cstdint>
+
+#include "grip/core/types.hpp"
+#include "grip/hand/hand_model.hpp"
+#include "grip/hand/squeeze.hpp"
+
+namespace grip {
+
+/// One contact of a phalanx with an object, in the world frame.
+///
+/// Invariants: `normal` is unit; depth > 0; point = x + (radius - depth) normal, where x =
+/// base + axis_parameter (tip - base) is the axis point the depth is measured at and
+/// radius - depth its signed distance (negative inside the object): the point is the surface
+/// point nearest x. (For a union whose primitives overlap, inside two of them: the nearest
+/// point of the primitive x is deepest in, which may lie inside another; see shape.hpp.)
+template <class Scalar>
+struct HandContact {
+  Finger finger{Finger::Thumb};                     ///< Which digit.
+  Phalanx phalanx{Phalanx::Proximal};               ///< Which phalanx.
+  Vector3<Scalar> point{Vector3<Scalar>::Zero()};   ///< Contact point on the object's surface (m), world.
+  Vector3<Scalar> normal{Vector3<Scalar>::UnitZ()}; ///< Unit normal INTO the object (the push direction), world.
+  Scalar depth{0};                                  ///< Interpenetration dr_i (m), > 0.
+  int samples{0};    ///< How many of the phalanx's sample spheres penetrate and belong to this contact.
+  int sample{0};     ///< The sample the contact was found from (0 at the base .. Samples - 1 at the tip).
+  Scalar axis_parameter{0};  ///< Where on the phalanx axis the contact's depth is measured, 0 base .. 1 tip.
+};
+
+/// The contacts of one frame: at most `PerPhalanx` per phalanx, in phalanx order (order of
+/// hand_model.hpp), a phalanx's contacts by decreasing depth.
+template <class Scalar, int PerPhalanx = 1>
+struct HandContacts {
+  static_assert(PerPhalanx >= 1 && PerPhalanx <= 8, "1 to 8 contacts per phalanx");
+  static constexpr int per_phalanx = PerPhalanx;                      ///< Most contacts of one phalanx.
+  static constexpr int capacity = hand_phalanx_count * PerPhalanx;    ///< Most contacts of a frame.
+  std::array<HandContact<Scalar>, static_cast<std::size_t>(capacity)> items{};  ///< items[0 .. count).
+  int count{0};                                                       ///< Number of contacts.
+
+  /// Contact i, 0 <= i < count.
+  const HandContact<Scalar>& operator[](int i) const { return items[static_cast<std::size_t>(i)]; }
+  /// The deepest contact of a finger's phalanx, or nullptr if it has none.
+  const HandContact<Scalar>* find(Finger f, Phalanx p) const {
+    for (int i = 0; i < count; ++i)
+      if (items[static_cast<std::size_t>(i)].finger == f && items[static_cast<std::size_t>(i)].phalanx == p)
+        return &items[static_cast<std::size_t>(i)];
+    return nullptr;
+  }
+  /// Number of contacts of a finger's phalanx.
+  int count_of(Finger f, Phalanx p) const {
+    int n = 0;
+    for (int i = 0; i < count; ++i)
+      n += items[static_cast<std::size_t>(i)].finger == f && items[static_cast<std::size_t>(i)].phalanx == p ? 1 : 0;
+    return n;
+  }
+};
+
+/// The phalanx mask of detect_contacts() selecting all 14 phalanges (bit k = phalanx k).
+constexpr std::uint32_t all_phalanges = (1u << hand_phalanx_count) - 1u;
+
+/// Settings of the exact narrow phase (collision.hpp).
+template <class Scalar>
+struct ContactSettings {
+  /// Bisection steps along a phalanx's axis from its locally deepest sample towards the
+  /// deepest point of its capsule (each one distance evaluation; each halves the interval,
+  /// which starts at one sample spacing). 0 measures depths at the samples only. 16 places
+  /// the point within spacing / 65536 (0.1 um for a 6 mm spacing).
+  int refine_iterations{16};
+  /// Contacts of one phalanx (with PerPhalanx > 1): a penetrating sample whose outward
+  /// normal is within this angle (rad) of a contact's joins it; one farther from every
+  /// contact starts a new contact while there is room. Default 40 degrees: the two walls of
+  /// a right-angled groove give two contacts, a phalanx pressed deep onto a box edge up to
+  /// three (each face, and the edge 45 degrees from both), a smooth curved surface one.
+  Scalar cluster_angle{Scalar(0.6981317007977318)};
+};
+
+/// What collision detection saw of one phalanx's samples (query_samples in collision.hpp):
+/// for diagnosis, e.g. why a phalanx has or has not a contact.
+template <class Scalar, int Samples>
+struct PhalanxSamples {
+  std::array<Vector3<Scalar>, Samples> center{};  ///< Sample centres (m), world.
+  /// Exact signed distance (m) of each sample centre from the object's surface, negative
+  /// inside: the sample sphere penetrates by radius - distance when that is > 0.
+  std::array<Scalar, Samples> distance{};
+  std::array<Vector3<Scalar>, Samples> normal{};  ///< Unit OUTWARD normal of the nearest surface, world.
+  /// True where the broad phase (the octree) found the sample (its sphere inflated by half a
+  /// spacing) within reach of a solid leaf: the only samples the narrow phase evaluates.
+  std::array<bool, Samples> in_reach{};
+  Scalar radius{0};  ///< The phalanx's (and each sample's) radius (m).
+};
+
+}  // namespace grip

@@ -1,0 +1,540 @@
+// The exact narrow phase of collision.hpp against independent exact geometry
+// (support/exact_geometry.hpp): random phalanx poses aimed at the faces, edges, rims, corners
+// and interiors of a sphere, a box, a cylinder, a capsule and a union, each contact's depth,
+// point and normal within the bound stated in collision.hpp; no contact where the capsule is
+// apart by more than the bound, none missed where it penetrates by more.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <random>
+
+#include <Eigen/Geometry>
+
+#include <grip/geometry/collision.hpp>
+#include <grip/geometry/shape.hpp>
+
+#include "support/allocation_counter.hpp"
+#include "support/constants.hpp"
+#include "support/exact_geometry.hpp"
+
+using namespace grip;
+using grip_test::uniform;
+using grip_test::V3;
+
+namespace {
+
+template <class S>
+using Iso = Eigen::Transform<S, 3, Eigen::Isometry>;
+constexpr int cap = 32768;
+template <class S>
+SphericalOctree<S, cap>& octree() {
+  static SphericalOctree<S, cap> t;
+  return t;
+}
+
+// A posture whose phalanges are all 10 m away except phalanx k = [a, b] of radius r.
+template <class S>
+HandPosture<S> single(int k, const Vector3<S>& a, const Vector3<S>& b, S r) {
+  HandPosture<S> h;
+  for (int i = 0; i < hand_phalanx_count; ++i) {
+    h.phalanges[static_cast<std::size_t>(i)].base = Vector3<S>(S(10), S(0), S(i));
+    h.phalanges[static_cast<std::size_t>(i)].tip = Vector3<S>(S(10.01), S(0), S(i));
+    h.phalanges[static_cast<std::size_t>(i)].radius = S(0.008);
+  }
+  h.phalanges[static_cast<std::size_t>(k)].base = a;
+  h.phalanges[static_cast<std::size_t>(k)].tip = b;
+  h.phalanges[static_cast<std::size_t>(k)].radius = r;
+  return h;
+}
+
+// The bound of collision.hpp for a convex field: the bisection's interval, spacing 2^-16
+// (the depth's slope along the axis is at most 1), plus rounding: 64 ulps of the largest
+// coordinate (0.5 m here) for the transforms, norms and square roots on the way.
+template <class S>
+double bound(double spacing) {
+  return spacing / 65536.0 + 64 * double(std::numeric_limits<S>::epsilon()) * 0.5;
+}
+
+struct Tally {
+  int contacts = 0, apart = 0, deep = 0, near = 0;
+};
+
+// Checks the contacts of one phalanx [a, b] (object frame) of radius r against the exact
+// field `exact` (object frame). convex: the capsule's exact deepest point is promised; else
+// the any-field bounds. `off_surface(p)`: how far p is from a surface the contact point may
+// lie on (the object's; for a union, any primitive's: collision.hpp).
+template <class S, class Field, class Exact, class OffSurface>
+void check_phalanx(const Field& field, const Exact& exact, const OffSurface& off_surface, const Iso<S>& pose,
+                   const V3& a, const V3& b, double r, bool convex, Tally& tally) {
+  const Iso<double> pose_d = pose.template cast<double>();
+  HandCollisionModel<S> hand;
+  REQUIRE(hand.set_posture(single<S>(5, (pose_d * a).cast<S>(), (pose_d * b).cast<S>(), S(r))) == Status::Ok);
+  HandContacts<S> out;
+  REQUIRE(detect_contacts(hand, octree<S>(), field, pose, out) == Status::Ok);
+  const double spacing = (b - a).norm() / 7;
+  const double tol = bound<S>(spacing);
+  double t_star = 0;
+  const double gap = grip_test::segment_minimum(exact, a, b, &t_star);
+  const double depth_true = r - gap;
+  double deepest_sample = -1;
+  for (int j = 0; j < 8; ++j) deepest_sample = std::max(deepest_sample, r - exact(a + (j / 7.0) * (b - a)));
+  if (depth_true < -tol) {
+    CHECK(out.count == 0);
+    ++tally.apart;
+    return;
+  }
+  const double lower = convex ? depth_true - tol : std::max(deepest_sample, depth_true - spacing / 2) - tol;
+  if (lower <= 0) {
+    ++tally.near;
+    if (out.count == 0) return;
+  }
+  REQUIRE(out.count == 1);
+  ++tally.contacts;
+  if (gap < -r) ++tally.deep;
+  const HandContact<S>& c = out[0];
+  CHECK(c.finger == Finger::Long);
+  CHECK(c.phalanx == Phalanx::Proximal);
+  const double depth = double(c.depth);
+  CHECK(depth <= depth_true + tol);  // a true penetration of the capsule
+  CHECK(depth >= lower);
+  // The contact's axis point x, its distance r - depth, and the surface point nearest it.
+  const V3 x = a + double(c.axis_parameter) * (b - a);
+  const double phi = exact(x);
+  CHECK(std::abs((r - depth) - phi) <= tol);
+  const V3 point = pose_d.inverse() * c.point.template cast<double>();
+  const V3 normal = pose_d.linear().transpose() * c.normal.template cast<double>();
+  CHECK(off_surface(point) <= tol);
+  CHECK(std::abs((point - x).norm() - std::abs(phi)) <= tol);
+  CHECK(std::abs(normal.norm() - 1) <= tol);
+  if (std::abs(phi) > 1e-3) {  // the normal points from the axis point to the surface point (outside)
+    const V3 expected = (phi > 0 ? point - x : x - point) / std::abs(phi);
+    CHECK((normal - expected).norm() <= tol / 1e-3);
+  }
+}
+
+// A phalanx pose aimed at surface point f (outward normal nf): its axis passes r + g from f
+// along nf, in a random direction, a random part of its length on either side; g mostly
+// within a few millimetres of touching, sometimes deep, sometimes within 0.5 mm.
+void aim(std::mt19937& rng, const V3& f, const V3& nf, double r, V3& a, V3& b) {
+  const double kind = grip_test::u01(rng);
+  const double g = kind < 0.7 ? uniform(rng, -0.005, 0.003) : kind < 0.85 ? uniform(rng, -0.025, -0.005)
+                                                                           : uniform(rng, -0.0005, 0.0005);
+  const V3 x0 = f + (r + g) * nf;
+  const V3 u = grip_test::unit_vector(rng);
+  const double L = uniform(rng, 0.012, 0.045), lambda = grip_test::u01(rng);
+  a = x0 - lambda * L * u;
+  b = a + L * u;
+}
+
+template <class S>
+Iso<S> random_pose(std::mt19937& rng) {
+  Iso<S> pose = Iso<S>::Identity();
+  pose.linear() = grip_test::rotation(rng).cast<S>();
+  pose.translation() = Vector3<S>(S(uniform(rng, -0.2, 0.2)), S(uniform(rng, -0.2, 0.2)), S(uniform(rng, -0.2, 0.2)));
+  return pose;
+}
+
+// The distance from the surface of a solid given by its exact signed distance.
+template <class Exact>
+auto surface_of(const Exact& exact) {
+  return [&exact](const V3& p) { return std::abs(exact(p)); };
+}
+
+double sign(std::mt19937& rng) { return grip_test::u01(rng) < 0.5 ? -1.0 : 1.0; }
+
+}  // namespace
+
+TEST_CASE_TEMPLATE("box: faces, edges, corners and deep axes, the capsule's exact deepest point", S, double, float) {
+  const V3 h(0.05, 0.04, 0.03), c(0.01, -0.02, 0.005);
+  std::mt19937 rng(11);
+  const Eigen::Matrix3d R = grip_test::rotation(rng);
+  const grip_test::ExactBox exact{c, h, R};
+  const Shape<S> shape(make_box<S>(h.cast<S>(), c.cast<S>(), R.cast<S>()));
+  REQUIRE(octree<S>().build(shape, 4) == Status::Ok);
+  Tally tally;
+  int edges = 0, corners = 0;
+  for (int trial = 0; trial < 240; ++trial) {
+    V3 q, n;  // local feature point and outward normal
+    const int kind = trial % 3;
+    if (kind == 0) {  // a face
+      const int w = int(grip_test::u01(rng) * 3) % 3;
+      for (int i = 0; i < 3; ++i) q(i) = uniform(rng, -h(i), h(i));
+      n = V3::Zero();
+      n(w) = sign(rng);
+      q(w) = n(w) * h(w);
+    } else if (kind == 1) {  // an edge: normals between its two faces
+      const int w = int(grip_test::u01(rng) * 3) % 3, u = (w + 1) % 3, v = (w + 2) % 3;
+      const double su = sign(rng), sv = sign(rng), th = uniform(rng, 0, 1.5707963);
+      q(w) = uniform(rng, -h(w), h(w));
+      q(u) = su * h(u);
+      q(v) = sv * h(v);
+      n = V3::Zero();
+      n(u) = su * std::cos(th);
+      n(v) = sv * std::sin(th);
+      ++edges;
+    } else {  // a corner: normals in its cone
+      for (int i = 0; i < 3; ++i) {
+        const double s = sign(rng);
+        q(i) = s * h(i);
+        n(i) = s * uniform(rng, 0.05, 1);
+      }
+      n.normalize();
+      ++corners;
+    }
+    V3 a, b;
+    const double r = uniform(rng, 0.006, 0.01);
+    aim(rng, c + R * q, R * n, r, a, b);
+    check_phalanx<S>(shape, exact, surface_of(exact), random_pose<S>(rng), a, b, r, true, tally);
+  }
+  CHECK(tally.contacts > 120);
+  CHECK(tally.apart > 20);
+  CHECK(tally.deep > 5);
+  CHECK(edges == 80);
+  CHECK(corners == 80);
+}
+
+TEST_CASE_TEMPLATE("cylinder: side, caps and rims; the rim case a user hit gets no contact", S, double, float) {
+  const double radius = 0.035, half = 0.07;
+  std::mt19937 rng(12);
+  const Eigen::Matrix3d R = grip_test::rotation(rng);
+  const V3 c(0.002, 0.001, -0.003);
+  const grip_test::ExactCylinder exact{c, R, radius, half};
+  const Shape<S> shape(make_cylinder<S>(S(radius), S(half), c.cast<S>(), R.cast<S>()));
+  REQUIRE(octree<S>().build(shape, 5) == Status::Ok);
+  Tally tally;
+  for (int trial = 0; trial < 240; ++trial) {
+    const double phi = uniform(rng, 0, 2 * grip_test::pi), s = sign(rng);
+    const V3 radial(std::cos(phi), std::sin(phi), 0);
+    V3 q, n;
+    if (trial % 3 == 0) {  // the side
+      q = radius * radial + V3(0, 0, uniform(rng, -half, half));
+      n = radial;
+    } else if (trial % 3 == 1) {  // a cap
+      q = uniform(rng, 0, radius) * radial + V3(0, 0, s * half);
+      n = V3(0, 0, s);
+    } else {  // a rim: normals between the side's and the cap's
+      const double th = uniform(rng, 0, 1.5707963);
+      q = radius * radial + V3(0, 0, s * half);
+      n = std::cos(th) * radial + V3(0, 0, s * std::sin(th));
+    }
+    V3 a, b;
+    const double r = uniform(rng, 0.006, 0.01);
+    aim(rng, c + R * q, R * n, r, a, b);
+    check_phalanx<S>(shape, exact, surface_of(exact), random_pose<S>(rng), a, b, r, true, tally);
+  }
+  CHECK(tally.contacts > 120);
+  CHECK(tally.apart > 20);
+  CHECK(tally.deep > 5);
+
+  // The minimal case: a phalanx (r = 8 mm) 0.5 to 1 mm above the cap, lying across the rim.
+  // The paper mode reported a contact 8.77 mm deep with a horizontal normal; there is none.
+  const Shape<S> upright(make_cylinder<S>(S(radius), S(half)));
+  REQUIRE(octree<S>().build(upright, 5) == Status::Ok);
+  for (double lift = 0.0005; lift <= 0.001; lift += 0.0001) {
+    const V3 a(radius - 0.02, 0.003, half + 0.008 + lift), b(radius + 0.02, 0.003, half + 0.008 + lift);
+    const grip_test::ExactCylinder up{V3::Zero(), Eigen::Matrix3d::Identity(), radius, half};
+    check_phalanx<S>(upright, up, surface_of(up), Iso<S>::Identity(), a, b, 0.008, true, tally);
+    HandCollisionModel<S> hand;
+    REQUIRE(hand.set_posture(single<S>(5, a.cast<S>(), b.cast<S>(), S(0.008))) == Status::Ok);
+    HandContacts<S> out;
+    REQUIRE(detect_contacts(hand, octree<S>(), upright, Iso<S>::Identity(), out) == Status::Ok);
+    CHECK(out.count == 0);
+  }
+}
+
+TEST_CASE_TEMPLATE("sphere and capsule: curved surfaces and deep axes, exact", S, double, float) {
+  std::mt19937 rng(13);
+  Tally tally;
+  const V3 c(0.004, -0.002, 0.001);
+  const grip_test::ExactSphere ball{c, 0.04};
+  const Shape<S> sphere(make_sphere<S>(S(0.04), c.cast<S>()));
+  REQUIRE(octree<S>().build(sphere, 5) == Status::Ok);
+  for (int trial = 0; trial < 120; ++trial) {
+    const V3 u = grip_test::unit_vector(rng);
+    V3 a, b;
+    const double r = uniform(rng, 0.006, 0.01);
+    aim(rng, c + 0.04 * u, u, r, a, b);
+    check_phalanx<S>(sphere, ball, surface_of(ball), random_pose<S>(rng), a, b, r, true, tally);
+  }
+  const Eigen::Matrix3d R = grip_test::rotation(rng);
+  const grip_test::ExactCapsule pill{c, R, 0.02, 0.03};
+  const Shape<S> capsule(make_capsule<S>(S(0.02), S(0.03), c.cast<S>(), R.cast<S>()));
+  REQUIRE(octree<S>().build(capsule, 5) == Status::Ok);
+  for (int trial = 0; trial < 120; ++trial) {
+    const V3 u = grip_test::unit_vector(rng);
+    const V3 axis_point = c + R * V3(0, 0, uniform(rng, -0.04, 0.04));
+    const V3 q = c + R * V3(0, 0, std::clamp((R.transpose() * (axis_point - c)).z(), -0.03, 0.03));
+    V3 a, b;
+    const double r = uniform(rng, 0.006, 0.01);
+    aim(rng, q + 0.02 * u, u, r, a, b);
+    check_phalanx<S>(capsule, pill, surface_of(pill), random_pose<S>(rng), a, b, r, true, tally);
+  }
+  CHECK(tally.contacts > 100);
+  CHECK(tally.apart > 10);
+  CHECK(tally.deep > 5);
+}
+
+TEST_CASE_TEMPLATE("a union (not convex): true penetrations, at least the deepest sample's", S, double, float) {
+  // A box with a ball on one corner: grooves where the two meet. The union's field is the
+  // minimum of the two (its own bound inside); the any-field bounds of collision.hpp hold.
+  std::mt19937 rng(14);
+  const grip_test::ExactBox box{V3::Zero(), V3(0.04, 0.03, 0.02), Eigen::Matrix3d::Identity()};
+  const grip_test::ExactSphere ball{V3(0.04, 0.03, 0.02), 0.025};
+  const auto exact = [&](const V3& p) { return std::min(box(p), ball(p)); };
+  Shape<S, 2> shape;
+  REQUIRE(shape.add(make_box<S>(Vector3<S>(S(0.04), S(0.03), S(0.02)))) == Status::Ok);
+  REQUIRE(shape.add(make_sphere<S>(S(0.025), Vector3<S>(S(0.04), S(0.03), S(0.02)))) == Status::Ok);
+  REQUIRE(octree<S>().build(shape, 5) == Status::Ok);
+  Tally tally;
+  for (int trial = 0; trial < 200; ++trial) {
+    // Aim at the seam: a point on the ball's surface near where it leaves the box.
+    const V3 u = grip_test::unit_vector(rng);
+    const V3 f = ball.c + ball.radius * u;
+    V3 a, b;
+    const double r = uniform(rng, 0.006, 0.01);
+    aim(rng, f, u, r, a, b);
+    const auto off = [&](const V3& p) { return std::min(std::abs(box(p)), std::abs(ball(p))); };
+    check_phalanx<S>(shape, exact, off, random_pose<S>(rng), a, b, r, false, tally);
+  }
+  CHECK(tally.contacts > 100);
+  CHECK(tally.apart > 10);
+}
+
+TEST_CASE_TEMPLATE("without refinement, depths are the deepest sample's, exactly", S, double, float) {
+  std::mt19937 rng(15);
+  const V3 h(0.05, 0.04, 0.03);
+  const grip_test::ExactBox exact{V3::Zero(), h, Eigen::Matrix3d::Identity()};
+  const Shape<S> shape(make_box<S>(h.cast<S>()));
+  REQUIRE(octree<S>().build(shape, 4) == Status::Ok);
+  ContactSettings<S> samples_only;
+  samples_only.refine_iterations = 0;
+  int touching = 0;
+  for (int trial = 0; trial < 100; ++trial) {
+    V3 q(sign(rng) * h.x(), sign(rng) * h.y(), uniform(rng, -h.z(), h.z()));
+    const V3 n = V3(q.x(), q.y(), 0).normalized();
+    V3 a, b;
+    aim(rng, q, n, 0.008, a, b);
+    HandCollisionModel<S> hand;
+    REQUIRE(hand.set_posture(single<S>(2, a.cast<S>(), b.cast<S>(), S(0.008))) == Status::Ok);
+    HandContacts<S> out;
+    REQUIRE(detect_contacts(hand, octree<S>(), shape, Iso<S>::Identity(), out, samples_only) == Status::Ok);
+    double deepest = -1;
+    int j_deepest = -1, penetrating = 0;
+    for (int j = 0; j < 8; ++j) {
+      const double p = 0.008 - exact(a + (j / 7.0) * (b - a));
+      penetrating += p > 0 ? 1 : 0;
+      if (p > deepest) {
+        deepest = p;
+        j_deepest = j;
+      }
+    }
+    if (std::abs(deepest) < bound<S>(0)) continue;  // touching within rounding: either answer
+    REQUIRE(out.count == (deepest > 0 ? 1 : 0));
+    if (out.count == 0) continue;
+    ++touching;
+    CHECK(std::abs(double(out[0].depth) - deepest) <= bound<S>(0));
+    CHECK(out[0].sample == j_deepest);
+    CHECK(out[0].samples == penetrating);
+    CHECK(std::abs(double(out[0].axis_parameter) - j_deepest / 7.0) <= 1e-6);
+  }
+  CHECK(touching > 40);
+}
+
+namespace {
+// An L-shaped union: a floor (top face z = 0) and a wall (inner face y = -0.03) meeting in a
+// right-angled groove along x.
+template <class S>
+Shape<S, 2> l_shape() {
+  Shape<S, 2> s;
+  s.add(make_box<S>(Vector3<S>(S(0.05), S(0.05), S(0.01)), Vector3<S>(S(0), S(0), S(-0.01))));
+  s.add(make_box<S>(Vector3<S>(S(0.05), S(0.01), S(0.04)), Vector3<S>(S(0), S(-0.04), S(0.03))));
+  return s;
+}
+
+// Random whole-hand postures with the fingers around the origin (the wrist 10 cm away).
+template <class S>
+HandPosture<S> random_hand(std::mt19937& rng) {
+  JointAngles<S> q;
+  for (int k = 0; k < 14; ++k) q(k) = S(uniform(rng, 0, 1.2));
+  Iso<S> wrist = Iso<S>::Identity();
+  const Eigen::Matrix3d R = grip_test::rotation(rng);
+  wrist.linear() = R.cast<S>();
+  const V3 jitter(uniform(rng, -0.03, 0.03), uniform(rng, -0.03, 0.03), uniform(rng, -0.03, 0.03));
+  wrist.translation() = (jitter - R * V3(0.1, 0, -0.03)).cast<S>();
+  HandPosture<S> h;
+  forward_kinematics(HandDimensions<S>::standard(), wrist, q, h);
+  return h;
+}
+
+template <class S, int K>
+void same_contacts(const HandContacts<S, K>& x, const HandContacts<S, K>& y) {
+  REQUIRE(x.count == y.count);
+  for (int i = 0; i < x.count; ++i) {  // the same computation on the same samples: bit for bit
+    CHECK(x[i].finger == y[i].finger);
+    CHECK(x[i].phalanx == y[i].phalanx);
+    CHECK(x[i].depth == y[i].depth);
+    CHECK(x[i].point == y[i].point);
+    CHECK(x[i].normal == y[i].normal);
+    CHECK(x[i].samples == y[i].samples);
+    CHECK(x[i].sample == y[i].sample);
+  }
+}
+
+template <class S, class Field>
+int compare_broad_phase(const Field& field, int depth, std::mt19937& rng) {
+  REQUIRE(octree<S>().build(field, depth) == Status::Ok);
+  int total = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    HandCollisionModel<S> hand;
+    REQUIRE(hand.set_posture(random_hand<S>(rng)) == Status::Ok);
+    Iso<S> pose = random_pose<S>(rng);
+    pose.translation() *= S(0.05);
+    HandContacts<S> pruned, direct;
+    REQUIRE(detect_contacts(hand, octree<S>(), field, pose, pruned) == Status::Ok);
+    REQUIRE(detect_contacts_direct(hand, field, pose, direct) == Status::Ok);
+    same_contacts(pruned, direct);
+    HandContacts<S, 3> pruned3, direct3;
+    REQUIRE(detect_contacts(hand, octree<S>(), field, pose, pruned3) == Status::Ok);
+    REQUIRE(detect_contacts_direct(hand, field, pose, direct3) == Status::Ok);
+    same_contacts(pruned3, direct3);
+    total += pruned.count;
+  }
+  return total;
+}
+}  // namespace
+
+TEST_CASE_TEMPLATE("the octree's broad phase drops nothing: the contacts of every sample evaluated", S, double,
+                   float) {
+  std::mt19937 rng(16);
+  CHECK(compare_broad_phase<S>(Shape<S>(make_box<S>(Vector3<S>(S(0.05), S(0.04), S(0.03)))), 4, rng) > 30);
+  CHECK(compare_broad_phase<S>(Shape<S>(make_cylinder<S>(S(0.035), S(0.07))), 5, rng) > 30);
+  CHECK(compare_broad_phase<S>(l_shape<S>(), 4, rng) > 30);
+}
+
+TEST_CASE_TEMPLATE("several contacts per phalanx: a groove's two walls, a box edge's faces", S, double, float) {
+  const double tol = bound<S>(0.006);
+  // A phalanx (r = 8 mm) lying along the groove, 2 mm into the floor and 1.5 mm into the wall.
+  const Shape<S, 2> groove = l_shape<S>();
+  REQUIRE(octree<S>().build(groove, 5) == Status::Ok);
+  const Vector3<S> a(S(-0.02), S(-0.03 + 0.0065), S(0.006)), b(S(0.02), S(-0.03 + 0.0065), S(0.006));
+  HandCollisionModel<S> hand;
+  REQUIRE(hand.set_posture(single<S>(8, a, b, S(0.008))) == Status::Ok);
+  HandContacts<S, 2> two;
+  REQUIRE(detect_contacts(hand, octree<S>(), groove, Iso<S>::Identity(), two) == Status::Ok);
+  REQUIRE(two.count == 2);
+  CHECK(two.count_of(Finger::Ring, Phalanx::Proximal) == 2);
+  CHECK(std::abs(double(two[0].depth) - 0.002) <= tol);  // the floor, deeper, first
+  CHECK((two[0].normal + Vector3<S>::UnitZ()).norm() <= S(tol));
+  CHECK(std::abs(double(two[1].depth) - 0.0015) <= tol);  // the wall
+  CHECK((two[1].normal + Vector3<S>::UnitY()).norm() <= S(tol));
+  CHECK(two[1].samples == 8);
+  CHECK(std::abs(double(two[1].point.y()) + 0.03) <= tol);
+  HandContacts<S> one;  // one contact per phalanx: the floor's
+  REQUIRE(detect_contacts(hand, octree<S>(), groove, Iso<S>::Identity(), one) == Status::Ok);
+  REQUIRE(one.count == 1);
+  CHECK(std::abs(double(one[0].depth) - 0.002) <= tol);
+
+  // A phalanx pressed 5 mm onto a box edge, across it: each face, and the edge between.
+  const V3 h(0.03, 0.03, 0.03);
+  const grip_test::ExactBox exact{V3::Zero(), h, Eigen::Matrix3d::Identity()};
+  const Shape<S> box(make_box<S>(h.cast<S>()));
+  REQUIRE(octree<S>().build(box, 4) == Status::Ok);
+  const V3 diag = V3(1, 0, 1).normalized(), along = V3(1, 0, -1).normalized();
+  const V3 mid = V3(0.03, 0.004, 0.03) + 0.003 * diag + 0.0011 * along;
+  const V3 ea = mid - 0.02 * along, eb = mid + 0.02 * along;
+  REQUIRE(hand.set_posture(single<S>(8, ea.cast<S>(), eb.cast<S>(), S(0.008))) == Status::Ok);
+  HandContacts<S, 3> three;
+  REQUIRE(detect_contacts(hand, octree<S>(), box, Iso<S>::Identity(), three) == Status::Ok);
+  REQUIRE(three.count == 3);
+  CHECK(std::abs(double(three[0].depth) - 0.005) <= tol);  // the capsule's deepest point, at the edge
+  CHECK((three[0].normal.template cast<double>() + diag).norm() <= 1e-3);
+  bool top = false, side = false;
+  for (int i = 1; i < 3; ++i) {
+    const V3 n = three[i].normal.template cast<double>();
+    top = top || (n + V3::UnitZ()).norm() <= tol;
+    side = side || (n + V3::UnitX()).norm() <= tol;
+    const V3 x = ea + double(three[i].axis_parameter) * (eb - ea);
+    CHECK(std::abs(0.008 - double(three[i].depth) - exact(x)) <= tol);
+    CHECK(std::abs(exact(three[i].point.template cast<double>())) <= tol);
+  }
+  CHECK(top);
+  CHECK(side);
+}
+
+TEST_CASE_TEMPLATE("query_samples: each sample's exact distance, and every one near enough in reach", S, double,
+                   float) {
+  std::mt19937 rng(17);
+  const grip_test::ExactCylinder exact{V3::Zero(), Eigen::Matrix3d::Identity(), 0.035, 0.07};
+  const Shape<S> shape(make_cylinder<S>(S(0.035), S(0.07)));
+  REQUIRE(octree<S>().build(shape, 4) == Status::Ok);
+  int near = 0, far = 0;
+  for (int trial = 0; trial < 30; ++trial) {
+    HandCollisionModel<S> hand;
+    REQUIRE(hand.set_posture(random_hand<S>(rng)) == Status::Ok);
+    for (int k = 0; k < hand_phalanx_count; ++k) {
+      PhalanxSamples<S, 8> q;
+      REQUIRE(query_samples(hand, octree<S>(), shape, Iso<S>::Identity(), k, q) == Status::Ok);
+      const PhalanxCapsule<S>& c = hand.capsule(k);
+      const double margin = 0.5 * double((c.tip - c.base).norm()) / 7;
+      for (std::size_t j = 0; j < 8; ++j) {
+        const V3 x = (c.base + (S(j) / S(7)) * (c.tip - c.base)).template cast<double>();
+        CHECK((q.center[j].template cast<double>() - x).norm() <= bound<S>(0));
+        CHECK(std::abs(double(q.distance[j]) - exact(x)) <= bound<S>(0));
+        if (exact(x) < double(c.radius) + margin) {
+          CHECK(q.in_reach[j]);
+          ++near;
+        } else {
+          ++far;
+        }
+      }
+    }
+  }
+  CHECK(near > 100);
+  CHECK(far > 100);
+  HandCollisionModel<S> hand;
+  PhalanxSamples<S, 8> q;
+  CHECK(query_samples(hand, octree<S>(), shape, Iso<S>::Identity(), 0, q) == Status::InvalidInput);  // unposed
+  REQUIRE(hand.set_posture(random_hand<S>(rng)) == Status::Ok);
+  CHECK(query_samples(hand, octree<S>(), shape, Iso<S>::Identity(), 14, q) == Status::InvalidInput);
+  CHECK(query_samples(hand, octree<S>(), shape, Iso<S>::Identity(), -1, q) == Status::InvalidInput);
+}
+
+TEST_CASE_TEMPLATE("exact mode: bad settings and input refused, no heap per frame", S, double, float) {
+  const Shape<S> shape(make_cylinder<S>(S(0.035), S(0.07)));
+  REQUIRE(octree<S>().build(shape, 5) == Status::Ok);
+  std::mt19937 rng(18);
+  HandCollisionModel<S> hand;
+  HandContacts<S, 2> out;
+  out.count = 5;
+  CHECK(detect_contacts(hand, octree<S>(), shape, Iso<S>::Identity(), out) == Status::InvalidInput);  // unposed
+  CHECK(out.count == 0);
+  const HandDimensions<S> dims = HandDimensions<S>::standard();
+  HandPosture<S> posture;
+  JointAngles<S> q = JointAngles<S>::Constant(S(0.5));
+  Iso<S> wrist = Iso<S>::Identity();
+  wrist.translation() = Vector3<S>(S(-0.08), S(0), S(0.05));
+  {
+    grip_test::NoHeapScope scope;  // one whole frame: kinematics, hierarchy, detection
+    REQUIRE(forward_kinematics(dims, wrist, q, posture) == Status::Ok);
+    REQUIRE(hand.set_posture(posture) == Status::Ok);
+    REQUIRE(detect_contacts(hand, octree<S>(), shape, Iso<S>::Identity(), out) == Status::Ok);
+    REQUIRE(detect_contacts_direct(hand, shape, Iso<S>::Identity(), out) == Status::Ok);
+    CHECK(scope.allocations() == 0);
+  }
+  CHECK(out.count > 0);
+  ContactSettings<S> bad;
+  bad.refine_iterations = -1;
+  CHECK(detect_contacts(hand, octree<S>(), shape, Iso<S>::Identity(), out, bad) == Status::InvalidInput);
+  CHECK(out.count == 0);
+  bad.refine_iterations = 65;
+  CHECK(detect_contacts_direct(hand, shape, Iso<S>::Identity(), out, bad) == Status::InvalidInput);
+  bad = ContactSettings<S>{};
+  bad.cluster_angle = std::numeric_limits<S>::quiet_NaN();
+  CHECK(detect_contacts(hand, octree<S>(), shape, Iso<S>::Identity(), out, bad) == Status::InvalidInput);
+  Iso<S> skewed = Iso<S>::Identity();
+  skewed.linear()(0, 1) = S(0.5);
+  CHECK(detect_contacts(hand, octree<S>(), shape, skewed, out) == Status::InvalidInput);
+  CHECK(detect_contacts_direct(hand, Shape<S>(), Iso<S>::Identity(), out) == Status::InvalidInput);  // empty
+  static SphericalOctree<S, 8> empty;
+  CHECK(detect_contacts(hand, empty, shape, Iso<S>::Identity(), out) == Status::InvalidInput);
+}
