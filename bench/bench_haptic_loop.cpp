@@ -48,10 +48,18 @@ const grip::SphericalOctree<S, octree_capacity>& cylinder_octree() {
   return octree;
 }
 
-grip::OctreeScene<S, octree_capacity> octree_scene() {
-  grip::OctreeScene<S, octree_capacity> sc;
+using CylinderShape = grip::Shape<S, 1>;
+const CylinderShape& cylinder_shape() {
+  static const CylinderShape shape(grip::make_cylinder<S>(radius, half_length));
+  return shape;
+}
+
+grip::OctreeScene<S, octree_capacity, CylinderShape> octree_scene() {
+  grip::OctreeScene<S, octree_capacity, CylinderShape> sc;
   sc.octree = &cylinder_octree();
-  sc.obstacles = scene();
+  sc.field = &cylinder_shape();
+  sc.obstacles = scene().obstacles;
+  grip::add_rim_points(sc.surface, radius, half_length, 8);
   return sc;
 }
 
@@ -101,17 +109,17 @@ void BM_Frame_AnalyticContacts_Kkt_baseline(benchmark::State& s) {
   run_session<grip::CylinderScene<S>, grip::KktFrameSolver>(s, scene());
 }
 void BM_Frame_OctreeCollision_RangeSpace(benchmark::State& s) {
-  run_session<grip::OctreeScene<S, octree_capacity>, grip::RangeSpaceFrameSolver>(s, octree_scene());
+  run_session<grip::OctreeScene<S, octree_capacity, CylinderShape>, grip::RangeSpaceFrameSolver>(s, octree_scene());
 }
 void BM_Frame_OctreeCollision_Kkt_baseline(benchmark::State& s) {
-  run_session<grip::OctreeScene<S, octree_capacity>, grip::KktFrameSolver>(s, octree_scene());
+  run_session<grip::OctreeScene<S, octree_capacity, CylinderShape>, grip::KktFrameSolver>(s, octree_scene());
 }
 
 void BM_Frame_AnalyticContacts_Constrained_warm(benchmark::State& s) {
   run_session<grip::CylinderScene<S>, grip::ConstrainedFrameSolver<S>>(s, scene());
 }
 void BM_Frame_OctreeCollision_Constrained_warm(benchmark::State& s) {
-  run_session<grip::OctreeScene<S, octree_capacity>, grip::ConstrainedFrameSolver<S>>(s, octree_scene());
+  run_session<grip::OctreeScene<S, octree_capacity, CylinderShape>, grip::ConstrainedFrameSolver<S>>(s, octree_scene());
 }
 BENCHMARK(BM_Frame_AnalyticContacts_Constrained_warm)->Iterations(2 * session_frames)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Frame_OctreeCollision_Constrained_warm)->Iterations(2 * session_frames)->Unit(benchmark::kMicrosecond);

@@ -85,9 +85,7 @@ inline grip::CylinderScene<S> scene() {
   sc.radius = radius;
   sc.half_length = half_length;
   sc.rim_points = 8;
-  sc.boxes[0].lower = V3(-0.8, -0.5, -0.75);  // the table: top at z = 0, edge at x = 0
-  sc.boxes[0].upper = V3(0, 0.5, 0);
-  sc.box_count = 1;
+  sc.obstacles.add_box(V3(-0.8, -0.5, -0.75), V3(0, 0.5, 0));  // the table: top at z = 0, edge at x = 0
   return sc;
 }
 

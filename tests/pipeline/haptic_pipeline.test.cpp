@@ -70,9 +70,8 @@ TEST_CASE_TEMPLATE("an impact raises the forces on the phalanges that resist it"
   // 2e4 * 0.002 = 80 N? no: the default material k = 2e4 N/m per point, so 40 N each, 80 N in
   // all along +x. The fingers on the far side (+x: the distal phalanges, pushing -x) must resist.
   auto& sc = p.scene();
-  sc.boxes[0].lower = Vector3<S>(S(-1), S(-1), S(-1));
-  sc.boxes[0].upper = Vector3<S>(h.object.position.x() - S(0.035) + S(0.002), S(1), S(1));
-  sc.box_count = 1;
+  REQUIRE(sc.obstacles.add_box(Vector3<S>(S(-1), S(-1), S(-1)),
+                               Vector3<S>(h.object.position.x() - S(0.035) + S(0.002), S(1), S(1))) == Status::Ok);
   REQUIRE(p.step(h.wrist, h.closed, during) == Status::Ok);
   REQUIRE(during.obstacles == 2);
   const Vector3<S> push = during.external.obstacles.template head<3>();

@@ -12,6 +12,7 @@
 #include "grip/hand/hand_kinematics.hpp"
 #include "grip/hand/hand_model.hpp"
 #include "grip/geometry/collision.hpp"
+#include "grip/pipeline/scene.hpp"
 
 namespace grip {
 
@@ -40,7 +41,7 @@ ClosedHand<Scalar> close_hand_in_scene(const Scene& scene, const HandDimensions<
       validate(object) != Status::Ok)
     return out;
   HandPosture<Scalar> posture;
-  HandContacts<Scalar> contacts;
+  HandContacts<Scalar, detail::scene_contacts_per_phalanx<Scene>::value> contacts;
   JointAngles<Scalar> q = JointAngles<Scalar>::Zero();
   // Deepest penetration among phalanges [first, last] for angles q (-1 if none touch).
   auto deepest = [&](int first, int last) {

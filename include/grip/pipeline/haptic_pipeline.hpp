@@ -27,6 +27,7 @@
 #include "grip/pipeline/frame_solver.hpp"
 #include "grip/geometry/collision.hpp"
 #include "grip/pipeline/obstacle_contacts.hpp"
+#include "grip/pipeline/scene.hpp"
 
 namespace grip {
 
@@ -116,10 +117,9 @@ struct HapticFrame {
 /// friction-cone monitor (StabilityMonitor, exact cones; resolve() for what slides or
 /// separates); per-phalanx feedback -f_i out, clamped to the device's limits.
 ///
-/// - `Scene`: the contact source, with
-///   `int hand_contacts(const HandPosture<S>&, const RigidBody<S>& object, HandContacts<S>&) const` and
-///   `int obstacle_contacts(const RigidBody<S>& object, ObstacleContactSet<S>&) const`
-///   (e.g. CylinderScene, or the tree-based detection of geometry/).
+/// - `Scene`: the contact source (scene.hpp: CylinderScene, OctreeScene, or your own). A
+///   phalanx with several contacts feels their sum; each contact's squeeze is eq. 8's with
+///   its own depth.
 /// - `Solver`: a frame solver policy (RangeSpaceFrameSolver, KktFrameSolver, ...).
 ///
 /// The object's state machine. Held: the object is rigidly attached to the wrist with the
@@ -133,8 +133,12 @@ struct HapticFrame {
 template <class Scalar, class Scene, class Solver = RangeSpaceFrameSolver>
 class HapticPipeline {
  public:
-  /// The grasp type of one frame: up to one hard-finger contact per phalanx.
-  using GraspType = Grasp<Dynamic, HardFinger, Scalar, hand_phalanx_count>;
+  /// Most hand contacts of one phalanx (the scene's contacts_per_phalanx).
+  static constexpr int contacts_per_phalanx = detail::scene_contacts_per_phalanx<Scene>::value;
+  /// Most hand contacts of one frame.
+  static constexpr int max_contacts = hand_phalanx_count * contacts_per_phalanx;
+  /// The grasp type of one frame: up to contacts_per_phalanx hard-finger contacts per phalanx.
+  using GraspType = Grasp<Dynamic, HardFinger, Scalar, max_contacts>;
   /// A rigid transform (rotation and translation): the poses of the wrist and the object.
   using Isometry = Eigen::Transform<Scalar, 3, Eigen::Isometry>;
 
@@ -189,10 +193,10 @@ class HapticPipeline {
 
     // 4. Optimal forces, monitored (StabilityMonitor, exact cones); separating contacts are
     //    dropped and the rest re-solved; what slides or separates is resolved (resolve()).
-    std::array<bool, hand_phalanx_count> keep{};
+    std::array<bool, max_contacts> keep{};
     for (int i = 0; i < hand_.count; ++i) keep[static_cast<std::size_t>(i)] = true;
-    std::array<Vector3<Scalar>, hand_phalanx_count> force{};
-    std::array<bool, hand_phalanx_count> slide{};
+    std::array<Vector3<Scalar>, max_contacts> force{};
+    std::array<bool, max_contacts> slide{};
     bool stable = false;
     const int rounds = std::max(0, settings_.max_resolves);
     for (int round = 0; round <= rounds; ++round) {
@@ -292,7 +296,7 @@ class HapticPipeline {
   /// The hand posture of the last frame (world capsules).
   const HandPosture<Scalar>& posture() const { return posture_; }
   /// The hand contacts of the last frame.
-  const HandContacts<Scalar>& hand_contacts() const { return hand_; }
+  const HandContacts<Scalar, contacts_per_phalanx>& hand_contacts() const { return hand_; }
   /// The grasp solved last (the contacts kept in the last solve).
   const GraspType& grasp() const { return grasp_; }
   /// The settings.
@@ -314,7 +318,7 @@ class HapticPipeline {
     return settings_.contribution(phalanx_finger(k), phalanx_kind(k));
   }
 
-  void build_grasp(const std::array<bool, hand_phalanx_count>& keep) {
+  void build_grasp(const std::array<bool, max_contacts>& keep) {
     grasp_.clear();
     for (int i = 0; i < hand_.count; ++i) {
       if (!keep[static_cast<std::size_t>(i)]) continue;
@@ -339,10 +343,10 @@ class HapticPipeline {
   bool held_{false};
   Isometry offset_{Isometry::Identity()};
   HandPosture<Scalar> posture_{};
-  HandContacts<Scalar> hand_{};
+  HandContacts<Scalar, contacts_per_phalanx> hand_{};
   ObstacleContactSet<Scalar> obstacles_{};
   GraspType grasp_{};
-  std::array<int, hand_phalanx_count> index_{};
+  std::array<int, max_contacts> index_{};
 };
 
 }  // namespace grip
