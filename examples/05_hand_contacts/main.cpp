@@ -39,15 +39,16 @@ int main() {
 
   // Joint angles: in an application the glove gives them; here, close the hand until 2 mm deep.
   JointAngles<S> angles = JointAngles<S>::Zero();
-  if (close_hand(dims, wrist, cylinder, object, 0.002, 0.02, angles) != Status::Ok) return 1;
+  if (close_hand(dims, wrist, cylinder, shape, object, 0.002, 0.02, angles) != Status::Ok) return 1;
 
-  // One frame: kinematics, hand hierarchy, contacts, grasp.
+  // One frame: kinematics, hand hierarchy, contacts (the octree finds what can touch, the
+  // cylinder's exact distance decides depth, point and normal), grasp.
   HandPosture<S> posture;
   HandCollisionModel<S> hand;
   HandContacts<S> contacts;
   if (forward_kinematics(dims, wrist, angles, posture) != Status::Ok) return 1;
   if (hand.set_posture(posture) != Status::Ok) return 1;
-  if (detect_contacts(hand, cylinder, object, contacts) != Status::Ok) return 1;
+  if (detect_contacts(hand, cylinder, shape, object, contacts) != Status::Ok) return 1;
 
   ContactParameters<S> params;  // Table 1 shares, K = 1e4 N/m, mu = 0.8
   Grasp<Dynamic, HardFinger, S, 16> grasp;

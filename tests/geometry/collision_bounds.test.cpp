@@ -47,12 +47,12 @@ HandPosture<S> single(int k, const Vector3<S>& a, const Vector3<S>& b, S r) {
   return h;
 }
 
-// The bound of collision.hpp for a convex field: the bisection's interval, spacing 2^-16
-// (the depth's slope along the axis is at most 1), plus rounding: 64 ulps of the largest
+// The bound of collision.hpp for a convex field: the refinement's certified tolerance
+// (ContactSettings::refine_tolerance, 0.1 um), plus rounding: 64 ulps of the largest
 // coordinate (0.5 m here) for the transforms, norms and square roots on the way.
 template <class S>
-double bound(double spacing) {
-  return spacing / 65536.0 + 64 * double(std::numeric_limits<S>::epsilon()) * 0.5;
+double bound(double) {
+  return double(ContactSettings<S>{}.refine_tolerance) + 64 * double(std::numeric_limits<S>::epsilon()) * 0.5;
 }
 
 struct Tally {

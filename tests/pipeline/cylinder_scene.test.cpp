@@ -28,8 +28,8 @@ HandPosture<S> single(int k, const V3& a, const V3& b, double r) {
   return h;
 }
 template <class S>
-double tol() {  // the narrow phase's bound: bisection 2^-16 of a 6 mm spacing, 64 ulps of 0.5 m
-  return 0.006 / 65536 + 64 * double(std::numeric_limits<S>::epsilon()) * 0.5;
+double tol() {  // the narrow phase's bound: its refine_tolerance (0.1 um), and 64 ulps of 0.5 m
+  return double(ContactSettings<S>{}.refine_tolerance) + 64 * double(std::numeric_limits<S>::epsilon()) * 0.5;
 }
 }  // namespace
 

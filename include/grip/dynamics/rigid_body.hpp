@@ -117,4 +117,20 @@ PrincipalInertia<Scalar> from_inertia_tensor(const Matrix3<Scalar>& tensor) {
   return out;
 }
 
+/// Mass properties of a solid cylinder of mass m, radius r, half-length h about its axis z:
+/// I_z = m r^2 / 2, I_x = I_y = m (3 r^2 + (2h)^2) / 12 (kg m^2).
+template <class Scalar>
+Vector3<Scalar> solid_cylinder_inertia(Scalar m, Scalar r, Scalar h) {
+  const Scalar ixy = m * (Scalar(3) * r * r + Scalar(4) * h * h) / Scalar(12);
+  return Vector3<Scalar>(ixy, ixy, m * r * r / Scalar(2));
+}
+
+/// Mass properties of a solid box of mass m and half sizes h about its principal axes:
+/// I_x = m (h_y^2 + h_z^2) / 3, and so on (kg m^2).
+template <class Scalar>
+Vector3<Scalar> solid_box_inertia(Scalar m, const Vector3<Scalar>& h) {
+  return Vector3<Scalar>(m * (h.y() * h.y() + h.z() * h.z()) / Scalar(3), m * (h.x() * h.x() + h.z() * h.z()) / Scalar(3),
+                         m * (h.x() * h.x() + h.y() * h.y()) / Scalar(3));
+}
+
 }  // namespace grip

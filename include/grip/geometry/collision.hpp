@@ -20,11 +20,11 @@
 ///
 /// Bounds (r the phalanx radius, s its sample spacing; tests/geometry/collision_bounds.test.cpp):
 /// - Convex fields (sphere, box, cylinder, capsule; a union where the deepest point's
-///   primitive is the only one within reach), with K = 1: the contact is the capsule's exact
+///   primitive is the only one within reach), with K = 1: the contact is the capsule's
 ///   deepest point, on faces, edges, rims, corners and for deep samples alike: depth
-///   r - min_t phi(t) within the bisection's tolerance (s 2^-refine_iterations times the
-///   slope of phi, at most 1), the point and normal of that axis point exactly; no contact
-///   unless the capsule penetrates, and none missed where it does.
+///   r - min_t phi(t) within ContactSettings::refine_tolerance (0.1 um by default), the
+///   point and normal those of its axis point exactly; no contact unless the capsule
+///   penetrates by more than that tolerance, and none missed where it penetrates by more.
 /// - Any field (meshes, unions): every depth is a true penetration of the capsule (never
 ///   more than its deepest), at least that of the deepest sample, and at least the capsule's
 ///   true depth minus s / 2 (phi is 1-Lipschitz); each contact's point and normal are exact
@@ -63,7 +63,8 @@ using Isometry3 = Eigen::Transform<Scalar, 3, Eigen::Isometry>;
 /// Writes out.items[0 .. out.count): at most PerPhalanx contacts per phalanx, phalanx order.
 /// Statuses: InvalidInput (out.count = 0) if the model was never posed, the octree is empty,
 /// the pose is not finite and rigid (rotation orthonormal within 1e-3), or the settings are
-/// out of range (refine_iterations in [0, 64], cluster_angle in [0, pi]); Ok otherwise
+/// out of range (refine_iterations in [0, 64], refine_tolerance >= 0, cluster_angle in
+/// [0, pi]); Ok otherwise
 /// (out.count may be 0). `phalanx_mask` (bit k = phalanx k) skips phalanges whose bit is
 /// clear. No heap; recursion depth at most the octree's depth.
 template <class Scalar, int Samples, int Capacity, class Field, int PerPhalanx>
@@ -122,8 +123,8 @@ bool rigid_pose_ok(const Isometry3<Scalar>& pose) {
 
 template <class Scalar>
 bool settings_ok(const ContactSettings<Scalar>& s) {
-  return s.refine_iterations >= 0 && s.refine_iterations <= 64 && s.cluster_angle >= Scalar(0) &&
-         s.cluster_angle <= Scalar(3.14159265358979323846);
+  return s.refine_iterations >= 0 && s.refine_iterations <= 64 && s.refine_tolerance >= Scalar(0) &&
+         s.cluster_angle >= Scalar(0) && s.cluster_angle <= Scalar(3.14159265358979323846);
 }
 
 /// Phalanx k of the posed hand in the object frame.

@@ -23,18 +23,18 @@
 namespace grip {
 
 namespace detail {
-// Deepest contact of digit f's phalanges with index >= k_from, 0 if none.
-template <class Scalar, int Samples, int Capacity>
+// Deepest contact of the phalanges k_from .. k_end - 1 for `angles`, 0 if none: `detect`
+// fills `contacts` for the posed model and a phalanx mask.
+template <class Scalar, int Samples, class Detect>
 Scalar digit_depth(const HandDimensions<Scalar>& dims, const Eigen::Transform<Scalar, 3, Eigen::Isometry>& wrist,
-                   const JointAngles<Scalar>& angles, const SphericalOctree<Scalar, Capacity>& object,
-                   const Eigen::Transform<Scalar, 3, Eigen::Isometry>& object_pose, int k_from, int k_end,
-                   HandCollisionModel<Scalar, Samples>& model, HandContacts<Scalar>& contacts) {
+                   const JointAngles<Scalar>& angles, int k_from, int k_end, HandCollisionModel<Scalar, Samples>& model,
+                   HandContacts<Scalar>& contacts, const Detect& detect) {
   HandPosture<Scalar> posture;
   forward_kinematics(dims, wrist, angles, posture);
   model.set_posture(posture);
   std::uint32_t mask = 0;
   for (int k = k_from; k < k_end; ++k) mask |= 1u << k;
-  detect_contacts(model, object, object_pose, contacts, mask);
+  detect(model, contacts, mask);
   Scalar d = Scalar(0);
   for (int i = 0; i < contacts.count; ++i) {
     const int k = phalanx_index(contacts[i].finger, contacts[i].phalanx);
@@ -42,23 +42,14 @@ Scalar digit_depth(const HandDimensions<Scalar>& dims, const Eigen::Transform<Sc
   }
   return d;
 }
-}  // namespace detail
 
-/// Flexes `angles` (in: the starting posture, usually zeros; out: the closed posture) joint by
-/// joint, digit by digit, in steps of `step` (rad) then by 10 bisections, until a phalanx
-/// distal to the joint (of the same digit) penetrates by at least `target_depth` (m), or the
-/// joint reaches dims.joint_upper_limit. Statuses: InvalidInput for bad dimensions, poses,
-/// angles, a step <= 0 or target depth <= 0, or an empty octree; Ok otherwise. Uses a
-/// HandCollisionModel of `Samples` samples per phalanx (no heap).
-template <int Samples = 8, class Scalar, int Capacity>
-Status close_hand(const HandDimensions<Scalar>& dims, const Eigen::Transform<Scalar, 3, Eigen::Isometry>& wrist,
-                  const SphericalOctree<Scalar, Capacity>& object,
-                  const Eigen::Transform<Scalar, 3, Eigen::Isometry>& object_pose, Scalar target_depth, Scalar step,
-                  JointAngles<Scalar>& angles) {
+// close_hand's loop over the joints, contacts from `detect` (see digit_depth).
+template <int Samples, class Scalar, class Detect>
+Status close_hand_with(const HandDimensions<Scalar>& dims, const Eigen::Transform<Scalar, 3, Eigen::Isometry>& wrist,
+                       Scalar target_depth, Scalar step, JointAngles<Scalar>& angles, const Detect& detect) {
   HandPosture<Scalar> posture;
   if (!(target_depth > Scalar(0)) || !(step > Scalar(0)) || !std::isfinite(target_depth) || !std::isfinite(step) ||
-      forward_kinematics(dims, wrist, angles, posture) != Status::Ok || object.tree().empty() ||
-      !detail::rigid_pose_ok(object_pose))
+      forward_kinematics(dims, wrist, angles, posture) != Status::Ok)
     return Status::InvalidInput;
   HandCollisionModel<Scalar, Samples> model;
   HandContacts<Scalar> contacts;
@@ -69,7 +60,7 @@ Status close_hand(const HandDimensions<Scalar>& dims, const Eigen::Transform<Sca
       auto depth_at = [&](Scalar a) {
         JointAngles<Scalar> trial = angles;
         trial(k) = a;
-        return detail::digit_depth(dims, wrist, trial, object, object_pose, k, end, model, contacts);
+        return digit_depth(dims, wrist, trial, k, end, model, contacts, detect);
       };
       const Scalar limit = dims.joint_upper_limit[static_cast<std::size_t>(k)];
       Scalar lo = angles(k);
@@ -94,6 +85,41 @@ Status close_hand(const HandDimensions<Scalar>& dims, const Eigen::Transform<Sca
     }
   }
   return Status::Ok;
+}
+}  // namespace detail
+
+/// Flexes `angles` (in: the starting posture, usually zeros; out: the closed posture) joint by
+/// joint, digit by digit, in steps of `step` (rad) then by 10 bisections, until a phalanx
+/// distal to the joint (of the same digit) penetrates by at least `target_depth` (m), or the
+/// joint reaches dims.joint_upper_limit. Contacts from detect_contacts() with the object's
+/// octree and distance field `field` (exact narrow phase). Statuses: InvalidInput for bad
+/// dimensions, poses, angles, a step <= 0 or target depth <= 0, or an empty octree; Ok
+/// otherwise. Uses a HandCollisionModel of `Samples` samples per phalanx (no heap).
+template <int Samples = 8, class Scalar, int Capacity, class Field>
+Status close_hand(const HandDimensions<Scalar>& dims, const Eigen::Transform<Scalar, 3, Eigen::Isometry>& wrist,
+                  const SphericalOctree<Scalar, Capacity>& object, const Field& field,
+                  const Eigen::Transform<Scalar, 3, Eigen::Isometry>& object_pose, Scalar target_depth, Scalar step,
+                  JointAngles<Scalar>& angles) {
+  if (object.tree().empty() || !detail::rigid_pose_ok(object_pose)) return Status::InvalidInput;
+  return detail::close_hand_with<Samples>(
+      dims, wrist, target_depth, step, angles,
+      [&](const HandCollisionModel<Scalar, Samples>& m, HandContacts<Scalar>& c, std::uint32_t mask) {
+        detect_contacts(m, object, field, object_pose, c, ContactSettings<Scalar>{}, mask);
+      });
+}
+
+/// close_hand() with the paper mode's contacts (octree leaves only, collision.hpp).
+template <int Samples = 8, class Scalar, int Capacity>
+Status close_hand(const HandDimensions<Scalar>& dims, const Eigen::Transform<Scalar, 3, Eigen::Isometry>& wrist,
+                  const SphericalOctree<Scalar, Capacity>& object,
+                  const Eigen::Transform<Scalar, 3, Eigen::Isometry>& object_pose, Scalar target_depth, Scalar step,
+                  JointAngles<Scalar>& angles) {
+  if (object.tree().empty() || !detail::rigid_pose_ok(object_pose)) return Status::InvalidInput;
+  return detail::close_hand_with<Samples>(
+      dims, wrist, target_depth, step, angles,
+      [&](const HandCollisionModel<Scalar, Samples>& m, HandContacts<Scalar>& c, std::uint32_t mask) {
+        detect_contacts(m, object, object_pose, c, mask);
+      });
 }
 
 }  // namespace grip

@@ -66,11 +66,14 @@ constexpr std::uint32_t all_phalanges = (1u << hand_phalanx_count) - 1u;
 /// Settings of the exact narrow phase (collision.hpp).
 template <class Scalar>
 struct ContactSettings {
-  /// Bisection steps along a phalanx's axis from its locally deepest sample towards the
-  /// deepest point of its capsule (each one distance evaluation; each halves the interval,
-  /// which starts at one sample spacing). 0 measures depths at the samples only. 16 places
-  /// the point within spacing / 65536 (0.1 um for a 6 mm spacing).
+  /// Most distance evaluations spent per locally deepest sample to find the deepest point of
+  /// the capsule near it (collision.hpp); 0 measures depths at the samples only. A convex
+  /// field needs 1 to 4 (the search is exact for piecewise-linear and quadratic distances);
+  /// the bound caps the worst case.
   int refine_iterations{16};
+  /// The search stops when the deepest point found is certified within this distance (m) of
+  /// the capsule's deepest (for a convex field: the end tangents bound the minimum).
+  Scalar refine_tolerance{Scalar(1e-7)};
   /// Contacts of one phalanx (with PerPhalanx > 1): a penetrating sample whose outward
   /// normal is within this angle (rad) of a contact's joins it; one farther from every
   /// contact starts a new contact while there is room. Default 40 degrees: the two walls of

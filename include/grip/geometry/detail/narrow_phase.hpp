@@ -7,11 +7,12 @@
 ///
 /// Refinement. phi(t) = field distance at a + t (b - a). A sample j that is a local minimum
 /// of the sampled phi (and within half a spacing of touching, see collision.hpp) starts a
-/// bisection on the sign of phi'(t) = n(x(t)) . (b - a) over the half-interval towards
-/// which phi decreases, [t_{j-1}, t_j] or [t_j, t_{j+1}]; the deepest point evaluated is kept.
-/// For a convex field phi(t) is convex, so the minimiser of phi over [0, 1] lies within one
-/// spacing of the best sample and the bisection converges to it: the phalanx's depth is its
-/// capsule's, r - min_t phi(t), to the bisection's tolerance.
+/// search for the minimum over the half-interval towards which phi decreases, [t_{j-1}, t_j]
+/// or [t_j, t_{j+1}], from phi and its slope phi'(t) = n(x(t)) . (b - a) at both ends
+/// (refine()); the deepest point evaluated is kept. For a convex field phi(t) is convex, so
+/// the minimiser of phi over [0, 1] lies within one spacing of the best sample and the search
+/// brackets it: the phalanx's depth is its capsule's, r - min_t phi(t), within the search's
+/// certified tolerance.
 
 #include <algorithm>
 #include <array>
@@ -78,11 +79,20 @@ void evaluate_samples(const Field& field, const PhalanxAxis<Scalar>& ax, SampleF
   }
 }
 
-/// The deepest point of the axis near sample j (see the file comment): bisection on the sign
-/// of phi' over the half-interval where phi decreases, `iterations` evaluations.
+/// The deepest point of the axis near sample j (see the file comment). The bracket runs from
+/// t_j to the neighbouring sample towards which phi decreases; with phi and its slope
+/// g = n . (b - a) known at both ends, the next point is the root of g's secant (exact where
+/// phi is quadratic) and the intersection of the two end tangents (exact where phi is
+/// piecewise linear, inside a box) in turn; the bracket end of the same slope sign moves
+/// there. For convex phi the two tangents bound min phi from below: the iteration stops
+/// when the best value is within `settings.refine_tolerance` of that bound, or after
+/// `settings.refine_iterations` evaluations.
 template <class Scalar, int Samples, class Field>
 Penetration<Scalar> refine(const Field& field, const PhalanxAxis<Scalar>& ax, const SampleField<Scalar, Samples>& s,
-                           int j, int iterations) {
+                           int j, const ContactSettings<Scalar>& settings) {
+  struct End {
+    Scalar t, phi, slope;
+  };
   const auto sj = static_cast<std::size_t>(j);
   const Scalar h = Scalar(1) / Scalar(Samples - 1);
   Penetration<Scalar> best;
@@ -90,23 +100,39 @@ Penetration<Scalar> refine(const Field& field, const PhalanxAxis<Scalar>& ax, co
   best.phi = s.phi[sj];
   best.normal = s.normal[sj];
   best.sample = j;
+  best.depth = ax.radius - best.phi;
   const Vector3<Scalar> d = ax.b - ax.a;
   const Scalar slope = s.normal[sj].dot(d);
-  Scalar lo = best.t, hi = best.t;
-  if (slope > Scalar(0) && j > 0) lo = best.t - h;
-  else if (slope < Scalar(0) && j < Samples - 1) hi = best.t + h;
-  if (!(d.squaredNorm() > Scalar(0))) iterations = 0;
-  for (int it = 0; it < iterations && lo < hi; ++it) {
-    const Scalar m = Scalar(0.5) * (lo + hi);
+  const int k = slope > Scalar(0) ? j - 1 : j + 1;
+  int budget = settings.refine_iterations;
+  if (slope == Scalar(0) || k < 0 || k >= Samples || budget <= 0) return best;
+  const auto sk = static_cast<std::size_t>(k);
+  Vector3<Scalar> nk = s.normal[sk];
+  Scalar phik = s.phi[sk];
+  if (!s.reach[sk]) {  // farther than the band: not evaluated yet
+    phik = field.distance(ax.at(Scalar(k) * h), nk);
+    --budget;
+  }
+  End lo{best.t, best.phi, slope}, hi{Scalar(k) * h, phik, nk.dot(d)};
+  if (k < j) std::swap(lo, hi);
+  for (int it = 0; it < budget; ++it) {
+    const Scalar dg = hi.slope - lo.slope;
+    if (!(dg > Scalar(0))) break;  // no bracket of a minimum (not convex here)
+    const Scalar t_tangents = (lo.phi - hi.phi + hi.slope * hi.t - lo.slope * lo.t) / dg;
+    const Scalar lower = lo.phi + lo.slope * (t_tangents - lo.t);
+    if (!(best.phi - lower > settings.refine_tolerance)) break;
+    Scalar t = it % 2 == 0 ? lo.t - lo.slope * (hi.t - lo.t) / dg : t_tangents;
+    if (!(t > lo.t && t < hi.t)) t = Scalar(0.5) * (lo.t + hi.t);
     Vector3<Scalar> n;
-    const Scalar phi = field.distance(ax.at(m), n);
+    const Scalar phi = field.distance(ax.at(t), n);
     if (phi < best.phi) {
       best.phi = phi;
-      best.t = m;
+      best.t = t;
       best.normal = n;
     }
-    if (n.dot(d) > Scalar(0)) hi = m;
-    else lo = m;
+    const End e{t, phi, n.dot(d)};
+    if (e.slope > Scalar(0)) hi = e;
+    else lo = e;
   }
   best.depth = ax.radius - best.phi;
   return best;
@@ -173,7 +199,7 @@ int phalanx_contacts(const Field& field, const PhalanxAxis<Scalar>& ax, const Sa
     const bool left = j == 0 || !s.reach[sj - 1] || phi < s.phi[sj - 1];
     const bool right = j == Samples - 1 || !s.reach[sj + 1] || phi <= s.phi[sj + 1];
     if (left && right && phi < band) {
-      const Penetration<Scalar> p = refine(field, ax, s, j, refining ? settings.refine_iterations : 0);
+      const Penetration<Scalar> p = refine(field, ax, s, j, settings);
       if (p.depth > Scalar(0)) cand[static_cast<std::size_t>(nc++)] = p;
     }
     if constexpr (parts > 1) {
