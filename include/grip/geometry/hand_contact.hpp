@@ -76,7 +76,7 @@ struct ContactSettings {
   Scalar refine_tolerance{Scalar(1e-7)};
   /// Contacts of one phalanx (with PerPhalanx > 1): a penetrating sample whose outward
   /// normal is within this angle (rad) of a contact's joins it; one farther from every
-  /// contact starts a new contact while there is room. Default 40 degrees: the two walls of
+  /// contact starts one more contact while there is room. Default 40 degrees: the two walls of
   /// a right-angled groove give two contacts, a phalanx pressed deep onto a box edge up to
   /// three (each face, and the edge 45 degrees from both), a smooth curved surface one.
   Scalar cluster_angle{Scalar(0.6981317007977318)};

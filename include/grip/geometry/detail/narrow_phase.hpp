@@ -153,7 +153,7 @@ Penetration<Scalar> sample_penetration(const PhalanxAxis<Scalar>& ax, int j, int
 }
 
 /// Sample j's penetrations of each part whose nearest point lies on the field's surface (not
-/// buried in another part), appended to cand from index nc; returns the new count.
+/// buried in another part), appended to cand from index nc; returns the count after them.
 template <int Parts, int Samples, class Scalar, class Field, std::size_t N>
 int part_candidates(const Field& field, const PhalanxAxis<Scalar>& ax, int j, std::array<Penetration<Scalar>, N>& cand,
                     int nc) {
@@ -180,7 +180,7 @@ int part_candidates(const Field& field, const PhalanxAxis<Scalar>& ax, int j, st
 /// number. Candidates: every refined local minimum of the sampled distance within `band` of
 /// the axis (band = r + half a spacing when refining, r otherwise) that penetrates, and every
 /// penetrating sample. They are taken deepest first: one within `cluster_angle` of a
-/// contact's normal joins it (the nearest such), another starts a new contact while fewer
+/// contact's normal joins it (the nearest such), another starts one more contact while fewer
 /// than K exist, else joins the contact of the nearest normal.
 template <int K, class Scalar, int Samples, class Field>
 int phalanx_contacts(const Field& field, const PhalanxAxis<Scalar>& ax, const SampleField<Scalar, Samples>& s,

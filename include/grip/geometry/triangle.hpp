@@ -1,0 +1,198 @@
+#pragma once
+/// \file
+/// Exact small geometry of one triangle: the closest point to a point (with the feature that
+/// holds it) and the signed solid angle the triangle subtends at a point.
+///
+/// Vertex and edge numbering. Triangle (a, b, c) has vertices 0, 1, 2 = a, b, c and edges
+/// 0, 1, 2 = ab, bc, ca: edge e runs from vertex e to vertex (e + 1) mod 3. The outward
+/// normal is that of the counter-clockwise order: (b - a) x (c - a) / |...|.
+///
+/// Closest point. The plane of the triangle is split into the seven Voronoi regions of its
+/// features (the open face, three edges, three vertices) by the signs of dot products with
+/// the edge vectors (Ericson, "Real-Time Collision Detection", 2005, section 5.1.5); the
+/// closest point is the projection onto the feature of the region holding p. A triangle whose
+/// cross product is at the level of rounding noise (zero area: collinear or coincident
+/// vertices) has no face region: its closest point is the best of its three edges as
+/// segments, so no division by a vanishing area ever happens and no NaN can come out.
+///
+/// Solid angle. Van Oosterom and Strackee (1983): with x = a - p, y = b - p, z = c - p,
+///   tan(Omega / 2) = x . (y x z) / (|x||y||z| + (x . y)|z| + (x . z)|y| + (y . z)|x|),
+/// evaluated with atan2, so Omega is in [-2 pi, 2 pi], positive when p sees the triangle's
+/// back (p lies on the side its outward normal points away from). For a closed outward mesh
+/// the solid angles sum to 4 pi at an inside point and 0 outside: the winding number is that
+/// sum over 4 pi. A point on a vertex gives atan2(0, 0) = 0, never NaN.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include <Eigen/Geometry>
+
+#include "grip/core/types.hpp"
+
+namespace grip {
+
+/// The feature of a triangle (a, b, c) that holds a closest point.
+enum class TriangleFeature : std::uint8_t {
+  Face,     ///< The open interior of the triangle.
+  EdgeAB,   ///< The open edge 0, from a to b.
+  EdgeBC,   ///< The open edge 1, from b to c.
+  EdgeCA,   ///< The open edge 2, from c to a.
+  VertexA,  ///< Vertex 0.
+  VertexB,  ///< Vertex 1.
+  VertexC,  ///< Vertex 2.
+};
+
+/// Edge index 0..2 of an edge feature, or -1 for the face or a vertex.
+constexpr int feature_edge(TriangleFeature f) {
+  return f == TriangleFeature::EdgeAB ? 0 : f == TriangleFeature::EdgeBC ? 1 : f == TriangleFeature::EdgeCA ? 2 : -1;
+}
+
+/// Vertex index 0..2 of a vertex feature, or -1 for the face or an edge.
+constexpr int feature_vertex(TriangleFeature f) {
+  return f == TriangleFeature::VertexA ? 0 : f == TriangleFeature::VertexB ? 1 : f == TriangleFeature::VertexC ? 2 : -1;
+}
+
+/// The closest point q of triangle (a, b, c) to p, exact to rounding. Returns |p - q|^2,
+/// writes q and the feature holding q. Any finite input is handled, including zero-area
+/// triangles (then the face is never reported).
+template <class Scalar>
+Scalar closest_point_on_triangle(const Vector3<Scalar>& p, const Vector3<Scalar>& a, const Vector3<Scalar>& b,
+                                 const Vector3<Scalar>& c, Vector3<Scalar>& q, TriangleFeature& feature);
+
+/// The signed solid angle (sr, in [-2 pi, 2 pi]) that triangle (a, b, c) subtends at p:
+/// positive when p lies behind the triangle (against its outward normal).
+template <class Scalar>
+Scalar triangle_solid_angle(const Vector3<Scalar>& p, const Vector3<Scalar>& a, const Vector3<Scalar>& b,
+                            const Vector3<Scalar>& c);
+
+namespace detail {
+
+/// Closest point on segment [a, b] (a point if a == b): |p - q|^2; `t` receives the segment
+/// parameter in [0, 1].
+template <class Scalar>
+Scalar closest_point_on_segment(const Vector3<Scalar>& p, const Vector3<Scalar>& a, const Vector3<Scalar>& b,
+                                Vector3<Scalar>& q, Scalar& t) {
+  const Vector3<Scalar> ab = b - a;
+  const Scalar len2 = ab.squaredNorm();
+  t = Scalar(0);
+  if (len2 > Scalar(0)) {
+    t = (p - a).dot(ab) / len2;
+    t = t < Scalar(0) ? Scalar(0) : (t > Scalar(1) ? Scalar(1) : t);
+  }
+  q = t <= Scalar(0) ? a : (t >= Scalar(1) ? b : Vector3<Scalar>(a + t * ab));
+  return (p - q).squaredNorm();
+}
+
+/// q = a + v ab + w ac with (v, w) clamped to the triangle (rounding can push a point of the
+/// face region a hair outside).
+template <class Scalar>
+void face_point(const Vector3<Scalar>& a, const Vector3<Scalar>& ab, const Vector3<Scalar>& ac, Scalar v, Scalar w,
+                Vector3<Scalar>& q) {
+  v = v < Scalar(0) ? Scalar(0) : v;
+  w = w < Scalar(0) ? Scalar(0) : w;
+  const Scalar s = v + w;
+  if (s > Scalar(1)) {
+    v /= s;
+    w /= s;
+  }
+  q = a + v * ab + w * ac;
+}
+
+/// The zero-area fallback: best of the three edges as segments.
+template <class Scalar>
+Scalar closest_point_on_flat_triangle(const Vector3<Scalar>& p, const Vector3<Scalar>& a, const Vector3<Scalar>& b,
+                                      const Vector3<Scalar>& c, Vector3<Scalar>& q, TriangleFeature& feature) {
+  const Vector3<Scalar>* v[3] = {&a, &b, &c};
+  Scalar best = std::numeric_limits<Scalar>::infinity();
+  for (int e = 0; e < 3; ++e) {
+    Vector3<Scalar> qe = p;
+    Scalar t = Scalar(0);
+    const Scalar d2 = closest_point_on_segment(p, *v[e], *v[(e + 1) % 3], qe, t);
+    if (d2 < best) {
+      best = d2;
+      q = qe;
+      if (t <= Scalar(0)) feature = static_cast<TriangleFeature>(4 + e);
+      else if (t >= Scalar(1)) feature = static_cast<TriangleFeature>(4 + (e + 1) % 3);
+      else feature = static_cast<TriangleFeature>(1 + e);
+    }
+  }
+  return best;
+}
+
+}  // namespace detail
+
+template <class Scalar>
+Scalar closest_point_on_triangle(const Vector3<Scalar>& p, const Vector3<Scalar>& a, const Vector3<Scalar>& b,
+                                 const Vector3<Scalar>& c, Vector3<Scalar>& q, TriangleFeature& feature) {
+  const Vector3<Scalar> ab = b - a, ac = c - a, ap = p - a;
+  // Zero area (to rounding): |ab x ac| tiny against the squared longest edge.
+  const Scalar area2 = ab.cross(ac).squaredNorm();
+  const Scalar l2 = std::max(std::max(ab.squaredNorm(), ac.squaredNorm()), (c - b).squaredNorm());
+  const Scalar eps = Scalar(16) * std::numeric_limits<Scalar>::epsilon();
+  if (!(area2 > eps * eps * l2 * l2)) return detail::closest_point_on_flat_triangle(p, a, b, c, q, feature);
+
+  const Scalar d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= Scalar(0) && d2 <= Scalar(0)) {
+    q = a;
+    feature = TriangleFeature::VertexA;
+    return ap.squaredNorm();
+  }
+  const Vector3<Scalar> bp = p - b;
+  const Scalar d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= Scalar(0) && d4 <= d3) {
+    q = b;
+    feature = TriangleFeature::VertexB;
+    return bp.squaredNorm();
+  }
+  const Scalar vc = d1 * d4 - d3 * d2;
+  if (vc <= Scalar(0) && d1 >= Scalar(0) && d3 <= Scalar(0)) {
+    const Scalar den = d1 - d3;
+    const Scalar v = den > Scalar(0) ? d1 / den : Scalar(0);
+    q = a + v * ab;
+    feature = TriangleFeature::EdgeAB;
+    return (p - q).squaredNorm();
+  }
+  const Vector3<Scalar> cp = p - c;
+  const Scalar d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= Scalar(0) && d5 <= d6) {
+    q = c;
+    feature = TriangleFeature::VertexC;
+    return cp.squaredNorm();
+  }
+  const Scalar vb = d5 * d2 - d1 * d6;
+  if (vb <= Scalar(0) && d2 >= Scalar(0) && d6 <= Scalar(0)) {
+    const Scalar den = d2 - d6;
+    const Scalar w = den > Scalar(0) ? d2 / den : Scalar(0);
+    q = a + w * ac;
+    feature = TriangleFeature::EdgeCA;
+    return (p - q).squaredNorm();
+  }
+  const Scalar va = d3 * d6 - d5 * d4;
+  const Scalar e1 = d4 - d3, e2 = d5 - d6;
+  if (va <= Scalar(0) && e1 >= Scalar(0) && e2 >= Scalar(0)) {
+    const Scalar den = e1 + e2;
+    const Scalar w = den > Scalar(0) ? e1 / den : Scalar(0);
+    q = b + w * (c - b);
+    feature = TriangleFeature::EdgeBC;
+    return (p - q).squaredNorm();
+  }
+  const Scalar den = va + vb + vc;
+  if (!(den > Scalar(0))) return detail::closest_point_on_flat_triangle(p, a, b, c, q, feature);
+  detail::face_point(a, ab, ac, vb / den, vc / den, q);
+  feature = TriangleFeature::Face;
+  return (p - q).squaredNorm();
+}
+
+template <class Scalar>
+Scalar triangle_solid_angle(const Vector3<Scalar>& p, const Vector3<Scalar>& a, const Vector3<Scalar>& b,
+                            const Vector3<Scalar>& c) {
+  const Vector3<Scalar> x = a - p, y = b - p, z = c - p;
+  const Scalar lx = x.norm(), ly = y.norm(), lz = z.norm();
+  const Scalar num = x.dot(y.cross(z));
+  const Scalar den = lx * ly * lz + x.dot(y) * lz + x.dot(z) * ly + y.dot(z) * lx;
+  return Scalar(2) * std::atan2(num, den);
+}
+
+}  // namespace grip

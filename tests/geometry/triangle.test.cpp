@@ -1,0 +1,213 @@
+// One triangle: closest points against hand-derived answers, points built inside each feature's
+// normal cone, and a brute-force barycentric search; degenerate triangles; solid angles.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include <grip/geometry/triangle.hpp>
+
+#include "geometry/mesh_test_support.hpp"
+#include "support/constants.hpp"
+
+using namespace grip;
+using grip_mesh_test::uniform;
+using grip_mesh_test::V3;
+using grip_test::pi;
+
+namespace {
+
+/// Brute-force squared distance from p to triangle abc: the least over a barycentric grid,
+/// then grids of a quarter the step around the best point until the step is below 1e-12
+/// (plain doubles; independent of the region logic).
+double brute_distance2(const V3& p, const V3& a, const V3& b, const V3& c) {
+  const double px = p.x() - a.x(), py = p.y() - a.y(), pz = p.z() - a.z();
+  const double ux = b.x() - a.x(), uy = b.y() - a.y(), uz = b.z() - a.z();
+  const double vx = c.x() - a.x(), vy = c.y() - a.y(), vz = c.z() - a.z();
+  double best = 1e300, bu = 0, bv = 0, h = 1.0 / 32;
+  int n = 32;
+  double u0 = 0, v0 = 0;
+  while (true) {
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; j <= n; ++j) {
+        double u = std::min(std::max(u0 + h * i, 0.0), 1.0), v = std::min(std::max(v0 + h * j, 0.0), 1.0);
+        if (u + v > 1) {  // onto the edge u + v = 1
+          const double s = u + v;
+          u /= s, v /= s;
+        }
+        const double dx = px - u * ux - v * vx, dy = py - u * uy - v * vy, dz = pz - u * uz - v * vz;
+        const double d = dx * dx + dy * dy + dz * dz;
+        if (d < best) best = d, bu = u, bv = v;
+      }
+    if (h < 1e-12) return best;
+    u0 = bu - 2 * h, v0 = bv - 2 * h, h /= 4, n = 16;  // a window of +-2 old steps
+  }
+}
+
+template <class S>
+Vector3<S> cv(const V3& x) {
+  return x.cast<S>();
+}
+
+}  // namespace
+
+TEST_CASE_TEMPLATE("closest point on a triangle: hand-derived cases for every feature", S, double, float) {
+  const Vector3<S> a(S(0), S(0), S(0)), b(S(1), S(0), S(0)), c(S(0), S(1), S(0));
+  struct Case {
+    Vector3<S> p, q;
+    S d2;
+    TriangleFeature f;
+  };
+  const Case cases[] = {
+      {Vector3<S>(S(0.25), S(0.25), S(1)), Vector3<S>(S(0.25), S(0.25), S(0)), S(1), TriangleFeature::Face},
+      {Vector3<S>(S(0.25), S(0.25), S(-2)), Vector3<S>(S(0.25), S(0.25), S(0)), S(4), TriangleFeature::Face},
+      {Vector3<S>(S(-1), S(-1), S(0.5)), a, S(2.25), TriangleFeature::VertexA},
+      {Vector3<S>(S(2), S(-1), S(0)), b, S(2), TriangleFeature::VertexB},
+      {Vector3<S>(S(-1), S(2), S(0)), c, S(2), TriangleFeature::VertexC},
+      {Vector3<S>(S(0.5), S(-1), S(0)), Vector3<S>(S(0.5), S(0), S(0)), S(1), TriangleFeature::EdgeAB},
+      {Vector3<S>(S(1), S(1), S(0)), Vector3<S>(S(0.5), S(0.5), S(0)), S(0.5), TriangleFeature::EdgeBC},
+      {Vector3<S>(S(-1), S(0.5), S(1)), Vector3<S>(S(0), S(0.5), S(0)), S(2), TriangleFeature::EdgeCA},
+  };
+  for (const Case& k : cases) {
+    Vector3<S> q = Vector3<S>::Zero();
+    TriangleFeature f = TriangleFeature::Face;
+    const S d2 = closest_point_on_triangle(k.p, a, b, c, q, f);
+    CHECK(std::abs(d2 - k.d2) <= S(1e-6));
+    CHECK((q - k.q).norm() <= S(1e-6));
+    CHECK(f == k.f);
+  }
+  CHECK(feature_edge(TriangleFeature::EdgeBC) == 1);
+  CHECK(feature_vertex(TriangleFeature::VertexC) == 2);
+  CHECK(feature_edge(TriangleFeature::Face) == -1);
+  CHECK(feature_vertex(TriangleFeature::EdgeAB) == -1);
+}
+
+TEST_CASE_TEMPLATE("closest point on a triangle: points in every feature's normal cone", S, double, float) {
+  // p = q0 + t dir with dir in the normal cone of the feature holding q0: then q0 is the
+  // closest point (the cone is exactly that feature's Voronoi region).
+  std::mt19937 g(11);
+  const double tol = grip_test::tol_of<S>(1e-12, 2e-5);
+  int checked[7] = {0, 0, 0, 0, 0, 0, 0};
+  for (int trial = 0; trial < 300; ++trial) {
+    V3 v[3];
+    for (V3& x : v) x = V3(uniform(g, -1, 1), uniform(g, -1, 1), uniform(g, -1, 1));
+    const V3 n = (v[1] - v[0]).cross(v[2] - v[0]);
+    if (n.norm() < 0.2) continue;
+    const V3 nh = n.normalized();
+    V3 m[3];  // outward in-plane edge normals, edge e from v[e] to v[e + 1]
+    for (int e = 0; e < 3; ++e) m[e] = (v[(e + 1) % 3] - v[e]).cross(nh).normalized();
+    const int kind = trial % 7;
+    V3 q0, dir;
+    TriangleFeature expect;
+    if (kind == 0) {
+      double u = 1, w = 1;
+      while (u + w > 0.9) u = uniform(g, 0.05, 0.85), w = uniform(g, 0.05, 0.85);
+      q0 = v[0] + u * (v[1] - v[0]) + w * (v[2] - v[0]);
+      dir = (g() & 1) ? nh : V3(-nh);
+      expect = TriangleFeature::Face;
+    } else if (kind <= 3) {
+      const int e = kind - 1;
+      q0 = v[e] + uniform(g, 0.05, 0.95) * (v[(e + 1) % 3] - v[e]);
+      const double th = uniform(g, -1.4, 1.4);
+      dir = std::cos(th) * m[e] + std::sin(th) * nh;
+      expect = static_cast<TriangleFeature>(1 + e);
+    } else {
+      const int k = kind - 4;  // vertex k: edges k (leaving) and k - 1 (arriving)
+      q0 = v[k];
+      const double al = uniform(g, 0.05, 1), be = uniform(g, 0.05, 1), ga = uniform(g, -1, 1);
+      dir = (al * m[k] + be * m[(k + 2) % 3]).normalized() * std::sqrt(1 - ga * ga) + ga * nh;
+      expect = static_cast<TriangleFeature>(4 + k);
+    }
+    const V3 p = q0 + uniform(g, 0.01, 2) * dir.normalized();
+    Vector3<S> q = Vector3<S>::Zero();
+    TriangleFeature f = TriangleFeature::Face;
+    const S d2 = closest_point_on_triangle(cv<S>(p), cv<S>(v[0]), cv<S>(v[1]), cv<S>(v[2]), q, f);
+    const double scale = 1 + p.squaredNorm();
+    CHECK(std::abs(double(d2) - (p - q0).squaredNorm()) <= tol * scale);
+    CHECK((q.template cast<double>() - q0).norm() <= std::sqrt(tol * scale) * 10);
+    CHECK(f == expect);
+    ++checked[kind];
+  }
+  for (int k = 0; k < 7; ++k) CHECK(checked[k] > 20);
+}
+
+TEST_CASE_TEMPLATE("closest point on a triangle against a brute-force barycentric search", S, double, float) {
+  std::mt19937 g(12);
+  const double tol = grip_test::tol_of<S>(1e-9, 2e-5);
+  int regions[7] = {0, 0, 0, 0, 0, 0, 0};
+  for (int trial = 0; trial < 120; ++trial) {
+    V3 v[3];
+    for (V3& x : v) x = V3(uniform(g, -1, 1), uniform(g, -1, 1), uniform(g, -1, 1));
+    if ((v[1] - v[0]).cross(v[2] - v[0]).norm() < 0.05) continue;
+    const V3 p(uniform(g, -2, 2), uniform(g, -2, 2), uniform(g, -2, 2));
+    Vector3<S> q = Vector3<S>::Zero();
+    TriangleFeature f = TriangleFeature::Face;
+    const S d2 = closest_point_on_triangle(cv<S>(p), cv<S>(v[0]), cv<S>(v[1]), cv<S>(v[2]), q, f);
+    const double brute = brute_distance2(p, v[0], v[1], v[2]);
+    CHECK(std::abs(double(d2) - brute) <= tol * (1 + brute));
+    CHECK(std::abs((p - q.template cast<double>()).squaredNorm() - double(d2)) <= tol * (1 + brute));
+    ++regions[static_cast<int>(f)];
+  }
+  for (int k = 0; k < 7; ++k) CHECK(regions[k] > 0);  // random points reach every region
+}
+
+TEST_CASE_TEMPLATE("closest point on degenerate triangles: finite, the nearest segment point", S, double, float) {
+  const Vector3<S> a(S(0), S(0), S(0)), b(S(1), S(0), S(0)), mid(S(0.5), S(0), S(0));
+  Vector3<S> q = Vector3<S>::Zero();
+  TriangleFeature f = TriangleFeature::Face;
+  // Collinear: the "triangle" is segment [0, 1] on x.
+  S d2 = closest_point_on_triangle(Vector3<S>(S(0.3), S(2), S(0)), a, b, mid, q, f);
+  CHECK(d2 == doctest::Approx(4.0));
+  CHECK((q - Vector3<S>(S(0.3), S(0), S(0))).norm() <= S(1e-6));
+  CHECK(f != TriangleFeature::Face);
+  // All three vertices equal.
+  d2 = closest_point_on_triangle(Vector3<S>(S(1), S(2), S(2)), a, a, a, q, f);
+  CHECK(d2 == doctest::Approx(9.0));
+  CHECK(q == a);
+  // Two equal vertices: a segment.
+  d2 = closest_point_on_triangle(Vector3<S>(S(2), S(1), S(0)), a, b, b, q, f);
+  CHECK(d2 == doctest::Approx(2.0));
+  CHECK(q == b);
+  // A needle of zero area to rounding far from the query point: finite.
+  const Vector3<S> far_a(S(1000), S(1000), S(1000));
+  d2 = closest_point_on_triangle(Vector3<S>(S(0), S(0), S(0)), far_a, Vector3<S>(far_a + Vector3<S>(S(1), S(0), S(0))),
+                                 Vector3<S>(far_a + Vector3<S>(S(2), S(0), S(0))), q, f);
+  CHECK(std::isfinite(d2));
+  CHECK(q.allFinite());
+}
+
+TEST_CASE_TEMPLATE("solid angles: octant pi/2, and a closed mesh sums to 4 pi inside and 0 outside", S, double, float) {
+  const Vector3<S> o = Vector3<S>::Zero(), x = Vector3<S>::UnitX(), y = Vector3<S>::UnitY(), z = Vector3<S>::UnitZ();
+  const S tol = S(grip_test::tol_of<S>(1e-12, 1e-5));
+  // Seen from the origin, the octant triangle covers 1/8 of the sphere; the origin is behind it.
+  CHECK(std::abs(triangle_solid_angle(o, x, y, z) - S(pi / 2)) <= tol);
+  CHECK(std::abs(triangle_solid_angle(o, x, z, y) + S(pi / 2)) <= tol);
+  // A point in the triangle's plane outside it sees nothing; a vertex gives 0, not NaN.
+  CHECK(std::abs(triangle_solid_angle(Vector3<S>(S(2), S(0), S(-1)), x, y, Vector3<S>(S(1), S(1), S(-1)))) <= S(4) * tol);
+  CHECK(triangle_solid_angle(x, x, y, z) == S(0));
+  // The regular tetrahedron seen from its centre: pi per face.
+  const grip_mesh_test::Soup tet = [] {
+    grip_mesh_test::Soup s;
+    s.v = {V3(1, 1, 1), V3(1, -1, -1), V3(-1, 1, -1), V3(-1, -1, 1)};
+    s.t = {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}};
+    return s;
+  }();
+  for (const auto& t : tet.t) {
+    const S w = triangle_solid_angle(o, cv<S>(tet.v[static_cast<std::size_t>(t[0])]), cv<S>(tet.v[static_cast<std::size_t>(t[1])]),
+                                     cv<S>(tet.v[static_cast<std::size_t>(t[2])]));
+    CHECK(std::abs(w - S(pi)) <= S(4) * tol);
+  }
+  // A closed icosphere (outward): 4 pi at random inside points, 0 outside.
+  const grip_mesh_test::Soup sph = grip_mesh_test::icosphere(2);
+  std::mt19937 g(13);
+  for (int k = 0; k < 40; ++k) {
+    const V3 dir = grip_mesh_test::unit_vector(g);
+    const V3 p = dir * (k % 2 == 0 ? uniform(g, 0, 0.9) : uniform(g, 1.1, 3));
+    S sum = S(0);
+    for (const auto& t : sph.t)
+      sum += triangle_solid_angle(cv<S>(p), cv<S>(sph.v[static_cast<std::size_t>(t[0])]), cv<S>(sph.v[static_cast<std::size_t>(t[1])]),
+                                  cv<S>(sph.v[static_cast<std::size_t>(t[2])]));
+    CHECK(std::abs(sum - (k % 2 == 0 ? S(4 * pi) : S(0))) <= S(grip_test::tol_of<S>(1e-10, 1e-3)));
+  }
+}
