@@ -11,7 +11,11 @@
 #include <Eigen/Geometry>
 
 #include <grip/geometry/collision.hpp>
+#include <grip/geometry/mesh_io.hpp>
+#include <grip/geometry/mesh_shape.hpp>
 #include <grip/geometry/shape.hpp>
+
+#include "geometry/mesh_test_support.hpp"
 
 #include "support/allocation_counter.hpp"
 #include "support/constants.hpp"
@@ -537,4 +541,72 @@ TEST_CASE_TEMPLATE("exact mode: bad settings and input refused, no heap per fram
   CHECK(detect_contacts_direct(hand, Shape<S>(), Iso<S>::Identity(), out) == Status::InvalidInput);  // empty
   static SphericalOctree<S, 8> empty;
   CHECK(detect_contacts(hand, empty, shape, Iso<S>::Identity(), out) == Status::InvalidInput);
+}
+
+namespace {
+using BoxMesh = TriangleMesh<double, 16, 16>;
+template <class S>
+using Mug = TriangleMesh<S, 2048, 4096>;
+template <class S>
+using MugShape = MeshShape<S, 2048, 4096>;
+}  // namespace
+
+TEST_CASE("a box as a triangle mesh: the capsule's exact deepest point, as for the analytic box") {
+  // A 12-triangle mesh of a box is a convex field equal to the box's exact distance
+  // (mesh_shape.test.cpp): the convex bounds hold, against the independent box geometry.
+  using S = double;
+  const V3 h(0.05, 0.04, 0.03);
+  static BoxMesh mesh;
+  REQUIRE(grip_mesh_test::load(grip_mesh_test::box_soup(h), mesh).status == Status::Ok);
+  static MeshShape<S, 16, 16> shape;
+  REQUIRE(shape.build(mesh) == Status::Ok);
+  REQUIRE(octree<S>().build(winding_signed(shape), 3) == Status::Ok);
+  const grip_test::ExactBox exact{V3::Zero(), h, Eigen::Matrix3d::Identity()};
+  std::mt19937 rng(19);
+  Tally tally;
+  for (int trial = 0; trial < 150; ++trial) {
+    V3 q, n = V3::Zero();  // an edge or a corner
+    for (int i = 0; i < 3; ++i) q(i) = sign(rng) * h(i);
+    const int free_axis = trial % 4;  // 3: a corner
+    if (free_axis < 3) q(free_axis) = uniform(rng, -h(free_axis), h(free_axis));
+    for (int i = 0; i < 3; ++i)
+      if (i != free_axis) n(i) = (q(i) > 0 ? 1 : -1) * uniform(rng, 0.05, 1);
+    n.normalize();
+    V3 a, b;
+    const double r = uniform(rng, 0.006, 0.01);
+    aim(rng, q, n, r, a, b);
+    check_phalanx<S>(shape, exact, surface_of(exact), random_pose<S>(rng), a, b, r, true, tally);
+  }
+  CHECK(tally.contacts > 70);
+  CHECK(tally.apart > 10);
+  CHECK(tally.deep > 3);
+}
+
+TEST_CASE_TEMPLATE("a mesh with cavities and a handle (the mug): the bounds of any field", S, double, float) {
+  // Not convex: depths are true penetrations of the capsule, at least the deepest sample's and
+  // the true depth minus half a spacing, points and normals exact for their axis point. The
+  // field (MeshShape::distance, checked against every triangle in mesh_shape.test.cpp) is the
+  // reference; the axis minimum is found by dense sampling.
+  static Mug<S> mug;
+  static MugShape<S> shape;
+  static const bool loaded = [] {
+    static char buffer[1 << 19];
+    return read_mesh_file(GRIP_TEST_DATA_DIR "/meshes/mug.stl", buffer, sizeof buffer, mug).status == Status::Ok &&
+           shape.build(mug) == Status::Ok;
+  }();
+  REQUIRE(loaded);
+  REQUIRE(octree<S>().build(winding_signed(shape), 4) == Status::Ok);
+  const auto exact = [&](const V3& p) { return double(shape.distance(p.cast<S>())); };
+  std::mt19937 rng(20);
+  Tally tally;
+  for (int trial = 0; trial < 120; ++trial) {
+    const int v = int(grip_test::u01(rng) * mug.vertex_count()) % mug.vertex_count();
+    const V3 f = mug.vertex(v).template cast<double>(), n = mug.vertex_normal(v).template cast<double>();
+    V3 a, b;
+    const double r = uniform(rng, 0.006, 0.01);
+    aim(rng, f, n, r, a, b);
+    check_phalanx<S>(shape, exact, surface_of(exact), Iso<S>::Identity(), a, b, r, false, tally);
+  }
+  CHECK(tally.contacts > 50);
+  CHECK(tally.apart > 3);
 }

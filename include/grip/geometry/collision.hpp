@@ -143,18 +143,27 @@ Scalar reach_margin(const HandCollisionModel<Scalar, Samples>& hand, int k, cons
   return Scalar(0.5) * (c.tip - c.base).norm() / Scalar(Samples - 1);
 }
 
-/// Marks the samples the octree descent finds in reach; stops when all are.
-template <class Scalar, int Samples>
+/// Marks the samples the octree descent finds in reach, and those whose centre lies in a
+/// solid leaf; stops when all are in reach unless `solid` is wanted.
+template <class Scalar, int Samples, int Capacity>
 struct MarkReach {
   SampleField<Scalar, Samples>* field;
+  const SphericalOctree<Scalar, Capacity>* octree;
+  const PhalanxAxis<Scalar>* axis;
+  bool want_solid;
   int marked{0};
-  bool operator()(int, int j0, int j1) {
+  bool operator()(int o, int j0, int j1) {
+    const SphereNode<Scalar>& leaf = octree->tree().node(o);
+    const Scalar h = octree->cell_half_edge(leaf.level);
     for (int j = j0; j <= j1; ++j) {
-      bool& r = field->reach[static_cast<std::size_t>(j)];
+      const auto sj = static_cast<std::size_t>(j);
+      bool& r = field->reach[sj];
       marked += r ? 0 : 1;
       r = true;
+      if (want_solid && !field->solid[sj])
+        field->solid[sj] = (axis->at(Scalar(j) / Scalar(Samples - 1)) - leaf.center).cwiseAbs().maxCoeff() <= h;
     }
-    return marked < Samples;
+    return want_solid || marked < Samples;
   }
 };
 
@@ -163,10 +172,12 @@ template <class Scalar, int Samples, class Field, int PerPhalanx>
 void emit_contacts(const Field& field, const PhalanxAxis<Scalar>& ax, SampleField<Scalar, Samples>& s, int k,
                    const ContactSettings<Scalar>& settings, const Isometry3<Scalar>& pose,
                    HandContacts<Scalar, PerPhalanx>& out) {
-  evaluate_samples(field, ax, s);
+  FieldProbe<Scalar, Field> probe{field};
+  const Scalar band = band_of<Scalar, Samples>(ax, settings);
+  evaluate_samples(probe, ax, band, s);
   std::array<Penetration<Scalar>, PerPhalanx> found;
   std::array<int, PerPhalanx> members{};
-  const int n = phalanx_contacts<PerPhalanx>(field, ax, s, settings, found, members);
+  const int n = phalanx_contacts<PerPhalanx>(field, probe, ax, s, band, settings, found, members);
   for (int i = 0; i < n; ++i) {
     const Penetration<Scalar>& p = found[static_cast<std::size_t>(i)];
     HandContact<Scalar>& c = out.items[static_cast<std::size_t>(out.count++)];
@@ -281,7 +292,8 @@ Status detect_contacts(const HandCollisionModel<Scalar, Samples>& hand, const Sp
                                  [&](int k, const Isometry3<Scalar>& to_object) {
     const detail::PhalanxAxis<Scalar> ax = detail::object_axis(hand, k, to_object);
     detail::SampleField<Scalar, Samples> s;
-    detail::MarkReach<Scalar, Samples> mark{&s};
+    detail::MarkReach<Scalar, Samples, Capacity> mark{&s, &octree, &ax,
+                                                      detail::has_bounded_query<Field, Scalar>::value};
     const auto seg = detail::SegmentQuery<Scalar>::make(ax.a, ax.b, ax.radius + detail::reach_margin(hand, k, settings),
                                                          Samples);
     detail::descend_from_root(seg, octree, mark);
@@ -308,6 +320,7 @@ Status detect_contacts_direct(const HandCollisionModel<Scalar, Samples>& hand, c
     if (!overlap(root, bounds)) continue;
     detail::SampleField<Scalar, Samples> s;
     s.reach.fill(true);
+    s.solid.fill(true);
     detail::emit_contacts(field, detail::object_axis(hand, k, to_object), s, k, settings, object_pose, out);
   }
   return Status::Ok;
@@ -322,7 +335,7 @@ Status query_samples(const HandCollisionModel<Scalar, Samples>& hand, const Sphe
   const Isometry3<Scalar> to_object = object_pose.inverse(Eigen::Isometry);
   const detail::PhalanxAxis<Scalar> ax = detail::object_axis(hand, k, to_object);
   detail::SampleField<Scalar, Samples> s;
-  detail::MarkReach<Scalar, Samples> mark{&s};
+  detail::MarkReach<Scalar, Samples, Capacity> mark{&s, &octree, &ax, false};
   const ContactSettings<Scalar> settings{};
   detail::descend_from_root(
       detail::SegmentQuery<Scalar>::make(ax.a, ax.b, ax.radius + detail::reach_margin(hand, k, settings), Samples),

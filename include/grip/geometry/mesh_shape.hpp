@@ -113,6 +113,12 @@ class MeshShape {
     Vector3<Scalar> n = Vector3<Scalar>::UnitZ();
     return distance(p, n);
   }
+  /// The narrow phase's query (collision.hpp): the exact signed distance `phi` and outward
+  /// normal of p, as distance() gives them, when the surface lies within `limit` (m) of p;
+  /// false (phi and normal unchanged) when it does not, or before build(). `hint` starts the
+  /// search: pass -1, or the value a query of a nearby point left (an opaque slot of the
+  /// hierarchy); it receives p's. A good hint and a small limit prune most of the hierarchy.
+  bool distance_within(const Vector3<Scalar>& p, Scalar limit, Scalar& phi, Vector3<Scalar>& normal, int& hint) const;
   /// Unsigned distance (m) to the surface; writes the closest point q, its mesh triangle and
   /// the feature of that triangle holding q. Returns +max_magnitude and triangle -1 before
   /// build() or for a point not finite or beyond max_magnitude.
@@ -158,6 +164,11 @@ class MeshShape {
   }
   /// +max_magnitude and the direction of p for a point out of range; false if p is fine.
   static bool out_of_range(const Vector3<Scalar>& p, Scalar& d, Vector3<Scalar>& normal);
+  /// The slot (4 block + lane) of the triangle nearest p among those nearer than sqrt(best2),
+  /// or `slot` unchanged if none is; best2 is lowered to its squared distance.
+  int nearest_slot(const Vector3<Scalar>& p, Scalar& best2, int slot) const;
+  /// The signed distance of p and its outward normal from the triangle of `slot`.
+  Scalar signed_distance(const Vector3<Scalar>& p, int slot, Vector3<Scalar>& normal) const;
 
   void build_quads();
 

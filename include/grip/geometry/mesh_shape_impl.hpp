@@ -164,6 +164,60 @@ bool MeshShape<Scalar, MaxVertices, MaxTriangles>::out_of_range(const Vector3<Sc
 }
 
 template <class Scalar, int MaxVertices, int MaxTriangles>
+int MeshShape<Scalar, MaxVertices, MaxTriangles>::nearest_slot(const Vector3<Scalar>& p, Scalar& best2, int slot) const {
+  struct Entry {
+    int index;  // a quad (count == 0) or a block (count > 0)
+    int count;
+    Scalar d2;
+  };
+  // Depth first over the 4-wide tree: at each node the 4 box distances together; the
+  // children nearer than the best so far are visited nearest first: the nearest at once, the
+  // others pushed (farthest first) for later, when the best may have dropped below them.
+  // Leaves are tested as they are reached.
+  const Scalar px = p.x(), py = p.y(), pz = p.z();
+  Entry stack[stack_size];
+  int sp = 0;
+  Entry en{0, 0, Scalar(0)};
+  for (;;) {
+    if (en.count > 0) {
+      Scalar d2[4];
+      blocks_[static_cast<std::size_t>(en.index)].distances(p, d2);
+      for (int l = 0; l < en.count; ++l)
+        if (d2[l] < best2) {
+          best2 = d2[l];
+          slot = 4 * en.index + l;
+        }
+    } else {
+      const detail::MeshQuadNode<Scalar>& qn = quads_[static_cast<std::size_t>(en.index)];
+      Scalar d2[4];
+      qn.distances(px, py, pz, d2);
+      int near[4];
+      int n = 0;
+      for (int k = 0; k < 4; ++k)
+        if (d2[k] < best2) near[n++] = k;
+      if (n > 0) {
+        for (int i = 1; i < n; ++i) {  // nearest first (at most 4: insertion)
+          const int k = near[i];
+          int j = i;
+          for (; j > 0 && d2[near[j - 1]] > d2[k]; --j) near[j] = near[j - 1];
+          near[j] = k;
+        }
+        for (int i = n - 1; i > 0 && sp < stack_size; --i) {
+          const int k = near[i];
+          stack[sp++] = Entry{qn.child[k], qn.count[k], d2[k]};
+        }
+        en = Entry{qn.child[near[0]], qn.count[near[0]], d2[near[0]]};
+        continue;
+      }
+    }
+    do {  // the next pushed child still nearer than the best
+      if (sp == 0) return slot;
+      en = stack[--sp];
+    } while (!(en.d2 < best2));
+  }
+}
+
+template <class Scalar, int MaxVertices, int MaxTriangles>
 Scalar MeshShape<Scalar, MaxVertices, MaxTriangles>::closest_point(const Vector3<Scalar>& p, Vector3<Scalar>& q,
                                                                    int& triangle, TriangleFeature& feature) const {
   triangle = -1;
@@ -172,53 +226,56 @@ Scalar MeshShape<Scalar, MaxVertices, MaxTriangles>::closest_point(const Vector3
   Scalar far = Scalar(0);
   Vector3<Scalar> unused = Vector3<Scalar>::UnitZ();
   if (!built() || out_of_range(p, far, unused)) return ScalarTraits<Scalar>::max_magnitude;
-  struct Entry {
-    int index;  // a quad (count == 0) or a block (count > 0)
-    int count;
-    Scalar d2;
-  };
-  // Depth first over the 4-wide tree: at each node the 4 box distances together, then the
-  // children no farther than the best so far pushed farthest first, so that the nearest is
-  // visited next; leaves are tested when popped.
-  const Scalar px = p.x(), py = p.y(), pz = p.z();
-  Entry stack[stack_size];
-  int sp = 0;
-  stack[sp++] = Entry{0, 0, Scalar(0)};
-  Scalar best = std::numeric_limits<Scalar>::infinity();
-  int best_lane = 0;
-  while (sp > 0) {
-    const Entry en = stack[--sp];
-    if (!(en.d2 < best)) continue;
-    if (en.count > 0) {
-      Scalar d2[4];
-      blocks_[static_cast<std::size_t>(en.index)].distances(p, d2);
-      for (int l = 0; l < en.count; ++l)
-        if (d2[l] < best) {
-          best = d2[l];
-          best_lane = 4 * en.index + l;
-        }
-      continue;
-    }
-    const detail::MeshQuadNode<Scalar>& qn = quads_[static_cast<std::size_t>(en.index)];
-    Scalar d2[4];
-    qn.distances(px, py, pz, d2);
-    int order[4] = {0, 1, 2, 3};  // insertion sort by distance
-    for (int i = 1; i < 4; ++i) {
-      const int k = order[i];
-      int j = i;
-      for (; j > 0 && d2[order[j - 1]] > d2[k]; --j) order[j] = order[j - 1];
-      order[j] = k;
-    }
-    for (int i = 3; i >= 0; --i) {
-      const int k = order[i];
-      if (d2[k] < best && sp < stack_size) stack[sp++] = Entry{qn.child[k], qn.count[k], d2[k]};
-    }
-  }
-  const detail::TriangleBlock<Scalar>& blk = blocks_[static_cast<std::size_t>(best_lane / 4)];
-  triangle = blk.id[best_lane % 4];
+  Scalar best2 = std::numeric_limits<Scalar>::infinity();
+  const int slot = nearest_slot(p, best2, 0);
+  triangle = blocks_[static_cast<std::size_t>(slot / 4)].id[slot % 4];
   const std::array<int, 3>& tri = mesh_->triangle(triangle);
   const Scalar d2 = closest_point_on_triangle(p, mesh_->vertex(tri[0]), mesh_->vertex(tri[1]), mesh_->vertex(tri[2]), q, feature);
   return std::sqrt(d2);
+}
+
+template <class Scalar, int MaxVertices, int MaxTriangles>
+Scalar MeshShape<Scalar, MaxVertices, MaxTriangles>::signed_distance(const Vector3<Scalar>& p, int slot,
+                                                                     Vector3<Scalar>& normal) const {
+  const int t = blocks_[static_cast<std::size_t>(slot / 4)].id[slot % 4];
+  const std::array<int, 3>& tri = mesh_->triangle(t);
+  Vector3<Scalar> q;
+  TriangleFeature f = TriangleFeature::Face;
+  const Scalar d = std::sqrt(
+      closest_point_on_triangle(p, mesh_->vertex(tri[0]), mesh_->vertex(tri[1]), mesh_->vertex(tri[2]), q, f));
+  const Vector3<Scalar> diff = p - q;
+  // The pseudo-normal, unnormalised where only its sign matters.
+  const int e = feature_edge(f), v = feature_vertex(f);
+  const Vector3<Scalar> n = e >= 0   ? Vector3<Scalar>(mesh_->face_normal(t) + mesh_->face_normal(mesh_->neighbour(t, e)))
+                            : v >= 0 ? mesh_->vertex_normal(mesh_->triangle(t)[static_cast<std::size_t>(v)])
+                                     : mesh_->face_normal(t);
+  const Scalar sign = diff.dot(n) < Scalar(0) ? Scalar(-1) : Scalar(1);
+  if (d > tiny_) normal = diff * (sign / d);
+  else normal = n.normalized();
+  return sign * d;
+}
+
+template <class Scalar, int MaxVertices, int MaxTriangles>
+bool MeshShape<Scalar, MaxVertices, MaxTriangles>::distance_within(const Vector3<Scalar>& p, Scalar limit, Scalar& phi,
+                                                                   Vector3<Scalar>& normal, int& hint) const {
+  Scalar far = Scalar(0);
+  Vector3<Scalar> unused = Vector3<Scalar>::UnitZ();
+  if (!built() || out_of_range(p, far, unused) || !(limit > Scalar(0))) return false;
+  Scalar best2 = limit * limit;
+  int slot = -1;
+  if (hint >= 0 && hint < mesh_->triangle_count()) {  // slots 0 .. T - 1 hold the triangles
+    Scalar d2[4];
+    blocks_[static_cast<std::size_t>(hint / 4)].distances(p, d2);
+    if (d2[hint % 4] < best2) {
+      best2 = d2[hint % 4];
+      slot = hint;
+    }
+  }
+  slot = nearest_slot(p, best2, slot);
+  if (slot < 0) return false;
+  hint = slot;
+  phi = signed_distance(p, slot, normal);
+  return true;
 }
 
 template <class Scalar, int MaxVertices, int MaxTriangles>
@@ -235,20 +292,8 @@ Scalar MeshShape<Scalar, MaxVertices, MaxTriangles>::distance(const Vector3<Scal
   normal = Vector3<Scalar>::UnitZ();
   Scalar far = ScalarTraits<Scalar>::max_magnitude;
   if (!built() || out_of_range(p, far, normal)) return far;
-  Vector3<Scalar> q = p;
-  int t = -1;
-  TriangleFeature f = TriangleFeature::Face;
-  const Scalar d = closest_point(p, q, t, f);
-  const Vector3<Scalar> diff = p - q;
-  // The pseudo-normal, unnormalised where only its sign matters.
-  const int e = feature_edge(f), v = feature_vertex(f);
-  const Vector3<Scalar> n = e >= 0   ? Vector3<Scalar>(mesh_->face_normal(t) + mesh_->face_normal(mesh_->neighbour(t, e)))
-                            : v >= 0 ? mesh_->vertex_normal(mesh_->triangle(t)[static_cast<std::size_t>(v)])
-                                     : mesh_->face_normal(t);
-  const Scalar sign = diff.dot(n) < Scalar(0) ? Scalar(-1) : Scalar(1);
-  if (d > tiny_) normal = diff * (sign / d);
-  else normal = n.normalized();
-  return sign * d;
+  Scalar best2 = std::numeric_limits<Scalar>::infinity();
+  return signed_distance(p, nearest_slot(p, best2, 0), normal);
 }
 
 template <class Scalar, int MaxVertices, int MaxTriangles>

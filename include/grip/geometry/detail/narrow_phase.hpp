@@ -21,6 +21,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "grip/core/scalar_traits.hpp"
 #include "grip/core/types.hpp"
 #include "grip/geometry/hand_contact.hpp"
 
@@ -40,6 +41,45 @@ struct field_parts<Field, std::void_t<decltype(Field::max_parts), decltype(std::
   static constexpr int max = Field::max_parts;
 };
 
+/// Fields with a bounded, warm-started query (MeshShape::distance_within) let the narrow
+/// phase skip, cheaply, the samples farther than its band from the surface:
+///   bool distance_within(const Vector3& p, Scalar limit, Scalar& phi, Vector3& normal, int& hint) const;
+template <class Field, class Scalar, class = void>
+struct has_bounded_query : std::false_type {};
+template <class Field, class Scalar>
+struct has_bounded_query<Field, Scalar,
+                         std::void_t<decltype(std::declval<const Field&>().distance_within(
+                             std::declval<const Vector3<Scalar>&>(), Scalar(0), std::declval<Scalar&>(),
+                             std::declval<Vector3<Scalar>&>(), std::declval<int&>()))>> : std::true_type {};
+
+/// The field as the narrow phase queries it, per phalanx: exact(p) is the field's distance;
+/// within(p, limit) may answer false for a point farther than limit from the surface (only
+/// fields with a bounded query do; the others always answer, exactly).
+template <class Scalar, class Field, bool Bounded = has_bounded_query<Field, Scalar>::value>
+struct FieldProbe {
+  static constexpr bool bounded = false;
+  const Field& field;
+  Scalar exact(const Vector3<Scalar>& p, Vector3<Scalar>& n) { return field.distance(p, n); }
+  bool within(const Vector3<Scalar>& p, Scalar, Scalar& phi, Vector3<Scalar>& n) {
+    phi = field.distance(p, n);
+    return true;
+  }
+};
+template <class Scalar, class Field>
+struct FieldProbe<Scalar, Field, true> {
+  static constexpr bool bounded = true;
+  const Field& field;
+  int hint{-1};  // the previous answer's place in the field: successive points are near
+  Scalar exact(const Vector3<Scalar>& p, Vector3<Scalar>& n) {
+    Scalar phi = Scalar(0);
+    if (field.distance_within(p, ScalarTraits<Scalar>::max_magnitude, phi, n, hint)) return phi;
+    return field.distance(p, n);
+  }
+  bool within(const Vector3<Scalar>& p, Scalar limit, Scalar& phi, Vector3<Scalar>& n) {
+    return field.distance_within(p, limit, phi, n, hint);
+  }
+};
+
 /// A phalanx's axis in the object frame: points a + t (b - a), t in [0, 1], and its radius.
 template <class Scalar>
 struct PhalanxAxis {
@@ -51,13 +91,25 @@ struct PhalanxAxis {
 };
 
 /// The exact distances of a phalanx's samples (object frame), and which ones the broad
-/// phase put in reach (those not in reach are farther than the margin: never evaluated).
+/// phase put in reach (those not in reach are farther than the band: never evaluated).
+/// `solid`: the sample's centre may lie inside the object (it lies in a solid octree leaf,
+/// or no octree was asked); one that does not and has no surface within the band is out of
+/// reach.
 template <class Scalar, int Samples>
 struct SampleField {
   std::array<Scalar, Samples> phi{};
   std::array<Vector3<Scalar>, Samples> normal{};
   std::array<bool, Samples> reach{};
+  std::array<bool, Samples> solid{};
 };
+
+/// The band of a phalanx: a sample whose distance is below it may start a contact (its
+/// radius, plus half a sample spacing when refining, see collision.hpp).
+template <class Scalar, int Samples>
+Scalar band_of(const PhalanxAxis<Scalar>& ax, const ContactSettings<Scalar>& settings) {
+  const Scalar length = (ax.b - ax.a).norm();
+  return ax.radius + (settings.refine_iterations > 0 ? Scalar(0.5) * length / Scalar(Samples - 1) : Scalar(0));
+}
 
 /// A place where the phalanx penetrates: a sample, or the deepest point a refinement found.
 template <class Scalar>
@@ -70,12 +122,35 @@ struct Penetration {
   bool is_sample{false};                            // a sample itself (counted in HandContact::samples)
 };
 
-/// Evaluates the field at the samples in reach.
-template <class Scalar, int Samples, class Field>
-void evaluate_samples(const Field& field, const PhalanxAxis<Scalar>& ax, SampleField<Scalar, Samples>& s) {
+/// Evaluates the field at the samples in reach; those with no surface within the band and
+/// outside the object go out of reach, and so does a sample next to one at least a spacing
+/// beyond the band (phi is 1-Lipschitz: it is beyond the band too).
+template <class Scalar, int Samples, class Probe>
+void evaluate_samples(Probe& probe, const PhalanxAxis<Scalar>& ax, Scalar band, SampleField<Scalar, Samples>& s) {
+  const Scalar skip = band + (ax.b - ax.a).norm() / Scalar(Samples - 1);
+  bool far = false;  // the previous sample is at least a spacing beyond the band
   for (int j = 0; j < Samples; ++j) {
     const auto sj = static_cast<std::size_t>(j);
-    if (s.reach[sj]) s.phi[sj] = field.distance(ax.at(Scalar(j) / Scalar(Samples - 1)), s.normal[sj]);
+    if (!s.reach[sj]) {
+      far = false;
+      continue;
+    }
+    if (far) {
+      s.reach[sj] = false;
+      far = false;
+      continue;
+    }
+    const Vector3<Scalar> x = ax.at(Scalar(j) / Scalar(Samples - 1));
+    if (probe.within(x, band, s.phi[sj], s.normal[sj])) {
+      far = s.phi[sj] >= skip;
+      continue;
+    }
+    if (s.solid[sj]) {  // deep inside, or near a solid leaf
+      s.phi[sj] = probe.exact(x, s.normal[sj]);
+      far = s.phi[sj] >= skip;
+    } else {
+      s.reach[sj] = false;
+    }
   }
 }
 
@@ -87,9 +162,9 @@ void evaluate_samples(const Field& field, const PhalanxAxis<Scalar>& ax, SampleF
 /// there. For convex phi the two tangents bound min phi from below: the iteration stops
 /// when the best value is within `settings.refine_tolerance` of that bound, or after
 /// `settings.refine_iterations` evaluations.
-template <class Scalar, int Samples, class Field>
-Penetration<Scalar> refine(const Field& field, const PhalanxAxis<Scalar>& ax, const SampleField<Scalar, Samples>& s,
-                           int j, const ContactSettings<Scalar>& settings) {
+template <class Scalar, int Samples, class Probe>
+Penetration<Scalar> refine(Probe& probe, const PhalanxAxis<Scalar>& ax, const SampleField<Scalar, Samples>& s, int j,
+                           Scalar band, const ContactSettings<Scalar>& settings) {
   struct End {
     Scalar t, phi, slope;
   };
@@ -106,11 +181,19 @@ Penetration<Scalar> refine(const Field& field, const PhalanxAxis<Scalar>& ax, co
   const int k = slope > Scalar(0) ? j - 1 : j + 1;
   int budget = settings.refine_iterations;
   if (slope == Scalar(0) || k < 0 || k >= Samples || budget <= 0) return best;
+  // Every point of the bracket is within one spacing of sample j, below the band: its
+  // distance is below band + spacing.
+  const Scalar limit = band + d.norm() * h;
+  auto distance = [&](Scalar t, Vector3<Scalar>& n) {
+    Scalar phi = Scalar(0);
+    if (!probe.within(ax.at(t), limit, phi, n)) phi = probe.exact(ax.at(t), n);
+    return phi;
+  };
   const auto sk = static_cast<std::size_t>(k);
   Vector3<Scalar> nk = s.normal[sk];
   Scalar phik = s.phi[sk];
   if (!s.reach[sk]) {  // farther than the band: not evaluated yet
-    phik = field.distance(ax.at(Scalar(k) * h), nk);
+    phik = distance(Scalar(k) * h, nk);
     --budget;
   }
   End lo{best.t, best.phi, slope}, hi{Scalar(k) * h, phik, nk.dot(d)};
@@ -124,7 +207,7 @@ Penetration<Scalar> refine(const Field& field, const PhalanxAxis<Scalar>& ax, co
     Scalar t = it % 2 == 0 ? lo.t - lo.slope * (hi.t - lo.t) / dg : t_tangents;
     if (!(t > lo.t && t < hi.t)) t = Scalar(0.5) * (lo.t + hi.t);
     Vector3<Scalar> n;
-    const Scalar phi = field.distance(ax.at(t), n);
+    const Scalar phi = distance(t, n);
     if (phi < best.phi) {
       best.phi = phi;
       best.t = t;
@@ -182,31 +265,43 @@ int part_candidates(const Field& field, const PhalanxAxis<Scalar>& ax, int j, st
 /// penetrating sample. They are taken deepest first: one within `cluster_angle` of a
 /// contact's normal joins it (the nearest such), another starts one more contact while fewer
 /// than K exist, else joins the contact of the nearest normal.
-template <int K, class Scalar, int Samples, class Field>
-int phalanx_contacts(const Field& field, const PhalanxAxis<Scalar>& ax, const SampleField<Scalar, Samples>& s,
-                     const ContactSettings<Scalar>& settings, std::array<Penetration<Scalar>, K>& out,
-                     std::array<int, K>& members) {
+template <int K, class Scalar, int Samples, class Field, class Probe>
+int phalanx_contacts(const Field& field, Probe& probe, const PhalanxAxis<Scalar>& ax,
+                     const SampleField<Scalar, Samples>& s, Scalar band, const ContactSettings<Scalar>& settings,
+                     std::array<Penetration<Scalar>, K>& out, std::array<int, K>& members) {
   constexpr int parts = K > 1 ? field_parts<Field>::max : 1;
   std::array<Penetration<Scalar>, (1 + parts) * Samples> cand;
   int nc = 0;
-  const bool refining = settings.refine_iterations > 0 && (ax.b - ax.a).squaredNorm() > Scalar(0);
-  const Scalar band = ax.radius + (refining ? Scalar(0.5) * (ax.b - ax.a).norm() / Scalar(Samples - 1) : Scalar(0));
+  // The local minima of the sampled distance within the band (the first of a run of equal
+  // values), to refine. With K = 1 only the deepest contact is kept: they are refined by
+  // increasing distance, and one whose bracket (points within a spacing of its sample, phi
+  // 1-Lipschitz) cannot go below the best found so far is skipped.
+  std::array<int, Samples> minima{};
+  int nm = 0;
   for (int j = 0; j < Samples; ++j) {
     const auto sj = static_cast<std::size_t>(j);
     if (!s.reach[sj]) continue;
     const Scalar phi = s.phi[sj];
-    // A local minimum of the sampled distance: the first of a run of equal values.
     const bool left = j == 0 || !s.reach[sj - 1] || phi < s.phi[sj - 1];
     const bool right = j == Samples - 1 || !s.reach[sj + 1] || phi <= s.phi[sj + 1];
-    if (left && right && phi < band) {
-      const Penetration<Scalar> p = refine(field, ax, s, j, settings);
-      if (p.depth > Scalar(0)) cand[static_cast<std::size_t>(nc++)] = p;
-    }
+    if (left && right && phi < band) minima[static_cast<std::size_t>(nm++)] = j;
     if constexpr (parts > 1) {
       nc = part_candidates<parts, Samples>(field, ax, j, cand, nc);
     } else {
       if (phi < ax.radius) cand[static_cast<std::size_t>(nc++)] = sample_penetration(ax, j, Samples, phi, s.normal[sj]);
     }
+  }
+  if (K == 1)
+    std::sort(minima.begin(), minima.begin() + nm,
+              [&](int x, int y) { return s.phi[static_cast<std::size_t>(x)] < s.phi[static_cast<std::size_t>(y)]; });
+  const Scalar spacing = (ax.b - ax.a).norm() / Scalar(Samples - 1);
+  Scalar deepest = ax.radius;  // the least distance refined so far (a contact needs less than r)
+  for (int m = 0; m < nm; ++m) {
+    const int j = minima[static_cast<std::size_t>(m)];
+    if (K == 1 && !(s.phi[static_cast<std::size_t>(j)] - spacing < deepest)) continue;
+    const Penetration<Scalar> p = refine(probe, ax, s, j, band, settings);
+    if (p.depth > Scalar(0)) cand[static_cast<std::size_t>(nc++)] = p;
+    deepest = std::min(deepest, p.phi);
   }
   // Deepest first (insertion sort: at most 2 Samples candidates); a refined point before the
   // sample it was refined from when both are equally deep.
