@@ -61,8 +61,8 @@ Contact<Scalar> to_contact(const HandContact<Scalar>& hc, const typename Contact
 /// is not finite, a contact fails validate(Contact) (e.g. negative stiffness or friction), or
 /// there are more contacts than MaxN; the grasp then holds the contacts added before the
 /// failure. Ok otherwise. Ready for solve_kkt / solve_range_space.
-template <class Scalar, class Model, int MaxN>
-Status fill_grasp(const HandContacts<Scalar>& contacts, const typename ContactParameters<Scalar>::Point& center_of_mass,
+template <class Scalar, int PerPhalanx, class Model, int MaxN>
+Status fill_grasp(const HandContacts<Scalar, PerPhalanx>& contacts, const typename ContactParameters<Scalar>::Point& center_of_mass,
                   const ContactParameters<Scalar>& params, Grasp<Dynamic, Model, Scalar, MaxN>& grasp) {
   grasp.clear();
   if (!center_of_mass.allFinite()) return Status::InvalidInput;
