@@ -42,7 +42,7 @@ const grip::SphericalOctree<S, octree_capacity>& cylinder_octree() {
   static grip::SphericalOctree<S, octree_capacity> octree;
   static bool built = false;
   if (!built) {
-    octree.build(grip::Shape<S>(grip::make_cylinder<S>(radius, half_length)), 5);
+    octree.build(grip::Shape<S>(grip::make_cylinder<S>(radius, half_length)), 3);
     built = true;
   }
   return octree;

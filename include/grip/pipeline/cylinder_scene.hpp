@@ -24,11 +24,13 @@ namespace grip {
 /// of mass) among up to MaxObstacles obstacles; at most PerPhalanx contacts per phalanx.
 ///
 /// - Hand contacts: the exact narrow phase of collision.hpp on the cylinder's distance field,
-///   every phalanx sampled by 8 spheres: a contact's depth is its capsule's exact deepest
-///   point (with PerPhalanx = 1), on the side, the end caps or a rim.
+///   each phalanx sampled by `Samples` spheres: a contact's depth is its capsule's exact
+///   deepest point (with PerPhalanx = 1), on the side, an end cap or a rim. The cylinder is
+///   convex, so even 2 samples find it; where the deepest points form a line (a phalanx lying
+///   along the side) the samples decide which of them is reported: the first, from the base.
 /// - Obstacle contacts: `rim_points` points on each end-cap rim (2 rim_points in all) against
 ///   the obstacles (Obstacles::contacts).
-template <class Scalar, int MaxObstacles = 4, int PerPhalanx = 1>
+template <class Scalar, int MaxObstacles = 4, int PerPhalanx = 1, int Samples = 8>
 struct CylinderScene {
   static constexpr int contacts_per_phalanx = PerPhalanx;  ///< most hand contacts per phalanx
   Scalar radius{Scalar(0.035)};       ///< cylinder radius (m)
@@ -36,7 +38,7 @@ struct CylinderScene {
   int rim_points{8};                  ///< sample points per rim, in [1, max_obstacle_contacts / 2]
   Obstacles<Scalar, MaxObstacles> obstacles{};  ///< obstacles in the world (e.g. a table: add_box)
   ContactSettings<Scalar> contact_settings{};   ///< the narrow phase's settings
-  mutable HandCollisionModel<Scalar, 8> model{};  ///< per-frame hand spheres (scratch)
+  mutable HandCollisionModel<Scalar, Samples> model{};  ///< per-frame hand spheres (scratch)
 
   /// The hand contacts of `posture` with the cylinder posed as `object`. Returns their count
   /// (0 also when the posture, the object or the settings are invalid).

@@ -123,8 +123,9 @@ Status add_box_points(SurfacePoints<Scalar, MaxPoints>& points,
   for (int code = 0; code < 27; ++code) {
     const int c[3] = {code % 3 - 1, (code / 3) % 3 - 1, code / 9 - 1};
     if ((c[0] == 0) + (c[1] == 0) + (c[2] == 0) > 1) continue;
-    const Vector3<Scalar> local(Scalar(c[0]) * half_extents.x(), Scalar(c[1]) * half_extents.y(),
-                                Scalar(c[2]) * half_extents.z());
+    const Vector3<Scalar> local = Vector3<Scalar>(static_cast<Scalar>(c[0]), static_cast<Scalar>(c[1]),
+                                                  static_cast<Scalar>(c[2]))
+                                      .cwiseProduct(half_extents);
     if (points.add(center + rotation * local) != Status::Ok) return Status::InvalidInput;
   }
   return Status::Ok;

@@ -112,14 +112,15 @@ Scalar band_of(const PhalanxAxis<Scalar>& ax, const ContactSettings<Scalar>& set
 }
 
 /// A place where the phalanx penetrates: a sample, or the deepest point a refinement found.
+/// (Plain data, filled before use: the candidate arrays are not initialised.)
 template <class Scalar>
 struct Penetration {
-  Scalar depth{0};                                  // r - phi
-  Scalar t{0};                                      // axis parameter
-  Scalar phi{0};                                    // signed distance of the axis point
-  Vector3<Scalar> normal{Vector3<Scalar>::UnitZ()};  // outward
-  int sample{0};                                    // the sample it comes from
-  bool is_sample{false};                            // a sample itself (counted in HandContact::samples)
+  Scalar depth;             // r - phi
+  Scalar t;                 // axis parameter
+  Scalar phi;               // signed distance of the axis point
+  Vector3<Scalar> normal;   // outward
+  int sample;               // the sample it comes from
+  bool is_sample;           // a sample itself (counted in HandContact::samples)
 };
 
 /// Evaluates the field at the samples in reach; those with no surface within the band and
@@ -170,12 +171,7 @@ Penetration<Scalar> refine(Probe& probe, const PhalanxAxis<Scalar>& ax, const Sa
   };
   const auto sj = static_cast<std::size_t>(j);
   const Scalar h = Scalar(1) / Scalar(Samples - 1);
-  Penetration<Scalar> best;
-  best.t = Scalar(j) * h;
-  best.phi = s.phi[sj];
-  best.normal = s.normal[sj];
-  best.sample = j;
-  best.depth = ax.radius - best.phi;
+  Penetration<Scalar> best{ax.radius - s.phi[sj], Scalar(j) * h, s.phi[sj], s.normal[sj], j, false};
   const Vector3<Scalar> d = ax.b - ax.a;
   const Scalar slope = s.normal[sj].dot(d);
   const int k = slope > Scalar(0) ? j - 1 : j + 1;
@@ -225,14 +221,7 @@ Penetration<Scalar> refine(Probe& probe, const PhalanxAxis<Scalar>& ax, const Sa
 template <class Scalar>
 Penetration<Scalar> sample_penetration(const PhalanxAxis<Scalar>& ax, int j, int samples, Scalar phi,
                                        const Vector3<Scalar>& normal) {
-  Penetration<Scalar> p;
-  p.depth = ax.radius - phi;
-  p.t = Scalar(j) / Scalar(samples - 1);
-  p.phi = phi;
-  p.normal = normal;
-  p.sample = j;
-  p.is_sample = true;
-  return p;
+  return Penetration<Scalar>{ax.radius - phi, Scalar(j) / Scalar(samples - 1), phi, normal, j, true};
 }
 
 /// Sample j's penetrations of each part whose nearest point lies on the field's surface (not
@@ -276,7 +265,7 @@ int phalanx_contacts(const Field& field, Probe& probe, const PhalanxAxis<Scalar>
   // values), to refine. With K = 1 only the deepest contact is kept: they are refined by
   // increasing distance, and one whose bracket (points within a spacing of its sample, phi
   // 1-Lipschitz) cannot go below the best found so far is skipped.
-  std::array<int, Samples> minima{};
+  std::array<int, Samples> minima;
   int nm = 0;
   for (int j = 0; j < Samples; ++j) {
     const auto sj = static_cast<std::size_t>(j);
@@ -292,8 +281,13 @@ int phalanx_contacts(const Field& field, Probe& probe, const PhalanxAxis<Scalar>
     }
   }
   if (K == 1)
-    std::sort(minima.begin(), minima.begin() + nm,
-              [&](int x, int y) { return s.phi[static_cast<std::size_t>(x)] < s.phi[static_cast<std::size_t>(y)]; });
+    for (int i = 1; i < nm; ++i) {  // insertion sort by distance (at most Samples)
+      const int j = minima[static_cast<std::size_t>(i)];
+      int m = i;
+      for (; m > 0 && s.phi[static_cast<std::size_t>(minima[static_cast<std::size_t>(m - 1)])] > s.phi[static_cast<std::size_t>(j)]; --m)
+        minima[static_cast<std::size_t>(m)] = minima[static_cast<std::size_t>(m - 1)];
+      minima[static_cast<std::size_t>(m)] = j;
+    }
   const Scalar spacing = (ax.b - ax.a).norm() / Scalar(Samples - 1);
   Scalar deepest = ax.radius;  // the least distance refined so far (a contact needs less than r)
   for (int m = 0; m < nm; ++m) {
@@ -315,7 +309,7 @@ int phalanx_contacts(const Field& field, Probe& probe, const PhalanxAxis<Scalar>
     }
     cand[static_cast<std::size_t>(k)] = p;
   }
-  const Scalar cos_join = std::cos(settings.cluster_angle);
+  const Scalar cos_join = K > 1 ? std::cos(settings.cluster_angle) : Scalar(1);
   int count = 0;
   for (int i = 0; i < nc; ++i) {
     const Penetration<Scalar>& p = cand[static_cast<std::size_t>(i)];
