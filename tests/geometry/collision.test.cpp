@@ -10,6 +10,7 @@
 #include <grip/geometry/collision.hpp>
 
 #include "support/allocation_counter.hpp"
+#include "support/hand_postures.hpp"
 
 using namespace grip;
 
@@ -27,19 +28,9 @@ SphericalOctree<S, octree_capacity>& octree() {
   static SphericalOctree<S, octree_capacity> t;
   return t;
 }
-// A posture whose phalanges are all far away (10 m) except phalanx k = [a, b] of radius r.
 template <class S>
 HandPosture<S> single(int k, const Vector3<S>& a, const Vector3<S>& b, S r) {
-  HandPosture<S> h;
-  for (int i = 0; i < hand_phalanx_count; ++i) {
-    h.phalanges[static_cast<std::size_t>(i)].base = Vector3<S>(S(10), S(0), S(i));
-    h.phalanges[static_cast<std::size_t>(i)].tip = Vector3<S>(S(10.01), S(0), S(i));
-    h.phalanges[static_cast<std::size_t>(i)].radius = S(0.008);
-  }
-  h.phalanges[static_cast<std::size_t>(k)].base = a;
-  h.phalanges[static_cast<std::size_t>(k)].tip = b;
-  h.phalanges[static_cast<std::size_t>(k)].radius = r;
-  return h;
+  return grip_test::single_phalanx<S>(k, a, b, r);
 }
 // The documented accuracy of an octree leaf model (spherical_octree.hpp): e = 3 h^2 (R + s) / (2 R^2).
 template <class S>

@@ -20,6 +20,9 @@
 #include "support/allocation_counter.hpp"
 #include "support/constants.hpp"
 #include "support/exact_geometry.hpp"
+#include "support/hand_postures.hpp"
+
+namespace collision_bounds_test {
 
 using namespace grip;
 using grip_test::uniform;
@@ -36,19 +39,9 @@ SphericalOctree<S, cap>& octree() {
   return t;
 }
 
-// A posture whose phalanges are all 10 m away except phalanx k = [a, b] of radius r.
 template <class S>
 HandPosture<S> single(int k, const Vector3<S>& a, const Vector3<S>& b, S r) {
-  HandPosture<S> h;
-  for (int i = 0; i < hand_phalanx_count; ++i) {
-    h.phalanges[static_cast<std::size_t>(i)].base = Vector3<S>(S(10), S(0), S(i));
-    h.phalanges[static_cast<std::size_t>(i)].tip = Vector3<S>(S(10.01), S(0), S(i));
-    h.phalanges[static_cast<std::size_t>(i)].radius = S(0.008);
-  }
-  h.phalanges[static_cast<std::size_t>(k)].base = a;
-  h.phalanges[static_cast<std::size_t>(k)].tip = b;
-  h.phalanges[static_cast<std::size_t>(k)].radius = r;
-  return h;
+  return grip_test::single_phalanx<S>(k, a, b, r);
 }
 
 // The bound of collision.hpp for a convex field: the refinement's certified tolerance
@@ -69,7 +62,7 @@ struct Tally {
 // lie on (the object's; for a union, any primitive's: collision.hpp).
 template <class S, class Field, class Exact, class OffSurface>
 void check_phalanx(const Field& field, const Exact& exact, const OffSurface& off_surface, const Iso<S>& pose,
-                   const V3& a, const V3& b, double r, bool convex, Tally& tally) {
+                   const V3& a, const V3& b, double r, bool convex, Tally& tally, int grid = 2000) {
   const Iso<double> pose_d = pose.template cast<double>();
   HandCollisionModel<S> hand;
   REQUIRE(hand.set_posture(single<S>(5, (pose_d * a).cast<S>(), (pose_d * b).cast<S>(), S(r))) == Status::Ok);
@@ -78,7 +71,7 @@ void check_phalanx(const Field& field, const Exact& exact, const OffSurface& off
   const double spacing = (b - a).norm() / 7;
   const double tol = bound<S>(spacing);
   double t_star = 0;
-  const double gap = grip_test::segment_minimum(exact, a, b, &t_star);
+  const double gap = grip_test::segment_minimum(exact, a, b, &t_star, grid);
   const double depth_true = r - gap;
   double deepest_sample = -1;
   for (int j = 0; j < 8; ++j) deepest_sample = std::max(deepest_sample, r - exact(a + (j / 7.0) * (b - a)));
@@ -131,17 +124,37 @@ void aim(std::mt19937& rng, const V3& f, const V3& nf, double r, V3& a, V3& b) {
 }
 
 template <class S>
-Iso<S> random_pose(std::mt19937& rng) {
-  Iso<S> pose = Iso<S>::Identity();
-  pose.linear() = grip_test::rotation(rng).cast<S>();
-  pose.translation() = Vector3<S>(S(uniform(rng, -0.2, 0.2)), S(uniform(rng, -0.2, 0.2)), S(uniform(rng, -0.2, 0.2)));
-  return pose;
-}
+Iso<S> random_pose(std::mt19937& rng);
 
 // The distance from the surface of a solid given by its exact signed distance.
 template <class Exact>
 auto surface_of(const Exact& exact) {
   return [&exact](const V3& p) { return std::abs(exact(p)); };
+}
+
+// A phalanx of random radius aimed at surface point f (outward normal nf), checked against
+// `exact` with the object at a random pose.
+template <class S, class Field, class Exact>
+void aim_and_check(const Field& field, const Exact& exact, std::mt19937& rng, const V3& f, const V3& nf, Tally& tally) {
+  V3 a, b;
+  const double r = uniform(rng, 0.006, 0.01);
+  aim(rng, f, nf, r, a, b);
+  check_phalanx<S>(field, exact, surface_of(exact), random_pose<S>(rng), a, b, r, true, tally);
+}
+
+// The coverage a case needs: enough contacts, poses apart, and deep axes.
+void check_tally(const Tally& t, int contacts, int apart, int deep) {
+  CHECK(t.contacts > contacts);
+  CHECK(t.apart > apart);
+  CHECK(t.deep > deep);
+}
+
+template <class S>
+Iso<S> random_pose(std::mt19937& rng) {
+  Iso<S> pose = Iso<S>::Identity();
+  pose.linear() = grip_test::rotation(rng).cast<S>();
+  pose.translation() = Vector3<S>(S(uniform(rng, -0.2, 0.2)), S(uniform(rng, -0.2, 0.2)), S(uniform(rng, -0.2, 0.2)));
+  return pose;
 }
 
 double sign(std::mt19937& rng) { return grip_test::u01(rng) < 0.5 ? -1.0 : 1.0; }
@@ -185,14 +198,9 @@ TEST_CASE_TEMPLATE("box: faces, edges, corners and deep axes, the capsule's exac
       n.normalize();
       ++corners;
     }
-    V3 a, b;
-    const double r = uniform(rng, 0.006, 0.01);
-    aim(rng, c + R * q, R * n, r, a, b);
-    check_phalanx<S>(shape, exact, surface_of(exact), random_pose<S>(rng), a, b, r, true, tally);
+    aim_and_check<S>(shape, exact, rng, c + R * q, R * n, tally);
   }
-  CHECK(tally.contacts > 120);
-  CHECK(tally.apart > 20);
-  CHECK(tally.deep > 5);
+  check_tally(tally, 120, 20, 5);
   CHECK(edges == 80);
   CHECK(corners == 80);
 }
@@ -221,14 +229,9 @@ TEST_CASE_TEMPLATE("cylinder: side, caps and rims; the rim case a user hit gets 
       q = radius * radial + V3(0, 0, s * half);
       n = std::cos(th) * radial + V3(0, 0, s * std::sin(th));
     }
-    V3 a, b;
-    const double r = uniform(rng, 0.006, 0.01);
-    aim(rng, c + R * q, R * n, r, a, b);
-    check_phalanx<S>(shape, exact, surface_of(exact), random_pose<S>(rng), a, b, r, true, tally);
+    aim_and_check<S>(shape, exact, rng, c + R * q, R * n, tally);
   }
-  CHECK(tally.contacts > 120);
-  CHECK(tally.apart > 20);
-  CHECK(tally.deep > 5);
+  check_tally(tally, 120, 20, 5);
 
   // The minimal case: a phalanx (r = 8 mm) 0.5 to 1 mm above the cap, lying across the rim.
   // The paper mode reported a contact 8.77 mm deep with a horizontal normal; there is none.
@@ -255,10 +258,7 @@ TEST_CASE_TEMPLATE("sphere and capsule: curved surfaces and deep axes, exact", S
   REQUIRE(octree<S>().build(sphere, 5) == Status::Ok);
   for (int trial = 0; trial < 120; ++trial) {
     const V3 u = grip_test::unit_vector(rng);
-    V3 a, b;
-    const double r = uniform(rng, 0.006, 0.01);
-    aim(rng, c + 0.04 * u, u, r, a, b);
-    check_phalanx<S>(sphere, ball, surface_of(ball), random_pose<S>(rng), a, b, r, true, tally);
+    aim_and_check<S>(sphere, ball, rng, c + 0.04 * u, u, tally);
   }
   const Eigen::Matrix3d R = grip_test::rotation(rng);
   const grip_test::ExactCapsule pill{c, R, 0.02, 0.03};
@@ -268,14 +268,9 @@ TEST_CASE_TEMPLATE("sphere and capsule: curved surfaces and deep axes, exact", S
     const V3 u = grip_test::unit_vector(rng);
     const V3 axis_point = c + R * V3(0, 0, uniform(rng, -0.04, 0.04));
     const V3 q = c + R * V3(0, 0, std::clamp((R.transpose() * (axis_point - c)).z(), -0.03, 0.03));
-    V3 a, b;
-    const double r = uniform(rng, 0.006, 0.01);
-    aim(rng, q + 0.02 * u, u, r, a, b);
-    check_phalanx<S>(capsule, pill, surface_of(pill), random_pose<S>(rng), a, b, r, true, tally);
+    aim_and_check<S>(capsule, pill, rng, q + 0.02 * u, u, tally);
   }
-  CHECK(tally.contacts > 100);
-  CHECK(tally.apart > 10);
-  CHECK(tally.deep > 5);
+  check_tally(tally, 100, 10, 5);
 }
 
 TEST_CASE_TEMPLATE("a union (not convex): true penetrations, at least the deepest sample's", S, double, float) {
@@ -572,14 +567,9 @@ TEST_CASE("a box as a triangle mesh: the capsule's exact deepest point, as for t
     for (int i = 0; i < 3; ++i)
       if (i != free_axis) n(i) = (q(i) > 0 ? 1 : -1) * uniform(rng, 0.05, 1);
     n.normalize();
-    V3 a, b;
-    const double r = uniform(rng, 0.006, 0.01);
-    aim(rng, q, n, r, a, b);
-    check_phalanx<S>(shape, exact, surface_of(exact), random_pose<S>(rng), a, b, r, true, tally);
+    aim_and_check<S>(shape, exact, rng, q, n, tally);
   }
-  CHECK(tally.contacts > 70);
-  CHECK(tally.apart > 10);
-  CHECK(tally.deep > 3);
+  check_tally(tally, 70, 10, 3);
 }
 
 TEST_CASE_TEMPLATE("a mesh with cavities and a handle (the mug): the bounds of any field", S, double, float) {
@@ -595,18 +585,21 @@ TEST_CASE_TEMPLATE("a mesh with cavities and a handle (the mug): the bounds of a
            shape.build(mug) == Status::Ok;
   }();
   REQUIRE(loaded);
-  REQUIRE(octree<S>().build(winding_signed(shape), 4) == Status::Ok);
+  REQUIRE(octree<S>().build(winding_signed(shape), 3) == Status::Ok);
   const auto exact = [&](const V3& p) { return double(shape.distance(p.cast<S>())); };
   std::mt19937 rng(20);
   Tally tally;
-  for (int trial = 0; trial < 120; ++trial) {
+  for (int trial = 0; trial < 60; ++trial) {
     const int v = int(grip_test::u01(rng) * mug.vertex_count()) % mug.vertex_count();
-    const V3 f = mug.vertex(v).template cast<double>(), n = mug.vertex_normal(v).template cast<double>();
+    const V3 n = mug.vertex_normal(v).template cast<double>();
+    const V3 f = mug.vertex(v).template cast<double>() + (trial % 3 == 0 ? 0.003 : 0.0) * n;  // some pulled away
     V3 a, b;
     const double r = uniform(rng, 0.006, 0.01);
     aim(rng, f, n, r, a, b);
-    check_phalanx<S>(shape, exact, surface_of(exact), Iso<S>::Identity(), a, b, r, false, tally);
+    check_phalanx<S>(shape, exact, surface_of(exact), Iso<S>::Identity(), a, b, r, false, tally, 300);
   }
-  CHECK(tally.contacts > 50);
+  CHECK(tally.contacts > 25);
   CHECK(tally.apart > 3);
 }
+
+}  // namespace collision_bounds_test

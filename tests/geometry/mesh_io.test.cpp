@@ -15,6 +15,8 @@
 
 #include "geometry/mesh_test_support.hpp"
 
+namespace mesh_io_test {
+
 using namespace grip;
 using grip_mesh_test::read_data_file;
 using grip_mesh_test::V3;
@@ -394,3 +396,5 @@ TEST_CASE("number parser: grammar, exact values, limits, no locale") {
     CHECK(parse(s, v) == NumberParse::Malformed);
   }
 }
+
+}  // namespace mesh_io_test

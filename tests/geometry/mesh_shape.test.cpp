@@ -21,6 +21,12 @@
 #include "support/allocation_counter.hpp"
 #include "support/constants.hpp"
 
+template class grip::MeshShape<double, 16, 32>;
+template class grip::MeshShape<float, 16, 32>;
+
+
+namespace mesh_shape_test {
+
 using namespace grip;
 using grip_mesh_test::load;
 using grip_mesh_test::Soup;
@@ -30,8 +36,6 @@ using grip_mesh_test::unit_vector;
 using grip_mesh_test::V3;
 using grip_test::pi;
 
-template class grip::MeshShape<double, 16, 32>;
-template class grip::MeshShape<float, 16, 32>;
 
 namespace {
 constexpr int max_v = 4096, max_t = 8192;
@@ -393,3 +397,5 @@ TEST_CASE_TEMPLATE("the shipped meshes: counts, closed, volumes against independ
   MESSAGE("blob: mesh volume / line estimate = " << double(m.volume()) / volume);
   CHECK(std::abs(double(m.volume()) - volume) <= 0.015 * volume);
 }
+
+}  // namespace mesh_shape_test

@@ -11,6 +11,8 @@
 #include "geometry/mesh_test_support.hpp"
 #include "support/constants.hpp"
 
+namespace triangle_test {
+
 using namespace grip;
 using grip_mesh_test::uniform;
 using grip_mesh_test::V3;
@@ -211,3 +213,5 @@ TEST_CASE_TEMPLATE("solid angles: octant pi/2, and a closed mesh sums to 4 pi in
     CHECK(std::abs(sum - (k % 2 == 0 ? S(4 * pi) : S(0))) <= S(grip_test::tol_of<S>(1e-10, 1e-3)));
   }
 }
+
+}  // namespace triangle_test

@@ -13,6 +13,12 @@
 #include "geometry/mesh_test_support.hpp"
 #include "support/constants.hpp"
 
+template class grip::TriangleMesh<double, 16, 32>;
+template class grip::TriangleMesh<float, 16, 32>;
+
+
+namespace triangle_mesh_test {
+
 using namespace grip;
 using grip_mesh_test::append;
 using grip_mesh_test::box_soup;
@@ -20,8 +26,6 @@ using grip_mesh_test::load;
 using grip_mesh_test::Soup;
 using grip_mesh_test::V3;
 
-template class grip::TriangleMesh<double, 16, 32>;
-template class grip::TriangleMesh<float, 16, 32>;
 
 namespace {
 template <class S>
@@ -251,3 +255,5 @@ TEST_CASE("mesh issues have distinct names") {
   MeshReport r;
   CHECK_FALSE(r.ok());
 }
+
+}  // namespace triangle_mesh_test

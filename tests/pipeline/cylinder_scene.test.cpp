@@ -8,24 +8,17 @@
 #include <grip/pipeline/cylinder_scene.hpp>
 
 #include "support/exact_geometry.hpp"
+#include "support/hand_postures.hpp"
+
+namespace cylinder_scene_test {
 
 using namespace grip;
 using grip_test::V3;
 
 namespace {
-// A posture whose phalanges are all 10 m away except phalanx k = [a, b] of radius r.
 template <class S>
 HandPosture<S> single(int k, const V3& a, const V3& b, double r) {
-  HandPosture<S> h;
-  for (int i = 0; i < hand_phalanx_count; ++i) {
-    h.phalanges[static_cast<std::size_t>(i)].base = Vector3<S>(S(10), S(0), S(i));
-    h.phalanges[static_cast<std::size_t>(i)].tip = Vector3<S>(S(10.01), S(0), S(i));
-    h.phalanges[static_cast<std::size_t>(i)].radius = S(0.008);
-  }
-  h.phalanges[static_cast<std::size_t>(k)].base = a.cast<S>();
-  h.phalanges[static_cast<std::size_t>(k)].tip = b.cast<S>();
-  h.phalanges[static_cast<std::size_t>(k)].radius = S(r);
-  return h;
+  return grip_test::single_phalanx<S>(k, a.cast<S>(), b.cast<S>(), S(r));
 }
 template <class S>
 double tol() {  // the narrow phase's bound: its refine_tolerance (0.1 um), and 64 ulps of 0.5 m
@@ -118,3 +111,5 @@ TEST_CASE_TEMPLATE("cylinder scene: a rotated slab obstacle meets the rim points
   CHECK(n >= 3);
   CHECK(scene.obstacles.add_box(Vector3<S>::Zero(), Vector3<S>(S(1), S(0), S(1))) == Status::InvalidInput);  // empty
 }
+
+}  // namespace cylinder_scene_test

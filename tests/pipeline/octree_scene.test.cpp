@@ -16,6 +16,8 @@
 #include "pipeline/pipeline_fixture.hpp"
 #include "support/allocation_counter.hpp"
 
+namespace octree_scene_test {
+
 using namespace grip;
 
 namespace {
@@ -34,7 +36,7 @@ const CubeShape<S>& cube_shape() {
 template <class S>
 const SphericalOctree<S, cap>& cube_octree() {
   static SphericalOctree<S, cap> octree;
-  static const bool built = octree.build(cube_shape<S>(), 4) == Status::Ok;
+  static const bool built = octree.build(cube_shape<S>(), 3) == Status::Ok;
   REQUIRE(built);
   return octree;
 }
@@ -68,7 +70,8 @@ struct HeldCube {
     const Vector3<S> offset(S(0.374) * l + S(0.025), S(0), -(S(cube_half) + S(0.045) * l - S(0.002)));
     wrist.pose = Isometry::Identity();
     wrist.pose.translation() = object.position - offset;
-    const ClosedHand<S> c = close_hand_in_scene<S>(scene, settings.hand, wrist.pose, object, S(0.002));
+    // The same closing for every test of a scalar and K: computed once.
+    static const ClosedHand<S> c = close_hand_in_scene<S>(scene, settings.hand, wrist.pose, object, S(0.002), S(0.03));
     REQUIRE(c.status == Status::Ok);
     closed = c.angles;
     touching = c.touching;
@@ -225,8 +228,10 @@ TEST_CASE_TEMPLATE("several contacts per phalanx in the loop: statics hold, forc
 
 TEST_CASE_TEMPLATE("the paper mode in the loop: exact on faces, no heap per frame", S, double, float) {
   HeldCube<S> h;
+  static SphericalOctree<S, cap> deep;  // the paper mode needs small leaves (docs/geometry.md)
+  REQUIRE(deep.build(cube_shape<S>(), 5) == Status::Ok);
   OctreeScene<S, cap> paper;
-  paper.octree = &cube_octree<S>();
+  paper.octree = &deep;
   HapticPipeline<S, OctreeScene<S, cap>> p(h.settings, paper, h.object);
   auto q = h.pipeline();
   HapticFrame<S> f, g;
@@ -280,11 +285,13 @@ BlobObject<S>& blob() {
 }
 }  // namespace
 
+// Double only: at -O0 closing the hand on the mesh takes seconds; the mesh's float path is
+// checked by collision_bounds.test.cpp (the mug) and mesh_shape.test.cpp.
 TEST_CASE_TEMPLATE("a mesh object in the loop: held, lifted and released, each phalanx against an independent solve", S,
-                   double, float) {
+                   double) {
   BlobObject<S>& b = blob<S>();
   REQUIRE(b.ok);
-  using Scene = OctreeScene<S, cap, BlobShape<S>>;
+  using Scene = OctreeScene<S, cap, BlobShape<S>, 4>;  // 4 samples per phalanx: half the queries
   HapticSettings<S> settings;
   settings.hand.thumb_cmc.y() = S(-0.005);
   settings.hand.base[0].y() = S(-0.005);
@@ -305,7 +312,7 @@ TEST_CASE_TEMPLATE("a mesh object in the loop: held, lifted and released, each p
   WristState<S> wrist;
   const S l = settings.hand.hand_length;
   wrist.pose.translation() = object.position - Vector3<S>(S(0.374) * l + S(0.02), S(0), -(S(0.5) * (hi.z() - lo.z()) + S(0.045) * l - S(0.002)));
-  const ClosedHand<S> closed = close_hand_in_scene<S>(scene, settings.hand, wrist.pose, object, S(0.002));
+  const ClosedHand<S> closed = close_hand_in_scene<S>(scene, settings.hand, wrist.pose, object, S(0.002), S(0.05));
   REQUIRE(closed.status == Status::Ok);
   REQUIRE(closed.touching >= 6);
   HapticPipeline<S, Scene> p(settings, scene, object);
@@ -324,8 +331,8 @@ TEST_CASE_TEMPLATE("a mesh object in the loop: held, lifted and released, each p
     const Vector3<S> local = p.hand_contacts()[i].point - p.object().position;
     CHECK(std::abs(b.shape.distance(local)) <= S(1e-5));
   }
-  // Lift at 2 m/s^2 for 50 ms, then release: free fall.
-  for (int i = 0; i < 50; ++i) {
+  // Lift at 2 m/s^2 for 20 ms, then release: free fall.
+  for (int i = 0; i < 20; ++i) {
     wrist.linear_acceleration.z() = S(2);
     wrist.linear_velocity.z() += S(2e-3);
     wrist.pose.translation() += wrist.linear_velocity * S(1e-3);
@@ -342,7 +349,9 @@ TEST_CASE_TEMPLATE("a mesh object in the loop: held, lifted and released, each p
   REQUIRE(p.step(wrist, open, f) == Status::Ok);
   REQUIRE(f.contacts == 0);
   const Vector3<S> xa = p.object().position, va = p.object().linear_velocity;
-  for (int i = 0; i < 50; ++i) REQUIRE(p.step(wrist, open, f) == Status::Ok);
-  const S t = S(0.05), tol = std::is_same<S, float>::value ? S(1e-4) : S(1e-9);
+  for (int i = 0; i < 20; ++i) REQUIRE(p.step(wrist, open, f) == Status::Ok);
+  const S t = S(0.02), tol = std::is_same<S, float>::value ? S(1e-4) : S(1e-9);
   CHECK((p.object().position - (xa + va * t + S(0.5) * Vector3<S>(S(0), S(0), S(-9.81)) * t * t)).norm() <= tol);
 }
+
+}  // namespace octree_scene_test
