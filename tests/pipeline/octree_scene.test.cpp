@@ -111,7 +111,8 @@ std::array<Vector3<S>, hand_phalanx_count> independent_feedback(const P& p, cons
   w_ext(2) = -p.object().mass * S(9.81);
   const auto sol = solve_kkt(g, w_ext);
   REQUIRE(sol.status == Status::Ok);
-  std::array<Vector3<S>, hand_phalanx_count> feel{};
+  std::array<Vector3<S>, hand_phalanx_count> feel;
+  feel.fill(Vector3<S>::Zero());  // (Eigen vectors are not zeroed by {})
   for (int i = 0; i < hc.count; ++i) feel[static_cast<std::size_t>(phalanx[static_cast<std::size_t>(i)])] -= sol.forces.template segment<3>(3 * i);
   return feel;
 }

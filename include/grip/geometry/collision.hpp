@@ -46,6 +46,7 @@
 #include "grip/core/types.hpp"
 #include "grip/geometry/detail/narrow_phase.hpp"
 #include "grip/geometry/detail/octree_descent.hpp"
+#include "grip/geometry/detail/paper_contacts.hpp"
 #include "grip/geometry/hand_collision_model.hpp"
 #include "grip/geometry/hand_contact.hpp"
 #include "grip/geometry/spherical_octree.hpp"
@@ -190,72 +191,6 @@ void emit_contacts(const Field& field, const PhalanxAxis<Scalar>& ax, SampleFiel
     c.point = pose * Vector3<Scalar>(ax.at(p.t) - p.phi * p.normal);
     c.normal = -(pose.linear() * p.normal).normalized();
   }
-}
-
-/// Paper mode: per-sample best leaf-plane estimate.
-template <class Scalar, int Samples, int Capacity>
-struct PlaneEstimates {
-  const SphericalOctree<Scalar, Capacity>* oct;
-  std::array<Vector3<Scalar>, Samples> x;  // sample centres, object frame
-  std::array<Scalar, Samples> phi;
-  std::array<int, Samples> leaf;
-  bool operator()(int o, int j0, int j1) {
-    const SurfacePlane<Scalar>& pl = oct->plane(o);
-    for (int j = j0; j <= j1; ++j) {
-      const auto sj = static_cast<std::size_t>(j);
-      const Scalar d = pl.distance + pl.normal.dot(x[sj] - oct->tree().node(o).center);
-      if (leaf[sj] < 0 || d > phi[sj]) {
-        phi[sj] = d;
-        leaf[sj] = o;
-      }
-    }
-    return true;
-  }
-};
-
-/// Paper mode: the estimates of phalanx k into at most one contact (world frame out).
-template <class Scalar, int Samples, int Capacity>
-bool combine_planes(const PlaneEstimates<Scalar, Samples, Capacity>& q, Scalar radius, const Isometry3<Scalar>& pose,
-                    HandContact<Scalar>& out) {
-  Scalar depth = Scalar(0), wsum = Scalar(0);
-  int count = 0, deepest = -1;
-  Vector3<Scalar> nsum = Vector3<Scalar>::Zero(), psum = Vector3<Scalar>::Zero();
-  for (int j = 0; j < Samples; ++j) {
-    const auto sj = static_cast<std::size_t>(j);
-    if (q.leaf[sj] < 0) continue;
-    const Scalar p = radius - q.phi[sj];
-    if (!(p > Scalar(0))) continue;
-    const Vector3<Scalar>& n = q.oct->plane(q.leaf[sj]).normal;
-    nsum += p * n;
-    psum += p * (q.x[sj] - q.phi[sj] * n);
-    wsum += p;
-    ++count;
-    if (p > depth) {
-      depth = p;
-      deepest = j;
-    }
-  }
-  if (count == 0) return false;
-  const Scalar nn = nsum.norm();
-  const Vector3<Scalar> n_out = nn > Scalar(1e-3) * wsum
-                                    ? Vector3<Scalar>(nsum / nn)
-                                    : q.oct->plane(q.leaf[static_cast<std::size_t>(deepest)]).normal;
-  out.depth = depth;
-  out.samples = count;
-  out.sample = deepest;
-  out.axis_parameter = Scalar(deepest) / Scalar(Samples - 1);
-  out.point = pose * Vector3<Scalar>(psum / wsum);
-  out.normal = -(pose.linear() * n_out).normalized();
-  return true;
-}
-
-/// Paper mode: the estimates of phalanx k reset, sample centres in the object frame.
-template <class Scalar, int Samples, int Capacity>
-void reset_estimates(PlaneEstimates<Scalar, Samples, Capacity>& q, const HandCollisionModel<Scalar, Samples>& hand,
-                     int k, const Isometry3<Scalar>& to_object) {
-  for (int j = 0; j < Samples; ++j)
-    q.x[static_cast<std::size_t>(j)] = to_object * hand.phalanx_node(k, Samples - 1 + j).center;
-  q.leaf.fill(-1);
 }
 
 /// Stage 1 and the per-phalanx loop shared by the octree entry points: calls

@@ -95,6 +95,12 @@ struct PhalanxSamples {
   /// spacing) within reach of a solid leaf: the only samples the narrow phase evaluates.
   std::array<bool, Samples> in_reach{};
   Scalar radius{0};  ///< The phalanx's (and each sample's) radius (m).
+
+  /// Zeros everywhere (Eigen's vectors are not zeroed by default).
+  PhalanxSamples() {
+    center.fill(Vector3<Scalar>::Zero());
+    normal.fill(Vector3<Scalar>::UnitZ());
+  }
 };
 
 }  // namespace grip
