@@ -5,6 +5,7 @@
 
 #include <Eigen/Dense>
 #include <grip/grasp/objective.hpp>
+#include <grip/solve/solve_constrained.hpp>
 #include <grip/solve/solve_kkt.hpp>
 #include <grip/solve/solve_range_space.hpp>
 
@@ -275,6 +276,41 @@ TEST_CASE_TEMPLATE("two hard fingers are always Singular, however they are place
     CHECK(sol.multipliers.allFinite());
   }
   CHECK(singular == 3000);
+}
+
+TEST_CASE_TEMPLATE("the reported residual keeps its value when it is denormal", S, double, float) {
+  // Two opposed hard fingers on the x axis with no squeeze cannot resist a moment tau about
+  // that axis (every force passes through it), and nothing else is asked: the least-squares
+  // forces are zero and |G x + w| = tau exactly. With tau a few hundred denormal steps its
+  // square is 0, so a plain norm reported 0 (found by the solver fuzz target).
+  const S dmin = std::numeric_limits<S>::denorm_min();
+  Grasp<2, HardFinger, S> g;
+  Contact<S> c;
+  c.friction = S(0.5);
+  c.squeeze = S(0);
+  c.position = Vector3<S>(S(0.03), S(0), S(0));
+  c.normal = Vector3<S>(S(-1), S(0), S(0));
+  REQUIRE(g.set(0, c) == Status::Ok);
+  c.position = -c.position;
+  c.normal = -c.normal;
+  REQUIRE(g.set(1, c) == Status::Ok);
+  Wrench<S> w = Wrench<S>::Zero();
+  w(3) = S(700) * dmin;
+  const S tau = w(3);
+  const auto rs = solve_range_space(g, w);
+  const auto kkt = solve_kkt(g, w);
+  const auto con = solve_constrained(g, w);
+  CHECK(rs.status == Status::Singular);
+  for (const S reported : {rs.residual, kkt.residual, con.residual}) {
+    CAPTURE(reported);
+    CHECK(std::fabs(reported - tau) <= S(8) * dmin);
+  }
+  // and each is the residual of the forces it returned (recomputed in long double)
+  for (const auto* x : {&rs.forces, &kkt.forces, &con.forces}) {
+    const Eigen::Matrix<long double, 6, 1> r =
+        g.grasp_matrix().template cast<long double>() * x->template cast<long double>() + w.template cast<long double>();
+    CHECK(std::fabs(static_cast<double>(r.norm()) - static_cast<double>(tau)) <= 8.0 * static_cast<double>(dmin));
+  }
 }
 
 TEST_CASE_TEMPLATE("the 6x6 Jacobi eigen-decomposition matches Eigen's solver", S, double, float) {

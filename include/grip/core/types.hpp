@@ -2,6 +2,9 @@
 /// \file
 /// Basic vocabulary types of grip: sizes, vectors, wrenches.
 
+#include <cmath>
+#include <limits>
+
 #include <Eigen/Core>
 
 namespace grip {
@@ -44,6 +47,20 @@ Matrix3<Scalar> skew(const Vector3<Scalar>& r) {
       r.z(), Scalar(0), -r.x(),   //
       -r.y(), r.x(), Scalar(0);
   return m;
+}
+
+/// The Euclidean norm of v without the underflow of a plain sum of squares: entries near the
+/// scalar's smallest normal value (valid inputs, e.g. a denormal squeeze) square to zero, so
+/// v.norm() can report 0 for a vector of length 1e-43. The sum of squares is used when it is
+/// safely above the underflow range (each entry it loses weighs below eps of it) and finite;
+/// otherwise Eigen's scaled stableNorm(). No heap.
+template <class Derived>
+typename Derived::RealScalar stable_norm(const Eigen::MatrixBase<Derived>& v) {
+  using S = typename Derived::RealScalar;
+  const S s2 = v.squaredNorm();
+  constexpr S safe = S(64) * std::numeric_limits<S>::min() / std::numeric_limits<S>::epsilon();
+  if (s2 >= safe && s2 <= std::numeric_limits<S>::max()) return std::sqrt(s2);
+  return v.stableNorm();
 }
 
 }  // namespace grip

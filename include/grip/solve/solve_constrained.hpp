@@ -657,7 +657,7 @@ EIGEN_DONT_INLINE void constrained_iterate(const GraspT& grasp, const Wrench<typ
   }
   passes.store(x, sol.forces);
   sol.multipliers = lambda;
-  sol.residual = cur.residual.norm();
+  sol.residual = stable_norm(cur.residual);
   sol.objective = cur.f2;
   sol.dual_objective = cur.dual;
   sol.iterations = it + phase1_iterations;
@@ -665,7 +665,7 @@ EIGEN_DONT_INLINE void constrained_iterate(const GraspT& grasp, const Wrench<typ
   if (!sol.forces.allFinite() || !sol.multipliers.allFinite() || !std::isfinite(sol.dual_objective)) {
     sol.forces.setZero(m);
     sol.multipliers.setZero();
-    sol.residual = w_ext.norm();
+    sol.residual = stable_norm(w_ext);
     sol.objective = S(0);
     sol.dual_objective = S(0);
     if (sol.status == Status::Ok) sol.status = Status::IterationLimit;
@@ -688,7 +688,7 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
 
   if (grasp.size() == 0) {  // nothing can push: feasible only for w_ext = 0
     fill_invalid(sol, m);
-    sol.residual = w_ext.norm();
+    sol.residual = stable_norm(w_ext);
     if (sol.residual == S(0)) {
       sol.status = Status::Ok;
     } else {

@@ -201,7 +201,7 @@ bool range_space_solve(const GraspT& grasp, const Wrench<typename GraspT::Scalar
   }
   forces_from_multipliers(grasp, lambda, sol);
   // G x + w_ext = G t + M lambda + w_ext = M lambda - rhs: the residual without another pass.
-  sol.residual = res.norm();
+  sol.residual = stable_norm(res);
   return true;
 }
 
