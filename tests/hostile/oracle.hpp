@@ -56,7 +56,8 @@ bool finite(const Eigen::MatrixBase<Derived>& v) {
   return true;
 }
 
-/// res = |D (G x + w)| with D = diag(1, 1, 1, m, m, m), in double, from the contacts directly;
+/// res = |D (G x + w)| with D = diag(1, 1, 1, m, m, m), in double, from the contacts directly
+/// (norms scaled, so that denormal terms do not vanish into a sum of squares);
 /// adds to `scale` the size of its terms, sum |D G_i| |x_i| + |D w| (round-off scales with it).
 template <class GraspT, class Vec>
 void residual_of(const GraspT& g, const Vec& x, const grip::Wrench<typename GraspT::ScalarType>& w,
@@ -66,14 +67,14 @@ void residual_of(const GraspT& g, const Vec& x, const grip::Wrench<typename Gras
   grip::Wrench<double> dm;
   dm << 1, 1, 1, m, m, m;
   grip::Wrench<double> sum = dm.cwiseProduct(w.template cast<double>());
-  scale += sum.norm();
+  scale += sum.stableNorm();
   for (int i = 0; i < g.size(); ++i) {
     const Eigen::Matrix<double, 6, d> gi = dm.asDiagonal() * M::basis(g.contact(i)).template cast<double>();
     const Eigen::Matrix<double, d, 1> xi = x.template segment<d>(i * d).template cast<double>();
     sum += gi * xi;
-    scale += gi.norm() * xi.norm();
+    scale += gi.norm() * xi.stableNorm();  // |D G_i| >= 1: its force rows hold a unit vector
   }
-  res = sum.norm();
+  res = sum.stableNorm();
 }
 
 /// 1/L, L the weighted RMS lever arm sqrt(sum k_i |r_i|^2 / sum k_i), k_i = 1/w_i, in double
@@ -157,7 +158,7 @@ const char* check_solution(const GraspT& g, const grip::Wrench<typename GraspT::
   double res_terms = 0, res_t0 = 0;
   residual_of(g, g.target(), w, res_t0, res_terms);
   const double m_lambda = grip::weighted_gram(g).template cast<double>().norm() *
-                          sol.multipliers.template cast<double>().norm();
+                          sol.multipliers.template cast<double>().stableNorm();
   if (!(std::fabs(res - static_cast<double>(sol.residual)) <= 64 * eps * (scale + res_terms + m_lambda) + tiny))
     return "reported residual differs from |G x + w|";
   // Least squares (solve_range_space's contract): |D (G x + w)| is smallest over all x, with
