@@ -9,6 +9,7 @@
 
 #include "support/allocation_counter.hpp"
 #include "support/fixtures.hpp"
+#include "support/random.hpp"
 
 using namespace grip;
 
@@ -126,7 +127,7 @@ TEST_CASE_TEMPLATE("epsilon L1 equals a brute-force facet enumeration, L-inf bra
     REQUIRE(ei.status == Status::Ok);
     CHECK(double(ei.epsilon) >= double(e1.epsilon) - tol);
     CHECK(double(ei.epsilon) <= 3 * double(e1.epsilon) + tol);
-    std::normal_distribution<double> n01(0.0, 1.0);
+    grip_test::Normal n01(0.0, 1.0);
     for (int t = 0; t < 50; ++t) {
       Eigen::Matrix<double, 6, 1> u;
       for (int k = 0; k < 6; ++k) u(k) = n01(rng);

@@ -7,6 +7,7 @@
 
 #include "support/allocation_counter.hpp"
 #include "support/fixtures.hpp"
+#include "support/random.hpp"
 
 using namespace grip;
 
@@ -95,7 +96,7 @@ TEST_CASE_TEMPLATE("not in closure: frictionless antipodal, mu = 0 on a sphere, 
   // mu = 0, any number of hard fingers on a sphere: every normal passes through the centre,
   // so no moment can be produced: rank <= 3 and the certificate is a pure moment.
   std::mt19937 rng(23);
-  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  grip_test::Uniform u01(0.0, 1.0);
   for (int n = 3; n <= 10; ++n) {
     Grasp<Dynamic, HardFinger, S, 10> h;
     for (int i = 0; i < n; ++i) REQUIRE(h.add(on_sphere<S>(std::acos(1 - 2 * u01(rng)), 2 * pi * u01(rng), 0.0)) == Status::Ok);

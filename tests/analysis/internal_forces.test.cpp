@@ -7,6 +7,7 @@
 
 #include "support/allocation_counter.hpp"
 #include "support/fixtures.hpp"
+#include "support/random.hpp"
 
 using namespace grip;
 
@@ -14,7 +15,7 @@ namespace {
 
 template <class GraspT>
 typename GraspT::ForceVector random_forces(std::mt19937& rng, const GraspT& g) {
-  std::normal_distribution<double> n01(0.0, 1.0);
+  grip_test::Normal n01(0.0, 1.0);
   typename GraspT::ForceVector x(g.unknowns());
   for (int k = 0; k < g.unknowns(); ++k) x(k) = typename GraspT::ScalarType(3.0 * n01(rng));
   return x;
@@ -66,7 +67,7 @@ TEST_CASE_TEMPLATE("force split recombines, is internal and W-orthogonal (all mo
     check_split(grip_test::random_grasp<Grasp<Dynamic, SoftFinger, S, 6>>(rng, 3), rng);
     // Frictionless contacts on a sphere all push through the centre (rank 3): tilt the normals.
     Grasp<Dynamic, FrictionlessPoint, S, 12> p;
-    std::normal_distribution<double> n01(0.0, 1.0);
+    grip_test::Normal n01(0.0, 1.0);
     for (int i = 0; i < 9; ++i) {
       Contact<S> c = grip_test::random_contact<S>(rng);
       const Vector3<double> t(n01(rng), n01(rng), n01(rng));

@@ -17,6 +17,7 @@
 #include "support/allocation_counter.hpp"
 #include "support/cone_sampling.hpp"
 #include "support/fixtures.hpp"
+#include "support/random.hpp"
 
 using namespace grip;
 
@@ -44,7 +45,7 @@ bool near_boundary(const Contact<S>& c, const Vector3<S>& x, S abs_tol, S rel_to
 
 // A force of one of several kinds around contact c's cone, in double.
 Vector3<double> mixed_force(std::mt19937& rng, const Vector3<double>& a, double mu, int kind) {
-  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  grip_test::Uniform u01(0.0, 1.0);
   const Vector3<double> t = grip_test::random_tangent(rng, a);
   const double fn = 0.1 + 5.0 * u01(rng);
   switch (kind) {

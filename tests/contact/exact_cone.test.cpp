@@ -10,6 +10,7 @@
 #include <grip/contact/pyramid_cone.hpp>
 
 #include "support/allocation_counter.hpp"
+#include "support/random.hpp"
 
 using namespace grip;
 
@@ -72,7 +73,7 @@ namespace {
 template <class Cone>
 void check_measure(std::mt19937& rng, const Cone& cone) {
   using S = typename Cone::ScalarType;
-  std::normal_distribution<double> n01(0.0, 1.0);
+  grip_test::Normal n01(0.0, 1.0);
   for (int k = 0; k < 500; ++k) {
     typename Cone::Vector x;
     for (int i = 0; i < Cone::dim; ++i) x(i) = S(2.0 * n01(rng));

@@ -13,6 +13,7 @@
 #include "support/allocation_counter.hpp"
 #include "support/cone_sampling.hpp"
 #include "support/constants.hpp"
+#include "support/random.hpp"
 
 using namespace grip;
 using grip_test::rel_tol;
@@ -38,7 +39,7 @@ Vector3<double> edge(const PyramidCone<K, S, F>& p, int j) {
 
 template <int K, class S>
 void check_containment(std::mt19937& rng) {
-  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  grip_test::Uniform u01(0.0, 1.0);
   const double c = std::cos(pi / K);
   int in_count = 0;
   for (int k = 0; k < 2500; ++k) {
@@ -68,7 +69,7 @@ void check_containment(std::mt19937& rng) {
 
 template <int K, class S, PyramidFit F>
 void check_projection_and_dual(std::mt19937& rng) {
-  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  grip_test::Uniform u01(0.0, 1.0);
   for (int k = 0; k < 1500; ++k) {
     const Vector3<double> ad = grip_test::random_unit(rng);
     const PyramidCone<K, S, F> p(ad.cast<S>(), S(0.1 + 1.5 * u01(rng)), k % 2);
@@ -144,7 +145,7 @@ TEST_CASE_TEMPLATE("Pyramid: projection and dual, odd and even K, both fits", S,
 TEST_CASE("Pyramid: projection beats a brute-force search over its faces") {
   // Brute force: points alpha e_j + beta e_(j+1) on every face, alpha, beta on a 200 x 200 grid.
   std::mt19937 rng(53);
-  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  grip_test::Uniform u01(0.0, 1.0);
   for (int k = 0; k < 30; ++k) {
     const Vector3<double> a = grip_test::random_unit(rng);
     const PyramidCone<5, double, PyramidFit::Inscribed> p(a, 0.2 + 1.2 * u01(rng), k % 2);

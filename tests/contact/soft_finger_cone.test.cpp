@@ -11,6 +11,7 @@
 
 #include "support/allocation_counter.hpp"
 #include "support/cone_sampling.hpp"
+#include "support/random.hpp"
 
 using namespace grip;
 using grip_test::rel_tol;
@@ -32,13 +33,13 @@ Eigen::Matrix<S, 4, 1> soft_vec(const Vector3<double>& f, double m) {
 // A random (f, m): f_n in [-2, 4], |f_t| in [0, 4], m in [-0.08, 0.08] N m.
 template <class S>
 Eigen::Matrix<S, 4, 1> random_soft(std::mt19937& rng, const Vector3<double>& a) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  grip_test::Uniform u(-1.0, 1.0);
   return soft_vec<S>(grip_test::random_force(rng, a, -2.0, 4.0, 4.0), 0.08 * u(rng));
 }
 
 template <class S, SoftFingerNorm N>
 void check_projection(std::mt19937& rng) {
-  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  grip_test::Uniform u01(0.0, 1.0);
   for (int k = 0; k < 2500; ++k) {
     const Vector3<double> ad = grip_test::random_unit(rng);
     const SoftFingerCone<S, N> c{ad.cast<S>(), S(0.2 + 1.2 * u01(rng)), S(0.005 + 0.02 * u01(rng))};
@@ -58,7 +59,7 @@ void check_projection(std::mt19937& rng) {
 
 TEST_CASE_TEMPLATE("Soft finger: inside iff margin >= 0, and the models nest", S, double, float) {
   std::mt19937 rng(61);
-  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  grip_test::Uniform u01(0.0, 1.0);
   grip_test::NoHeapScope scope;
   int inside = 0;
   for (int k = 0; k < 10000; ++k) {
@@ -124,7 +125,7 @@ TEST_CASE_TEMPLATE("Soft finger: projection is idempotent, inside and satisfies 
 TEST_CASE("Soft finger: elliptic projection beats a brute-force search over the boundary") {
   // Boundary points s (a + mu cos(psi) u(phi), mu_t sin(psi)), grid over s, phi, psi.
   std::mt19937 rng(63);
-  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  grip_test::Uniform u01(0.0, 1.0);
   int tested = 0;
   for (int k = 0; k < 40 && tested < 12; ++k) {
     const Vector3<double> a = grip_test::random_unit(rng);
@@ -158,7 +159,7 @@ TEST_CASE("Soft finger: elliptic projection beats a brute-force search over the 
 TEST_CASE_TEMPLATE("Soft finger: duals by the definition", S, double, float) {
   // y in the dual iff y.x >= 0 for x on the cone's generators (f_n = 1 boundary), sampled.
   std::mt19937 rng(64);
-  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  grip_test::Uniform u01(0.0, 1.0);
   double cs[180], sn[180];
   for (int i = 0; i < 180; ++i) {
     cs[i] = std::cos(6.283185307179586 * i / 180);

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <grip/core/simd.hpp>
+#include "support/random.hpp"
 
 using namespace grip;
 
@@ -27,7 +28,7 @@ template <class P, class S>
 void check_pack() {
   constexpr int w = P::width;
   std::mt19937 rng(81);
-  std::normal_distribution<double> n01(0.0, 1.0);
+  grip_test::Normal n01(0.0, 1.0);
   const S specials[] = {S(0), -S(0), S(1), -S(1), std::numeric_limits<S>::infinity(), -std::numeric_limits<S>::infinity(),
                         std::numeric_limits<S>::quiet_NaN(), std::numeric_limits<S>::denorm_min(),
                         std::numeric_limits<S>::max(), S(1e-30f)};

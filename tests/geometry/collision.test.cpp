@@ -11,6 +11,7 @@
 
 #include "support/allocation_counter.hpp"
 #include "support/hand_postures.hpp"
+#include "support/random.hpp"
 
 using namespace grip;
 
@@ -52,7 +53,7 @@ TEST_CASE_TEMPLATE("a sphere pressed into a sphere: depth, normal, point within 
   auto& oct = octree<S>();
   const double R = 0.04, r = 0.01, dist = 0.048;
   std::mt19937 rng(3);
-  std::normal_distribution<double> g(0, 1);
+  grip_test::Normal g(0, 1);
   double prev_worst = 1;
   for (int depth = 2; depth <= 5; ++depth) {
     REQUIRE(oct.build(Shape<S>(make_sphere<S>(S(R))), depth) == Status::Ok);
@@ -173,7 +174,7 @@ TEST_CASE_TEMPLATE("pruned descent finds the same contacts as the exhaustive lea
   REQUIRE(oct.build(shape, 4) == Status::Ok);
   const HandDimensions<S> dims = HandDimensions<S>::standard();
   std::mt19937 rng(5);
-  std::uniform_real_distribution<double> u(-1, 1);
+  grip_test::Uniform u(-1, 1);
   int total = 0;
   for (int t = 0; t < 8; ++t) {
     JointAngles<S> q;

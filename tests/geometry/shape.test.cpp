@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include <grip/geometry/shape.hpp>
+#include "support/random.hpp"
 
 using namespace grip;
 
@@ -65,7 +66,7 @@ TEST_CASE_TEMPLATE("SDFs are 1-Lipschitz with unit gradients, the gradient match
                                       make_cylinder<S>(S(0.02), S(0.03), Vector3<S>::Zero(), R),
                                       make_capsule<S>(S(0.015), S(0.02), Vector3<S>::Zero(), R)};
   std::mt19937 rng(7);
-  std::uniform_real_distribution<double> u(-0.06, 0.06);
+  grip_test::Uniform u(-0.06, 0.06);
   const S h = std::is_same<S, float>::value ? S(1e-3) : S(1e-6);
   for (const auto& p : prims) {
     for (int t = 0; t < 200; ++t) {

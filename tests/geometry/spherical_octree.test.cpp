@@ -10,6 +10,7 @@
 
 #include "support/allocation_counter.hpp"
 #include "support/constants.hpp"
+#include "support/random.hpp"
 
 using grip_test::pi;
 
@@ -21,10 +22,10 @@ template class grip::SphericalOctree<double, 64>;
 template class grip::SphericalOctree<float, 64>;
 
 namespace {
-constexpr int big = 32768;
+constexpr int big_capacity = 32768;
 template <class S>
-SphericalOctree<S, big>& scratch_octree() {
-  static SphericalOctree<S, big> t;  // 2-3 MB: static storage, not the stack
+SphericalOctree<S, big_capacity>& scratch_octree() {
+  static SphericalOctree<S, big_capacity> t;  // 2-3 MB: static storage, not the stack
   return t;
 }
 template <class S>
@@ -79,7 +80,7 @@ TEST_CASE_TEMPLATE("octree: contains every primitive and union, and keeps nothin
     const S rho = std::sqrt(S(3)) * oct.cell_half_edge(depth);
     Vector3<S> lo, hi;
     shape.bounding_box(lo, hi);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
+    grip_test::Uniform u(0.0, 1.0);
     int inside = 0, far = 0;
     for (int t = 0; t < 1500; ++t) {
       const Vector3<S> p = lo + Vector3<S>(S(u(rng)), S(u(rng)), S(u(rng))).cwiseProduct(hi - lo) * S(1.2) -

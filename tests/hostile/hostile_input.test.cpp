@@ -17,6 +17,7 @@
 #include "hostile/oracle.hpp"
 #include "support/allocation_counter.hpp"
 #include "support/fixtures.hpp"
+#include "support/random.hpp"
 
 using namespace grip;
 using grip_hostile::Expect;
@@ -37,19 +38,19 @@ S hostile_value(std::mt19937& rng) {
   const S values[] = {L::quiet_NaN(), L::infinity(), -L::infinity(), L::denorm_min(), -L::denorm_min(),
                       L::min() / S(4), S(0), -S(0), S(1e-30f), -S(1e-30f), S(1e12f), -S(1e12f), big, -big,
                       std::nextafter(big, L::infinity()), L::max(), L::lowest(), S(-1), S(-1e-6f)};
-  return values[std::uniform_int_distribution<int>(0, int(sizeof(values) / sizeof(S)) - 1)(rng)];
+  return values[grip_test::UniformInt(0, int(sizeof(values) / sizeof(S)) - 1)(rng)];
 }
 
 /// A valid random contact, then (with probability p per field) one field made hostile.
 template <class S>
 Contact<S> mutate(std::mt19937& rng, Contact<S> c, double p) {
-  std::uniform_real_distribution<double> u(0.0, 1.0);
+  grip_test::Uniform u(0.0, 1.0);
   const S tol = ScalarTraits<S>::normal_tolerance;
   for (int k = 0; k < 3; ++k)
     if (u(rng) < p) c.position(k) = hostile_value<S>(rng);
-  if (u(rng) < p) c.normal(std::uniform_int_distribution<int>(0, 2)(rng)) = hostile_value<S>(rng);
+  if (u(rng) < p) c.normal(grip_test::UniformInt(0, 2)(rng)) = hostile_value<S>(rng);
   if (u(rng) < p) {
-    switch (std::uniform_int_distribution<int>(0, 4)(rng)) {
+    switch (grip_test::UniformInt(0, 4)(rng)) {
       case 0: c.normal.setZero(); break;                          // zero normal
       case 1: c.normal *= S(2); break;                            // non-unit
       case 2: c.normal *= S(1) + S(8) * tol; break;                // just non-unit
@@ -67,8 +68,8 @@ Contact<S> mutate(std::mt19937& rng, Contact<S> c, double p) {
 /// A random unit vector.
 template <class S>
 Vector3<S> unit(std::mt19937& rng) {
-  return grip_test::sphere_contact<S>(std::acos(std::uniform_real_distribution<double>(-1, 1)(rng)),
-                                      std::uniform_real_distribution<double>(0, 6.283185307179586)(rng), 1.0)
+  return grip_test::sphere_contact<S>(std::acos(grip_test::Uniform(-1, 1)(rng)),
+                                      grip_test::Uniform(0, 6.283185307179586)(rng), 1.0)
       .normal;
 }
 
@@ -77,7 +78,7 @@ template <class S>
 Wrench<S> make_wrench(std::mt19937& rng, int kind) {
   Wrench<S> w = grip_test::random_wrench<S>(rng);
   if (kind == 1) w = (w.template cast<double>() * 2e11).template cast<S>();  // |F| ~ 1e12 N
-  if (kind == 2) w(std::uniform_int_distribution<int>(0, 5)(rng)) = hostile_value<S>(rng);
+  if (kind == 2) w(grip_test::UniformInt(0, 5)(rng)) = hostile_value<S>(rng);
   return w;
 }
 
@@ -87,24 +88,24 @@ template <class GraspT>
 const char* trial(std::mt19937& rng, int cat, long& heap) {
   using S = typename GraspT::ScalarType;
   using M = typename GraspT::ModelType;
-  std::uniform_real_distribution<double> u(0.0, 1.0);
+  grip_test::Uniform u(0.0, 1.0);
   constexpr bool fixed = GraspT::fixed_size != Dynamic;
-  const int n = fixed ? GraspT::capacity : std::uniform_int_distribution<int>(1, GraspT::capacity)(rng);
+  const int n = fixed ? GraspT::capacity : grip_test::UniformInt(1, GraspT::capacity)(rng);
   const int full_rank_n = std::is_same<M, FrictionlessPoint>::value ? 6 : 3;
   Expect e;
   Contact<S> cs[GraspT::capacity];
   const Vector3<S> axis_dirs[] = {Vector3<S>(S(1), S(0), S(0)), Vector3<S>(S(0), S(1), S(0)), Vector3<S>(S(1), S(1), S(0)),
                                   Vector3<S>(S(1), S(-1), S(1))};
-  const Vector3<S> dir = axis_dirs[std::uniform_int_distribution<int>(0, 3)(rng)];
-  const Vector3<S> offset(S(std::uniform_int_distribution<int>(-4, 4)(rng)) / S(64),
-                          S(std::uniform_int_distribution<int>(-4, 4)(rng)) / S(64), S(0));
+  const Vector3<S> dir = axis_dirs[grip_test::UniformInt(0, 3)(rng)];
+  const Vector3<S> offset(S(grip_test::UniformInt(-4, 4)(rng)) / S(64),
+                          S(grip_test::UniformInt(-4, 4)(rng)) / S(64), S(0));
   for (int i = 0; i < n; ++i) {
     Contact<S> c = grip_test::random_contact<S>(rng);
     switch (cat) {
       case 0: break;                                     // clean
       case 1: c = mutate(rng, c, 0.08); break;           // hostile fields
       case 2:                                            // exactly collinear (dyadic points)
-        c.position = offset + S(std::uniform_int_distribution<int>(-8, 8)(rng)) / S(128) * dir;
+        c.position = offset + S(grip_test::UniformInt(-8, 8)(rng)) / S(128) * dir;
         c.normal = unit<S>(rng);
         break;
       case 3: c = cs[0]; if (i == 0) c = grip_test::random_contact<S>(rng); break;  // duplicated
@@ -137,7 +138,7 @@ const char* trial(std::mt19937& rng, int cat, long& heap) {
   if (std::is_same<M, SoftFinger>::value && g.size() == 1) e.must_be_singular = true;
   e.moderate_scale = (cat == 0 || cat == 2 || cat == 3) && all_valid;
   e.well_conditioned = cat == 0 && all_valid && g.size() >= 3 && !std::is_same<M, FrictionlessPoint>::value;
-  const Wrench<S> w = make_wrench<S>(rng, cat >= 5 ? std::uniform_int_distribution<int>(0, 2)(rng) : 0);
+  const Wrench<S> w = make_wrench<S>(rng, cat >= 5 ? grip_test::UniformInt(0, 2)(rng) : 0);
   if (!grip_hostile::wrench_valid(w)) e.well_conditioned = false;
   const bool with_constrained = u(rng) < 0.125;  // 1 in 8: the iterative solver dominates the time
   const char* msg = nullptr;
@@ -146,7 +147,7 @@ const char* trial(std::mt19937& rng, int cat, long& heap) {
     msg = grip_hostile::check_solvers(g, w, e, with_constrained);
     if (msg == nullptr && g.unknowns() > 0) {  // the monitor on forces with a hostile entry
       typename GraspT::ForceVector x = solve_range_space(g, w).forces;
-      x(std::uniform_int_distribution<int>(0, g.unknowns() - 1)(rng)) = hostile_value<S>(rng);
+      x(grip_test::UniformInt(0, g.unknowns() - 1)(rng)) = hostile_value<S>(rng);
       msg = grip_hostile::check_monitor(g, x, w);
     }
     heap += scope.allocations();
@@ -156,8 +157,8 @@ const char* trial(std::mt19937& rng, int cat, long& heap) {
 
 template <class S>
 const char* one(std::mt19937& rng, long& heap) {
-  const int cat = std::uniform_int_distribution<int>(0, 6)(rng);
-  switch (std::uniform_int_distribution<int>(0, 3)(rng)) {  // fixed and Dynamic, each model
+  const int cat = grip_test::UniformInt(0, 6)(rng);
+  switch (grip_test::UniformInt(0, 3)(rng)) {  // fixed and Dynamic, each model
     case 0: return trial<Grasp<3, HardFinger, S>>(rng, cat, heap);
     case 1: return trial<Grasp<Dynamic, HardFinger, S, 8>>(rng, cat, heap);
     case 2: return trial<Grasp<4, SoftFinger, S>>(rng, cat, heap);

@@ -12,6 +12,7 @@
 #include "support/allocation_counter.hpp"
 #include "support/cone_sampling.hpp"
 #include "support/fixtures.hpp"
+#include "support/random.hpp"
 
 using grip_test::pi;
 
@@ -39,7 +40,7 @@ ContactMode paper_mode(const Vector3<S>& f, const Contact<S>& c) {
 TEST_CASE_TEMPLATE("Monitor: modes agree with eq. 4-5 on seeded random forces", S, double, float) {
   using G = Grasp<Dynamic, HardFinger, S, 20>;
   std::mt19937 rng(71);
-  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  grip_test::Uniform u01(0.0, 1.0);
   MonitorSettings<S> exact;
   exact.relative_tolerance = S(0);
   const StabilityMonitor<G> monitor(exact);
@@ -209,7 +210,7 @@ void check_classify_matches(std::mt19937& rng, int trials, int n, double fn_low)
   for (int trial = 0; trial < trials; ++trial) {
     const G g = grip_test::random_grasp<G>(rng, n);
     typename G::ForceVector x(g.unknowns());
-    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    grip_test::Uniform u01(0.0, 1.0);
     for (int i = 0; i < g.size(); ++i) {
       if constexpr (G::dim == 1) {
         x(i) = S(fn_low + (5.0 - fn_low) * u01(rng));

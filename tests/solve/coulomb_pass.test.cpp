@@ -15,6 +15,7 @@
 
 #include "support/allocation_counter.hpp"
 #include "support/fixtures.hpp"
+#include "support/random.hpp"
 
 using namespace grip;
 
@@ -83,7 +84,7 @@ void compare_pass(const GraspT& g, const Wrench<typename GraspT::ScalarType>& w_
 
 template <class S>
 Wrench<S> random_lambda(std::mt19937& rng, double scale) {
-  std::normal_distribution<double> n01(0.0, 1.0);
+  grip_test::Normal n01(0.0, 1.0);
   Wrench<S> l;
   for (int r = 0; r < 6; ++r) l(r) = S(scale * n01(rng) * (r < 3 ? 1.0 : 20.0));
   return l;

@@ -12,6 +12,7 @@
 #include "solve/constrained_support.hpp"
 #include "support/allocation_counter.hpp"
 #include "support/fixtures.hpp"
+#include "support/random.hpp"
 
 using namespace grip;
 
@@ -89,7 +90,7 @@ TEST_CASE_TEMPLATE("hard-finger pass: the fused projection and Hessian block mat
   // generic path the other models use), in every region: interior, polar cone, the boundary
   // part, exactly on the boundary (|v_t| = mu n), the apex v = 0, and mu = 0 (the ray).
   std::mt19937 rng(41);
-  std::normal_distribution<double> n01(0.0, 1.0);
+  grip_test::Normal n01(0.0, 1.0);
   const double tol = tol_of<S>(1e-12, 2e-5);
   int regions[3] = {0, 0, 0};
   for (int rep = 0; rep < 3000; ++rep) {
@@ -257,7 +258,7 @@ TEST_CASE_TEMPLATE("solve_constrained: warm starts of a slowly moving grasp", S,
   // the load swings: each frame solved cold and warm-started from the previous multipliers.
   using GraspT = Grasp<20, HardFinger, S>;
   std::mt19937 rng(5);
-  std::uniform_real_distribution<double> u01(0, 1);
+  grip_test::Uniform u01(0, 1);
   double th[20], ph[20];
   for (int i = 0; i < 20; ++i) {
     th[i] = std::acos(1 - 2 * u01(rng));
@@ -352,7 +353,7 @@ TEST_CASE_TEMPLATE("solve_newton_6x6: block adjugates where well-conditioned, el
   // the floored Cholesky's; where it answers, its residual is within its documented backward
   // error (1e8 eps) and it agrees with the Cholesky to the condition number.
   std::mt19937 rng(91);
-  std::normal_distribution<double> n01(0.0, 1.0);
+  grip_test::Normal n01(0.0, 1.0);
   int by_blocks = 0, fallbacks = 0;
   for (int rep = 0; rep < 2000; ++rep) {
     Eigen::Matrix<double, 6, 6> q;

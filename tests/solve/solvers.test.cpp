@@ -11,6 +11,7 @@
 
 #include "support/allocation_counter.hpp"
 #include "support/fixtures.hpp"
+#include "support/random.hpp"
 
 using namespace grip;
 using grip_test::tight;
@@ -79,7 +80,7 @@ void check_optimal(const GraspT& g, const Wrench<typename GraspT::ScalarType>& w
   const Eigen::MatrixXd G = g.grasp_matrix().template cast<double>();
   const Eigen::MatrixXd P = Eigen::MatrixXd::Identity(G.cols(), G.cols()) -
                             G.transpose() * (G * G.transpose()).ldlt().solve(G);
-  std::normal_distribution<double> n01(0.0, 1.0);
+  grip_test::Normal n01(0.0, 1.0);
   const double f0 = f2_in_double(g, sol.forces.template cast<double>());
   CHECK(f0 == doctest::Approx(double(objective_f2(g, sol.forces))).epsilon(1e-4));
   for (int k = 0; k < 20; ++k) {
@@ -315,7 +316,7 @@ TEST_CASE_TEMPLATE("the reported residual keeps its value when it is denormal", 
 
 TEST_CASE_TEMPLATE("the 6x6 Jacobi eigen-decomposition matches Eigen's solver", S, double, float) {
   std::mt19937 rng(71);
-  std::normal_distribution<double> n01(0.0, 1.0);
+  grip_test::Normal n01(0.0, 1.0);
   for (int k = 0; k < 200; ++k) {
     Eigen::Matrix<double, 6, 6> b;
     for (int i = 0; i < 36; ++i) b(i) = n01(rng);

@@ -7,12 +7,13 @@
 #include <Eigen/Geometry>
 
 #include <grip/core/types.hpp>
+#include "support/random.hpp"
 
 namespace grip_test {
 
 /// A uniformly random unit 3-vector (double, cast later).
 inline grip::Vector3<double> random_unit(std::mt19937& rng) {
-  std::normal_distribution<double> n01(0.0, 1.0);
+  grip_test::Normal n01(0.0, 1.0);
   grip::Vector3<double> v;
   do {
     v << n01(rng), n01(rng), n01(rng);
@@ -41,7 +42,7 @@ grip::Vector3<S> random_normal(std::mt19937& rng) {
 /// |f_t| in [0, ft_hi].
 inline grip::Vector3<double> random_force(std::mt19937& rng, const grip::Vector3<double>& a, double fn_lo,
                                           double fn_hi, double ft_hi) {
-  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  grip_test::Uniform u01(0.0, 1.0);
   const double fn = fn_lo + (fn_hi - fn_lo) * u01(rng);
   const double ft = ft_hi * u01(rng);
   return fn * a + ft * random_tangent(rng, a);

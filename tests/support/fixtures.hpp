@@ -6,6 +6,7 @@
 #include <grip/grip.hpp>
 
 #include "support/constants.hpp"
+#include "support/random.hpp"
 
 namespace grip_test {
 
@@ -35,7 +36,7 @@ grip::Contact<S> sphere_contact(double theta, double phi, double radius, double 
 /// so that normals no longer all pass through the centre.
 template <class S>
 grip::Contact<S> random_contact(std::mt19937& rng, bool random_weight = true, double tilt = 0.0) {
-  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  grip_test::Uniform u01(0.0, 1.0);
   const double theta = std::acos(1.0 - 2.0 * u01(rng)), phi = 6.283185307179586 * u01(rng);
   grip::Contact<S> c = sphere_contact<S>(theta, phi, 0.02 + 0.04 * u01(rng), 0.2 + u01(rng), 3.0 * u01(rng));
   c.weight = random_weight ? S(0.5 + 1.5 * u01(rng)) : S(1);
@@ -62,7 +63,7 @@ GraspT random_grasp(std::mt19937& rng, int n, bool random_weight = true, double 
 /// A random external wrench of a few newtons and tenths of N m.
 template <class S>
 grip::Wrench<S> random_wrench(std::mt19937& rng) {
-  std::normal_distribution<double> n01(0.0, 1.0);
+  grip_test::Normal n01(0.0, 1.0);
   grip::Wrench<S> w;
   for (int i = 0; i < 3; ++i) w(i) = S(5.0 * n01(rng));
   for (int i = 3; i < 6; ++i) w(i) = S(0.1 * n01(rng));
