@@ -103,6 +103,25 @@ TEST_CASE_TEMPLATE("epsilon of the symmetric cube grasp, derived by hand", S, do
   CHECK(double(e0.direction.template head<3>().norm()) <= tol);  // the weak direction is a moment
 }
 
+TEST_CASE_TEMPLATE("epsilon: IterationLimit when the workspace fills, bracketing the exact value", S, double, float) {
+  // The cube grasp of the case above: epsilon_L1 = 1/sqrt(3) by hand.
+  const double rho = 0.02, exact = 1.0 / std::sqrt(3.0);
+  const auto g = cube_grasp<S>(rho);
+  auto ws = std::make_unique<EpsilonWorkspace<S>>();
+  const auto full = ferrari_canny_epsilon<4>(g, EpsilonNorm::L1, S(rho), *ws);
+  REQUIRE(full.status == Status::Ok);
+  constexpr int small_facets = 64;
+  REQUIRE(full.facets > small_facets);  // so that the small workspace must fill up
+  auto small = std::make_unique<EpsilonWorkspace<S, 32, small_facets>>();
+  const auto cut = ferrari_canny_epsilon<4>(g, EpsilonNorm::L1, S(rho), *small);
+  const double tol = std::is_same<S, float>::value ? 1e-3 : 1e-9;
+  CHECK(cut.status == Status::IterationLimit);
+  CHECK(double(cut.epsilon) <= exact * (1 + tol));  // a lower bound
+  CHECK(double(cut.upper) >= exact * (1 - tol));    // and an upper one
+  CHECK(cut.epsilon <= cut.upper);
+  CHECK(cut.facets <= small_facets);
+}
+
 TEST_CASE_TEMPLATE("epsilon L1 equals a brute-force facet enumeration, L-inf brackets", S, double, float) {
   std::mt19937 rng(31);
   auto ws = std::make_unique<EpsilonWorkspace<S>>();

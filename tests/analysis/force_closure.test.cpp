@@ -210,6 +210,40 @@ TEST_CASE_TEMPLATE("largest resistible wrench along a direction, by hand", S, do
   CHECK(force_closure(empty).status == Status::InvalidInput);
 }
 
+TEST_CASE_TEMPLATE("IterationLimit: a Newton bound that bites still brackets the optimum", S, double, float) {
+  // The symmetric grasps above converge within a step or two, so a lopsided grasp and load
+  // direction, each cut answer against the same solver's converged one.
+  Grasp<3, HardFinger, S> h;
+  REQUIRE(h.set(0, on_sphere<S>(pi / 2, 0.0, 0.5)) == Status::Ok);
+  REQUIRE(h.set(1, on_sphere<S>(pi / 2 + 0.3, 2.1, 0.4)) == Status::Ok);
+  REQUIRE(h.set(2, on_sphere<S>(pi / 2 - 0.2, 4.0, 0.6)) == Status::Ok);
+  const double rel = std::is_same<S, float>::value ? 2e-3 : 1e-6;
+  ConicAnalysisSettings<S> few;
+  few.max_newton_steps = 2;
+  // Closure: the default needs more than 2 steps, so the bound must bite.
+  const auto full = force_closure(h);
+  REQUIRE(full.status == Status::Ok);
+  REQUIRE(full.closure);
+  REQUIRE(full.iterations > few.max_newton_steps);
+  const auto cut = force_closure(h, few);
+  CHECK(cut.status == Status::IterationLimit);
+  CHECK(cut.iterations <= few.max_newton_steps);
+  CHECK_FALSE(cut.closure);                                              // undecided is not closure
+  CHECK(double(cut.margin) >= double(full.margin) - rel * (1 + double(full.margin)));  // an upper bound
+  // The largest resistible wrench along d with a budget of 10 N: an upper bound, forces in
+  // the cones.
+  Wrench<S> d = Wrench<S>::Zero();
+  d << S(0.3), S(-0.2), S(-1), S(0.01), S(0), S(-0.02);
+  const auto wfull = max_resistible_wrench(h, d, S(10));
+  REQUIRE(wfull.status == Status::Ok);
+  REQUIRE(wfull.iterations > few.max_newton_steps);
+  const auto wcut = max_resistible_wrench(h, d, S(10), few);
+  CHECK(wcut.status == Status::IterationLimit);
+  CHECK(double(wcut.scale) >= double(wfull.scale) * (1 - rel));
+  CHECK(wcut.forces.allFinite());
+  CHECK(inside_cones(h, wcut.forces, 0.0, 10 * rel));
+}
+
 template struct grip::ForceClosure<Grasp<Dynamic, SoftFinger, float, 5>>;
 template struct grip::ResistibleWrench<Grasp<4, FrictionlessPoint, double>>;
 template struct grip::ConicAnalysisSettings<float>;

@@ -327,6 +327,39 @@ TEST_CASE_TEMPLATE("solve_constrained: bad input gives InvalidInput and zeros", 
   CHECK(lim.iterations <= 2 * st.max_iterations);
 }
 
+TEST_CASE_TEMPLATE("solve_constrained: IterationLimit by a bound that bites, forces in the cones", S, double, float) {
+  // Five hard fingers, mu = 0.3, a load that the squeeze targets alone do not balance inside
+  // the cones: the default needs several Newton steps.
+  using GraspT = Grasp<Dynamic, HardFinger, S, 6>;
+  GraspT g;
+  for (int i = 0; i < 5; ++i) REQUIRE(g.add(grip_test::sphere_contact<S>(0.5 + i, 1.3 * i, 0.04, 0.3, 0.1)) == Status::Ok);
+  Wrench<S> load = Wrench<S>::Zero();
+  load(0) = S(3);
+  load(2) = S(-4);
+  const auto full = solve_constrained(g, load);
+  REQUIRE(full.status == Status::Ok);
+  ConstrainedSettings<S> st;
+  st.max_iterations = 1;
+  REQUIRE(full.iterations > 2 * st.max_iterations);
+  const auto cut = solve_constrained(g, load, st);
+  CHECK(cut.status == Status::IterationLimit);
+  CHECK(cut.iterations <= 2 * st.max_iterations);
+  REQUIRE(cut.forces.allFinite());
+  // Each force in its Coulomb cone, checked by hand: f.a >= 0 and |f - (f.a) a| <= mu f.a.
+  const double tol = std::is_same<S, float>::value ? 1e-5 : 1e-12;
+  for (int i = 0; i < g.size(); ++i) {
+    const Vector3<double> a = g.contact(i).normal.template cast<double>();
+    const Vector3<double> f = cut.forces.template segment<3>(3 * i).template cast<double>();
+    const double fn = f.dot(a);
+    CHECK(fn >= -tol);
+    CHECK((f - fn * a).norm() <= double(g.contact(i).friction) * fn + tol * (1 + f.norm()));
+  }
+  // and the residual it reports is its own.
+  CHECK(double(cut.residual) ==
+        doctest::Approx((g.grasp_matrix().template cast<double>() * cut.forces.template cast<double>() +
+                         load.template cast<double>()).norm()).epsilon(1e-3));
+}
+
 TEST_CASE("solve_constrained allocates nothing (fixed, Dynamic, every model, infeasible too)") {
   std::mt19937 rng(31);
   Grasp<20, HardFinger, double> h = grip_test::random_grasp<Grasp<20, HardFinger, double>>(rng, 20);
