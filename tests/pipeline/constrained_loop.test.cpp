@@ -1,8 +1,6 @@
-// The haptic loop with the friction-constrained solver (issue 5), warm-started frame to frame.
-// Compiled only when the library provides it.
+// The haptic loop with the friction-constrained solver, warm-started frame to frame.
 #include <doctest/doctest.h>
 
-#if __has_include(<grip/pipeline/constrained_frame_solver.hpp>)
 #include <grip/pipeline/constrained_frame_solver.hpp>
 
 #include "pipeline/pipeline_fixture.hpp"
@@ -43,4 +41,3 @@ TEST_CASE_TEMPLATE("constrained loop: weight balanced inside the cones, few iter
   CHECK(cold <= 2);
   CHECK(warm_total <= 3 * frames);
 }
-#endif

@@ -84,39 +84,6 @@ S force_tol() {  // N: solver round-off on forces of tens of newtons
   return std::is_same<S, float>::value ? S(2e-3) : S(1e-9);
 }
 
-// What each phalanx should feel, from an independent solve: the paper's KKT system (solve_kkt)
-// of the contacts the pipeline reports, with eq. 8's squeeze and the pipeline's weights
-// written out here, under the weight alone.
-template <class S, class P>
-std::array<Vector3<S>, hand_phalanx_count> independent_feedback(const P& p, const HapticSettings<S>& st) {
-  constexpr int max_n = P::max_contacts < 24 ? P::max_contacts : 24;  // the dense KKT system on the stack
-  Grasp<Dynamic, HardFinger, S, max_n> g;
-  REQUIRE(p.hand_contacts().count <= max_n);
-  const auto& hc = p.hand_contacts();
-  std::array<int, max_n> phalanx{};
-  for (int i = 0; i < hc.count; ++i) {
-    const int k = phalanx_index(hc[i].finger, hc[i].phalanx);
-    const S d = k < 2 ? st.thumb_contribution[static_cast<std::size_t>(k)]
-                      : st.contribution(hc[i].finger, hc[i].phalanx);
-    Contact<S> c;
-    c.position = hc[i].point - p.object().position;
-    c.normal = hc[i].normal;
-    c.friction = st.friction;
-    c.squeeze = d * st.stiffness[static_cast<std::size_t>(k)] * hc[i].depth;  // s_i = d_i K_i dr_i
-    c.weight = S(1) / std::max(c.squeeze, st.weight_floor);
-    REQUIRE(g.add(c) == Status::Ok);
-    phalanx[static_cast<std::size_t>(i)] = k;
-  }
-  Wrench<S> w_ext = Wrench<S>::Zero();
-  w_ext(2) = -p.object().mass * S(9.81);
-  const auto sol = solve_kkt(g, w_ext);
-  REQUIRE(sol.status == Status::Ok);
-  std::array<Vector3<S>, hand_phalanx_count> feel;
-  feel.fill(Vector3<S>::Zero());  // (Eigen vectors are not zeroed by {})
-  for (int i = 0; i < hc.count; ++i) feel[static_cast<std::size_t>(phalanx[static_cast<std::size_t>(i)])] -= sol.forces.template segment<3>(3 * i);
-  return feel;
-}
-
 }  // namespace
 
 TEST_CASE_TEMPLATE("a cube grasped (Fig. 3): each phalanx feels what an independent solve gives", S, double, float) {
@@ -132,7 +99,7 @@ TEST_CASE_TEMPLATE("a cube grasped (Fig. 3): each phalanx feels what an independ
   CHECK((grip_test::total_feedback(f) - Vector3<S>(S(0), S(0), S(-cube_mass * 9.81))).norm() <= force_tol<S>());
   CHECK(grip_test::finger_moment(f, p).norm() <= force_tol<S>() * S(0.1));
   // Per phalanx, against solve_kkt on the same contacts.
-  const auto feel = independent_feedback<S>(p, h.settings);
+  const auto feel = grip_test::independent_feedback<S>(p, h.settings);
   int felt = 0;
   for (int k = 0; k < hand_phalanx_count; ++k) {
     const auto sk = static_cast<std::size_t>(k);
@@ -217,7 +184,7 @@ TEST_CASE_TEMPLATE("several contacts per phalanx in the loop: statics hold, forc
   REQUIRE(p.step(h.wrist, h.closed, f) == Status::Ok);
   REQUIRE(f.held);
   CHECK((grip_test::total_feedback(f) - Vector3<S>(S(0), S(0), S(-cube_mass * 9.81))).norm() <= force_tol<S>());
-  const auto feel = independent_feedback<S>(p, h.settings);
+  const auto feel = grip_test::independent_feedback<S>(p, h.settings);
   for (int k = 0; k < hand_phalanx_count; ++k)
     CHECK((f.phalanges[static_cast<std::size_t>(k)].force - feel[static_cast<std::size_t>(k)]).norm() <=
           S(10) * force_tol<S>());
@@ -324,7 +291,7 @@ TEST_CASE_TEMPLATE("a mesh object in the loop: held, lifted and released, each p
   const S weight = S(0.2 * 9.81);
   CHECK((grip_test::total_feedback(f) - Vector3<S>(S(0), S(0), -weight)).norm() <= force_tol<S>());
   CHECK(grip_test::finger_moment(f, p).norm() <= force_tol<S>() * S(0.1));
-  const auto feel = independent_feedback<S>(p, settings);
+  const auto feel = grip_test::independent_feedback<S>(p, settings);
   for (int k = 0; k < hand_phalanx_count; ++k)
     CHECK((f.phalanges[static_cast<std::size_t>(k)].force - feel[static_cast<std::size_t>(k)]).norm() <=
           S(10) * force_tol<S>());

@@ -1,9 +1,16 @@
 #pragma once
 // A hand closed on a 0.4 kg horizontal cylinder held in the air (no table unless a test adds
-// one), for the pipeline tests, in float or double.
+// one), for the pipeline tests, in float or double; sums of what the hand feels; and what
+// each phalanx should feel by an independent solve of the pipeline's contacts.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <array>
+
 #include <grip/pipeline/close_hand.hpp>
 #include <grip/pipeline/cylinder_scene.hpp>
 #include <grip/pipeline/haptic_pipeline.hpp>
+#include <grip/solve/solve_kkt.hpp>
 
 namespace grip_test {
 
@@ -46,6 +53,11 @@ struct HeldCylinder {
 
   using Pipeline = grip::HapticPipeline<S, grip::CylinderScene<S>>;
   Pipeline pipeline() const { return Pipeline(settings, scene, object); }
+  /// The pipeline with another frame solver.
+  template <class Solver>
+  grip::HapticPipeline<S, grip::CylinderScene<S>, Solver> pipeline_with() const {
+    return grip::HapticPipeline<S, grip::CylinderScene<S>, Solver>(settings, scene, object);
+  }
 };
 
 /// Sum over phalanges of the feedback forces (N, world).
@@ -67,6 +79,43 @@ grip::Vector3<S> finger_moment(const grip::HapticFrame<S>& f, const P& pipeline)
     m += (c.point - pipeline.object().position).cross(grip::Vector3<S>(-f.phalanges[static_cast<std::size_t>(k)].force));
   }
   return m;
+}
+
+/// What each phalanx should feel, from an independent solve: the paper's KKT system
+/// (solve_kkt) of the contacts the pipeline reports, with eq. 8's squeeze and the pipeline's
+/// weights written out here, under the weight alone (the object at rest). With no contact
+/// outside its cone, the optimum inside the cones is this one too.
+template <class S, class P>
+std::array<grip::Vector3<S>, grip::hand_phalanx_count> independent_feedback(const P& p,
+                                                                            const grip::HapticSettings<S>& st) {
+  using namespace grip;
+  constexpr int max_n = P::max_contacts < 24 ? P::max_contacts : 24;  // the dense KKT system on the stack
+  Grasp<Dynamic, HardFinger, S, max_n> g;
+  REQUIRE(p.hand_contacts().count <= max_n);
+  const auto& hc = p.hand_contacts();
+  std::array<int, max_n> phalanx{};
+  for (int i = 0; i < hc.count; ++i) {
+    const int k = phalanx_index(hc[i].finger, hc[i].phalanx);
+    const S d = k < 2 ? st.thumb_contribution[static_cast<std::size_t>(k)]
+                      : st.contribution(hc[i].finger, hc[i].phalanx);
+    Contact<S> c;
+    c.position = hc[i].point - p.object().position;
+    c.normal = hc[i].normal;
+    c.friction = st.friction;
+    c.squeeze = d * st.stiffness[static_cast<std::size_t>(k)] * hc[i].depth;  // s_i = d_i K_i dr_i
+    c.weight = S(1) / std::max(c.squeeze, st.weight_floor);
+    REQUIRE(g.add(c) == Status::Ok);
+    phalanx[static_cast<std::size_t>(i)] = k;
+  }
+  Wrench<S> w_ext = Wrench<S>::Zero();
+  w_ext(2) = -p.object().mass * S(9.81);
+  const auto sol = solve_kkt(g, w_ext);
+  REQUIRE(sol.status == Status::Ok);
+  std::array<Vector3<S>, hand_phalanx_count> feel;
+  feel.fill(Vector3<S>::Zero());  // (Eigen vectors are not zeroed by {})
+  for (int i = 0; i < hc.count; ++i)
+    feel[static_cast<std::size_t>(phalanx[static_cast<std::size_t>(i)])] -= sol.forces.template segment<3>(3 * i);
+  return feel;
 }
 
 }  // namespace grip_test
