@@ -253,10 +253,16 @@ TEST_CASE_TEMPLATE("a whole frame does not touch the heap", S, double, float) {
   auto p = h.pipeline();
   HapticFrame<S> f;
   WristState<S> w = h.wrist;
+  int ok = 0, held = 0;
   grip_test::NoHeapScope scope;
   for (int i = 0; i < 20; ++i) {
     w.linear_acceleration.z() = S(i % 5);
-    (void)p.step(w, i < 10 ? h.closed : JointAngles<S>(JointAngles<S>::Zero()), f);
+    ok += p.step(w, i < 10 ? h.closed : JointAngles<S>(JointAngles<S>::Zero()), f) == Status::Ok ? 1 : 0;
+    held += f.held ? 1 : 0;
   }
   CHECK(scope.allocations() == 0);
+  // (checked outside the loop: a failing CHECK may allocate) every frame ran, and both the
+  // held path (closed hand) and the free one (open hand) were taken.
+  CHECK(ok == 20);
+  CHECK(held == 10);
 }
