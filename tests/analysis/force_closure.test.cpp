@@ -99,7 +99,10 @@ TEST_CASE_TEMPLATE("not in closure: frictionless antipodal, mu = 0 on a sphere, 
   grip_test::Uniform u01(0.0, 1.0);
   for (int n = 3; n <= 10; ++n) {
     Grasp<Dynamic, HardFinger, S, 10> h;
-    for (int i = 0; i < n; ++i) REQUIRE(h.add(on_sphere<S>(std::acos(1 - 2 * u01(rng)), 2 * pi * u01(rng), 0.0)) == Status::Ok);
+    for (int i = 0; i < n; ++i) {
+      const double theta = std::acos(1 - 2 * u01(rng)), phi = 2 * pi * u01(rng);
+      REQUIRE(h.add(on_sphere<S>(theta, phi, 0.0)) == Status::Ok);
+    }
     const auto f = force_closure(h);
     CHECK(f.status == Status::Ok);
     CHECK_FALSE(f.closure);

@@ -70,7 +70,7 @@ TEST_CASE_TEMPLATE("force split recombines, is internal and W-orthogonal (all mo
     grip_test::Normal n01(0.0, 1.0);
     for (int i = 0; i < 9; ++i) {
       Contact<S> c = grip_test::random_contact<S>(rng);
-      const Vector3<double> t(n01(rng), n01(rng), n01(rng));
+      const Vector3<double> t = grip_test::draw3(rng, n01);
       c.normal = (c.normal.template cast<double>() + 0.6 * t).normalized().template cast<S>();
       REQUIRE(p.add(c) == Status::Ok);
     }

@@ -35,8 +35,9 @@ void check_pack() {
   for (int rep = 0; rep < 400; ++rep) {
     S a[w], b[w], out[w];
     for (int j = 0; j < w; ++j) {
-      a[j] = rep % 4 == 3 ? specials[(rep + 3 * j) % 10] : S(std::exp(4.0 * n01(rng)) * n01(rng));
-      b[j] = rep % 5 == 4 ? specials[(rep + j) % 10] : S(std::exp(4.0 * n01(rng)) * n01(rng));
+      const double ea = std::exp(4.0 * n01(rng)), ma = n01(rng), eb = std::exp(4.0 * n01(rng)), mb = n01(rng);
+      a[j] = rep % 4 == 3 ? specials[(rep + 3 * j) % 10] : S(ea * ma);
+      b[j] = rep % 5 == 4 ? specials[(rep + j) % 10] : S(eb * mb);
     }
     const P pa = P::load(a), pb = P::load(b);
     const auto lanes = [&](P p) {
@@ -94,7 +95,10 @@ void check_pack() {
   std::vector<P> acc(40, P::set1(S(0)));
   std::vector<S> lanes_of(40 * w);
   for (int e = 0; e < 40; ++e) {
-    for (int j = 0; j < w; ++j) lanes_of[std::size_t(e * w + j)] = S(n01(rng) * std::exp(2.0 * n01(rng)));
+    for (int j = 0; j < w; ++j) {
+      const double m = n01(rng), e2 = std::exp(2.0 * n01(rng));
+      lanes_of[std::size_t(e * w + j)] = S(m * e2);
+    }
     acc[std::size_t(e)] = P::load(&lanes_of[std::size_t(e * w)]);
   }
   S total[40];

@@ -61,7 +61,7 @@ TEST_CASE_TEMPLATE("a sphere pressed into a sphere: depth, normal, point within 
     const double h = double(oct.cell_half_edge(depth));
     double worst = 0;
     for (int t = 0; t < 20; ++t) {
-      const Vector3<double> u = Vector3<double>(g(rng), g(rng), g(rng)).normalized();
+      const Vector3<double> u = grip_test::draw3(rng, g).normalized();
       const Vector3<S> x = (dist * u).cast<S>();
       HandCollisionModel<S> hand;
       REQUIRE(hand.set_posture(single<S>(5, x, x, S(r))) == Status::Ok);
@@ -180,7 +180,8 @@ TEST_CASE_TEMPLATE("pruned descent finds the same contacts as the exhaustive lea
     JointAngles<S> q;
     for (int k = 0; k < 14; ++k) q(k) = S(0.6 + 0.6 * u(rng));
     Iso<S> wrist = Iso<S>::Identity();
-    wrist.translation() = Vector3<S>(S(-0.09 + 0.03 * u(rng)), S(0.02 * u(rng)), S(0.05 + 0.02 * u(rng)));
+    const Vector3<double> r = grip_test::draw3(rng, u);
+    wrist.translation() = Vector3<S>(S(-0.09 + 0.03 * r.x()), S(0.02 * r.y()), S(0.05 + 0.02 * r.z()));
     HandPosture<S> h;
     REQUIRE(forward_kinematics(dims, wrist, q, h) == Status::Ok);
     HandCollisionModel<S> hand;

@@ -153,7 +153,8 @@ template <class S>
 Iso<S> random_pose(std::mt19937& rng) {
   Iso<S> pose = Iso<S>::Identity();
   pose.linear() = grip_test::rotation(rng).cast<S>();
-  pose.translation() = Vector3<S>(S(uniform(rng, -0.2, 0.2)), S(uniform(rng, -0.2, 0.2)), S(uniform(rng, -0.2, 0.2)));
+  const double x = uniform(rng, -0.2, 0.2), y = uniform(rng, -0.2, 0.2), z = uniform(rng, -0.2, 0.2);
+  pose.translation() = Vector3<S>(S(x), S(y), S(z));
   return pose;
 }
 
@@ -309,7 +310,8 @@ TEST_CASE_TEMPLATE("without refinement, depths are the deepest sample's, exactly
   samples_only.refine_iterations = 0;
   int touching = 0;
   for (int trial = 0; trial < 100; ++trial) {
-    V3 q(sign(rng) * h.x(), sign(rng) * h.y(), uniform(rng, -h.z(), h.z()));
+    const double sx = sign(rng), sy = sign(rng), z = uniform(rng, -h.z(), h.z());
+    V3 q(sx * h.x(), sy * h.y(), z);
     const V3 n = V3(q.x(), q.y(), 0).normalized();
     V3 a, b;
     aim(rng, q, n, 0.008, a, b);

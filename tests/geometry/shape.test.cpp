@@ -70,7 +70,7 @@ TEST_CASE_TEMPLATE("SDFs are 1-Lipschitz with unit gradients, the gradient match
   const S h = std::is_same<S, float>::value ? S(1e-3) : S(1e-6);
   for (const auto& p : prims) {
     for (int t = 0; t < 200; ++t) {
-      const Vector3<S> x(S(u(rng)), S(u(rng)), S(u(rng)));
+      const Vector3<S> x = grip_test::draw3(rng, u).cast<S>();
       Vector3<S> n;
       const S d = p.distance(x, n);
       CHECK(std::abs(n.norm() - S(1)) <= S(10) * eps<S>());

@@ -83,7 +83,7 @@ TEST_CASE_TEMPLATE("octree: contains every primitive and union, and keeps nothin
     grip_test::Uniform u(0.0, 1.0);
     int inside = 0, far = 0;
     for (int t = 0; t < 1500; ++t) {
-      const Vector3<S> p = lo + Vector3<S>(S(u(rng)), S(u(rng)), S(u(rng))).cwiseProduct(hi - lo) * S(1.2) -
+      const Vector3<S> p = lo + grip_test::draw3(rng, u).cast<S>().cwiseProduct(hi - lo) * S(1.2) -
                            S(0.1) * (hi - lo);
       const S d = shape.distance(p);
       if (d <= S(0)) {  // a point of the shape lies in a kept leaf cell

@@ -102,7 +102,8 @@ std::vector<Change> changes(std::mt19937& rng, int n, bool lengths) {
   }
   Change r;
   r.order = identity;
-  r.rotation = Eigen::Quaterniond(n01(rng), n01(rng), n01(rng), n01(rng)).normalized().toRotationMatrix();
+  const double qw = n01(rng), qx = n01(rng), qy = n01(rng), qz = n01(rng);
+  r.rotation = Eigen::Quaterniond(qw, qx, qy, qz).normalized().toRotationMatrix();
   out.push_back(r);
   Change p;
   p.order = identity;

@@ -26,7 +26,9 @@ inline V3 unit_vector(std::mt19937& g) {
 }
 /// A random rotation (axis uniform, angle uniform in [0, pi)).
 inline Eigen::Matrix3d rotation(std::mt19937& g) {
-  return Eigen::AngleAxisd(uniform(g, 0, 3.141592653589793), unit_vector(g)).toRotationMatrix();
+  const double angle = uniform(g, 0, 3.141592653589793);  // (drawn in this order on every compiler)
+  const V3 axis = unit_vector(g);
+  return Eigen::AngleAxisd(angle, axis).toRotationMatrix();
 }
 
 /// Distance from q to the axis-aligned rectangle {|x_u| <= hu, |x_v| <= hv, x_w = w0}.

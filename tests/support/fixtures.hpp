@@ -38,10 +38,11 @@ template <class S>
 grip::Contact<S> random_contact(std::mt19937& rng, bool random_weight = true, double tilt = 0.0) {
   grip_test::Uniform u01(0.0, 1.0);
   const double theta = std::acos(1.0 - 2.0 * u01(rng)), phi = 6.283185307179586 * u01(rng);
-  grip::Contact<S> c = sphere_contact<S>(theta, phi, 0.02 + 0.04 * u01(rng), 0.2 + u01(rng), 3.0 * u01(rng));
+  const double radius = 0.02 + 0.04 * u01(rng), mu = 0.2 + u01(rng), squeeze = 3.0 * u01(rng);
+  grip::Contact<S> c = sphere_contact<S>(theta, phi, radius, mu, squeeze);
   c.weight = random_weight ? S(0.5 + 1.5 * u01(rng)) : S(1);
   if (tilt > 0.0) {
-    const grip::Vector3<double> v(u01(rng) - 0.5, u01(rng) - 0.5, u01(rng) - 0.5);
+    const grip::Vector3<double> v = grip_test::draw3(rng, u01) - grip::Vector3<double>::Constant(0.5);
     c.normal = (c.normal.template cast<double>() + tilt * v).normalized().template cast<S>();
   }
   return c;

@@ -5,9 +5,13 @@
 // same engine), so a seed printed by a failing test would not reproduce elsewhere. These take
 // the engine's raw 32-bit outputs and transform them by formulas written here. Normals go
 // through std::log, std::sqrt and std::cos: the same draw everywhere to libm's last bit.
+// Draw into named variables (or with draw3), never twice among one call's arguments: their
+// order of evaluation is unspecified.
 #include <cmath>
 #include <cstdint>
 #include <random>
+
+#include <Eigen/Core>
 
 namespace grip_test {
 
@@ -67,5 +71,16 @@ class Normal {
  private:
   double mean_, sd_;
 };
+
+/// Three draws of `draw` in order, as a vector. (Not Vector3d(d(g), d(g), d(g)): function
+/// arguments are evaluated in an unspecified order, and g++ and clang take them differently,
+/// so the same seed would build different vectors.)
+template <class Engine, class Draw>
+Eigen::Vector3d draw3(Engine& g, const Draw& draw) {
+  const double x = draw(g);
+  const double y = draw(g);
+  const double z = draw(g);
+  return Eigen::Vector3d(x, y, z);
+}
 
 }  // namespace grip_test
