@@ -136,7 +136,6 @@ const char* trial(std::mt19937& rng, int cat, long& heap) {
   if (cat == 2 || cat == 3) e.must_be_singular = !std::is_same<M, SoftFinger>::value || cat == 3;
   if (g.size() < full_rank_n && !std::is_same<M, SoftFinger>::value) e.must_be_singular = true;
   if (std::is_same<M, SoftFinger>::value && g.size() == 1) e.must_be_singular = true;
-  e.moderate_scale = (cat == 0 || cat == 2 || cat == 3) && all_valid;
   e.well_conditioned = cat == 0 && all_valid && g.size() >= 3 && !std::is_same<M, FrictionlessPoint>::value;
   const Wrench<S> w = make_wrench<S>(rng, cat >= 5 ? grip_test::UniformInt(0, 2)(rng) : 0);
   if (!grip_hostile::wrench_valid(w)) e.well_conditioned = false;
@@ -181,18 +180,13 @@ TEST_CASE_TEMPLATE("hostile input: every solver keeps its contract on adversaria
       if (b.first++ == 0) b.second = base + i;
     }
   }
-  long hard = 0;
+  long failures = 0;
   for (const auto& [msg, b] : broken) {
-    const bool soft = msg.rfind("soft:", 0) == 0;
-    if (!soft) hard += b.first;
+    failures += b.first;
     const std::string line = msg + ": " + std::to_string(b.first) + " of " + std::to_string(count) +
                              " grasps; first: GRIP_HOSTILE_SEED=" + std::to_string(b.second) + " GRIP_HOSTILE_COUNT=2";
-    if (soft) {
-      MESSAGE(line);
-    } else {
-      FAIL_CHECK(line);
-    }
+    FAIL_CHECK(line);
   }
-  CHECK(hard == 0);
+  CHECK(failures == 0);
   CHECK(heap == 0);
 }

@@ -44,6 +44,53 @@ void forces_from_multipliers(const GraspT& grasp, const Wrench<typename GraspT::
   sol.multipliers = lambda;
 }
 
+/// The least-squares refinement of a Singular answer x = t + W^-1 G^T lambda whose residual
+/// G x + w_ext is not yet the smallest. G W^-1 G^T can look rank
+/// deficient at the unit balance D when G is not: weights that spread by more than
+/// 1 / rank_tolerance, soft-finger torsion columns (N m unknowns) on lever arms far from 1 m,
+/// or one contact far beyond the lever arm L; the directions cut there stay unbalanced. The
+/// correction is therefore taken on G's own columns, each scaled to unit length (rank and the
+/// least residual do not depend on column scales): with b_j = D g_j, s_j = 1 / |b_j| and
+/// A1 = sum_j s_j^2 b_j b_j^T, x_j += s_j^2 b_j^T u for u = A1^+ D (-res). Then
+/// |D (G x + w_ext)| is the smallest whatever the weights and units (F2 is smallest among such
+/// x only to within that correction). O(n): one pass to form A1 and the residual from the
+/// forces themselves (the one from the sums, M lambda - rhs, loses to cancellation what huge
+/// multipliers carry), one to correct; `res` = G x + w_ext on return.
+template <class GraspT>
+void refine_least_squares(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
+                          typename GraspT::ScalarType length, Solution<GraspT>& sol,
+                          Wrench<typename GraspT::ScalarType>& res) {
+  using S = typename GraspT::ScalarType;
+  using M = typename GraspT::ModelType;
+  constexpr int d = GraspT::dim;
+  const Wrench<S> balance = unit_balance(length);
+  // The balanced columns b_j s_j of one contact, and s_j^2.
+  const auto columns = [&](int i, Eigen::Matrix<S, 6, d>& b, Eigen::Matrix<S, d, 1>& s2) {
+    b = balance.asDiagonal() * M::basis(grasp.contact(i));
+    for (int j = 0; j < d; ++j) {
+      const S norm = stable_norm(b.col(j));
+      s2(j) = norm > S(0) && std::isfinite(S(1) / norm) ? S(1) / (norm * norm) : S(0);
+    }
+  };
+  Matrix6<S> a1 = Matrix6<S>::Zero();
+  Eigen::Matrix<S, 6, d> b;
+  Eigen::Matrix<S, d, 1> s2;
+  res = w_ext;
+  for (int i = 0; i < grasp.size(); ++i) {
+    columns(i, b, s2);
+    a1.noalias() += b * s2.asDiagonal() * b.transpose();
+    res += M::wrench(grasp.contact(i), Eigen::Matrix<S, d, 1>(sol.forces.template segment<d>(i * d)));
+  }
+  Wrench<S> u;
+  least_squares_6x6(a1, Wrench<S>(-balance.cwiseProduct(res)), Wrench<S>(Wrench<S>::Ones()), u);
+  if (u.isZero(0)) return;
+  for (int i = 0; i < grasp.size(); ++i) {
+    columns(i, b, s2);
+    sol.forces.template segment<d>(i * d) += s2.cwiseProduct(b.transpose() * u);
+  }
+  res += balance.cwiseInverse().cwiseProduct(a1 * u);
+}
+
 /// The characteristic lever arm L = sqrt(sum k_i |r_i|^2 / sum k_i) (m) that balances force
 /// and moment rows in rank tests; 0 when every contact sits at the reference point.
 template <class S>
@@ -200,6 +247,27 @@ bool range_space_solve(const GraspT& grasp, const Wrench<typename GraspT::Scalar
     res = gram * lambda - rhs;
   }
   forces_from_multipliers(grasp, lambda, sol);
+  // |D (G x + w_ext)| clearly above its value at x = 0 (beyond the round-off of the terms, and
+  // sqrt-free: |D res|^2 > 2 |D w_ext|^2 + 2 slack^2): possible only where directions of
+  // round-off rank were cut (or float cancels at extreme scales); refine_least_squares then
+  // repairs it. The test costs three 6-vector dot products.
+  const Wrench<S> balance = unit_balance(length);
+  const S eps64 = S(64) * std::numeric_limits<S>::epsilon();
+  const S floor2 = S(2) * balance.cwiseProduct(w_ext).squaredNorm() +
+                   S(2) * eps64 * eps64 * balance.cwiseProduct(rhs).squaredNorm();
+  const auto worse_than_zero = [&] { return balance.cwiseProduct(res).squaredNorm() > floor2; };
+  if (sol.status == Status::Singular || worse_than_zero()) {
+    // Two steps (the first from a residual that huge multipliers may have left inaccurate).
+    // Directions of round-off rank keep the residual of the starting point; when that is
+    // still worse than x = 0, start again from x = 0.
+    refine_least_squares(grasp, w_ext, length, sol, res);
+    refine_least_squares(grasp, w_ext, length, sol, res);
+    if (worse_than_zero()) {
+      sol.forces.setZero();
+      refine_least_squares(grasp, w_ext, length, sol, res);
+      refine_least_squares(grasp, w_ext, length, sol, res);
+    }
+  }
   // G x + w_ext = G t + M lambda + w_ext = M lambda - rhs: the residual without another pass.
   sol.residual = stable_norm(res);
   return true;
@@ -236,7 +304,12 @@ Matrix6<typename GraspT::ScalarType> weighted_gram(const GraspT& grasp) {
 ///   through one point for frictionless contacts, ...). `forces` are the least-squares
 ///   forces: |D (G x + w_ext)| is as small as possible, D = diag(1, 1, 1, 1/L, 1/L, 1/L) with
 ///   L = detail::lever_arm(grasp) (m) putting N and N m on one footing, and among such x, F2
-///   is smallest. `residual` (unscaled) tells what is left unbalanced.
+///   is smallest. `residual` (unscaled) tells what is left unbalanced. The least residual holds
+///   at every valid scale: where weights spread beyond 1 / rank_tolerance, soft-finger torsion
+///   meets lever arms far from 1 m, or one contact lies far beyond L, G W^-1 G^T looks rank
+///   deficient although G need not be; the answer is then refined on G's own columns
+///   (detail::refine_least_squares, two to four more passes), F2 smallest only to within that
+///   refinement, and the status stays Singular.
 /// - InvalidInput: incomplete grasp or non-finite/out-of-range w_ext; zeros.
 template <class GraspT>
 Solution<GraspT> solve_range_space(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext) {

@@ -184,6 +184,37 @@ void symmetric_eigen_6x6_sorted(const Matrix6<Scalar>& m, Wrench<Scalar>& ev, Ma
   }
 }
 
+/// The unit balance D = diag(1, 1, 1, 1/L, 1/L, 1/L) of a lever arm `length` L (m); the identity
+/// when L is not positive or 1/L is not finite.
+template <class Scalar>
+Wrench<Scalar> unit_balance(Scalar length) {
+  const Scalar inv_length = length > Scalar(0) ? Scalar(1) / length : Scalar(0);
+  Wrench<Scalar> d = Wrench<Scalar>::Ones();
+  if (length > Scalar(0) && std::isfinite(length) && std::isfinite(inv_length)) d.template tail<3>().setConstant(inv_length);
+  return d;
+}
+
+/// The minimum-norm least-squares solution of M y = r on the unit-balanced scale: y = D u with
+/// u = A^+ D r, A = D M D, D = diag(`d`) (M symmetric positive semi-definite); eigenvalues of A
+/// below ScalarTraits::rank_tolerance times the largest count as zero. So |D (M y - r)| is
+/// smallest. y is finite (zero when A is not).
+template <class Scalar>
+void least_squares_6x6(const Matrix6<Scalar>& m, const Wrench<Scalar>& r, const Wrench<Scalar>& d, Wrench<Scalar>& y) {
+  y.setZero();
+  Matrix6<Scalar> a = d.asDiagonal() * m * d.asDiagonal();
+  if (!a.allFinite()) return;
+  Wrench<Scalar> ev;
+  Matrix6<Scalar> vecs;
+  symmetric_eigen_6x6(a, ev, vecs);
+  const Scalar cut = ScalarTraits<Scalar>::rank_tolerance * ev.cwiseAbs().maxCoeff();
+  const Wrench<Scalar> q = vecs.transpose() * d.cwiseProduct(r);
+  Wrench<Scalar> u = Wrench<Scalar>::Zero();
+  for (int k = 0; k < 6; ++k)
+    if (ev(k) > cut && ev(k) > Scalar(0)) u(k) = q(k) / ev(k);
+  y = d.cwiseProduct(vecs * u);
+  if (!y.allFinite()) y.setZero();
+}
+
 }  // namespace detail
 
 /// Solves M y = r for a symmetric positive semi-definite 6x6 M = G W^-1 G^T by an LDL^T
@@ -202,20 +233,16 @@ template <class Scalar>
 Status solve_symmetric_6x6(const Matrix6<Scalar>& m, const Wrench<Scalar>& r, Wrench<Scalar>& y,
                            Scalar length = Scalar(1)) {
   const Scalar tol = ScalarTraits<Scalar>::rank_tolerance;
-  const Scalar inv_length = length > Scalar(0) ? Scalar(1) / length : Scalar(0);
-  Wrench<Scalar> d;
-  d << Scalar(1), Scalar(1), Scalar(1), inv_length, inv_length, inv_length;
-  bool ok = length > Scalar(0) && std::isfinite(length) && std::isfinite(inv_length);
-  if (ok) {
+  const Wrench<Scalar> d = detail::unit_balance(length);
+  if (length > Scalar(0) && std::isfinite(length) && std::isfinite(Scalar(1) / length)) {
     Scalar ref(0);
     for (int k = 0; k < 6; ++k) ref = std::max(ref, d(k) * m(k, k) * d(k));
-    ok = ref > Scalar(0) && std::isfinite(ref);
     detail::SmallLdlt<6, Scalar> ldlt;
     const auto scaled = [&](Scalar (&a)[6][6]) {  // A = D M D
       for (int k = 0; k < 6; ++k)
         for (int i = 0; i < 6; ++i) a[i][k] = d(i) * m(i, k) * d(k);
     };
-    if (ok && ldlt.factor(scaled, ref, tol)) {
+    if (ref > Scalar(0) && std::isfinite(ref) && ldlt.factor(scaled, ref, tol)) {
       Scalar x[6];
       for (int k = 0; k < 6; ++k) x[k] = d(k) * r(k);
       ldlt.solve(x);
@@ -225,20 +252,7 @@ Status solve_symmetric_6x6(const Matrix6<Scalar>& m, const Wrench<Scalar>& r, Wr
   }
   // Rank deficient: minimum-norm least squares on the scaled system A u = D r, y = D u, so that
   // D (M y - r) is as small as possible.
-  y.setZero();
-  if (!(length > Scalar(0) && std::isfinite(length) && std::isfinite(inv_length))) d.setOnes();
-  Matrix6<Scalar> a = d.asDiagonal() * m * d.asDiagonal();
-  if (!a.allFinite()) return Status::Singular;
-  Wrench<Scalar> ev;
-  Matrix6<Scalar> vecs;
-  detail::symmetric_eigen_6x6(a, ev, vecs);
-  const Scalar cut = tol * ev.cwiseAbs().maxCoeff();
-  const Wrench<Scalar> q = vecs.transpose() * d.cwiseProduct(r);
-  Wrench<Scalar> u = Wrench<Scalar>::Zero();
-  for (int k = 0; k < 6; ++k)
-    if (ev(k) > cut && ev(k) > Scalar(0)) u(k) = q(k) / ev(k);
-  y = d.cwiseProduct(vecs * u);
-  if (!y.allFinite()) y.setZero();
+  detail::least_squares_6x6(m, r, d, y);
   return Status::Singular;
 }
 
