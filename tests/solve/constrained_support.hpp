@@ -15,30 +15,49 @@ namespace grip_test {
 /// One instance of the reference file (see make_constrained_reference.py).
 struct ConstrainedReference {
   char model{'H'};
+  int n{0};                  ///< the contact count the instance line states
   bool feasible{true};
   double objective{0};
+  double gap{0};             ///< cvxopt's duality gap at x*: F2(x*) - F2_min <= gap
   grip::Wrench<double> w_ext{grip::Wrench<double>::Zero()};
   std::vector<grip::Contact<double>> contacts;
+  std::vector<double> x;     ///< cvxopt's optimal forces (feasible instances)
+};
+
+/// The file's "# counts" line: instances and infeasible ones per model tag.
+struct ReferenceCounts {
+  int instances[3]{-1, -1, -1};  ///< H, S, F; -1 when the line is missing
+  int infeasible[3]{-1, -1, -1};
+  static int slot(char tag) { return tag == 'H' ? 0 : tag == 'S' ? 1 : 2; }
 };
 
 /// Parses tests/solve/constrained_reference.txt (located from this header's own path).
-inline std::vector<ConstrainedReference> load_constrained_reference() {
+inline std::vector<ConstrainedReference> load_constrained_reference(ReferenceCounts* counts = nullptr) {
   std::string dir = __FILE__;
   dir = dir.substr(0, dir.find_last_of("/\\") + 1);
   std::ifstream in(dir + "constrained_reference.txt");
   std::vector<ConstrainedReference> out;
   std::string line;
   while (std::getline(in, line)) {
+    if (counts != nullptr && line.rfind("# counts ", 0) == 0) {
+      std::istringstream h(line.substr(9));
+      char tag = 0;
+      int total = 0, infeasible = 0;
+      while (h >> tag >> total >> infeasible) {
+        counts->instances[ReferenceCounts::slot(tag)] = total;
+        counts->infeasible[ReferenceCounts::slot(tag)] = infeasible;
+      }
+    }
     if (line.empty() || line[0] == '#') continue;
     std::istringstream s(line);
     std::string tag;
     s >> tag;
     if (tag == "instance") {
       ConstrainedReference r;
-      int k = 0, n = 0;
+      int k = 0;
       std::string status;
       double resid = 0;
-      s >> k >> r.model >> n >> status >> r.objective >> resid;
+      s >> k >> r.model >> r.n >> status >> r.objective >> resid >> r.gap;
       r.feasible = status == "optimal";
       out.push_back(r);
     } else if (tag == "w") {
@@ -48,6 +67,9 @@ inline std::vector<ConstrainedReference> load_constrained_reference() {
       s >> c.position.x() >> c.position.y() >> c.position.z() >> c.normal.x() >> c.normal.y() >> c.normal.z() >>
           c.friction >> c.torsional_friction >> c.squeeze >> c.weight;
       out.back().contacts.push_back(c);
+    } else if (tag == "x") {
+      double v = 0;
+      while (s >> v) out.back().x.push_back(v);
     }
   }
   return out;

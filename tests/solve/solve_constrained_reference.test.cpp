@@ -4,7 +4,9 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <type_traits>
 #include <vector>
 #include <string>
@@ -18,16 +20,18 @@ using namespace grip;
 namespace {
 
 template <class Model, class S>
-void check_against_reference(const std::vector<grip_test::ConstrainedReference>& data, char tag) {
+void check_against_reference(const std::vector<grip_test::ConstrainedReference>& data, char tag,
+                             const grip_test::ReferenceCounts& counts) {
   using GraspT = Grasp<Dynamic, Model, S, 20>;
   const double obj_tol = std::is_same<S, float>::value ? 1e-3 : 1e-7;
   const ConstrainedSettings<S> settings;
   int count = 0, infeasible = 0, worst_iter = 0;
-  double worst_obj = 0, worst_res = 0, worst_cone = 0;
+  double worst_obj = 0, worst_res = 0, worst_cone = 0, worst_x = 0;
   int index = -1;
   for (const auto& ref : data) {
     ++index;
     if (ref.model != tag) continue;
+    REQUIRE(static_cast<int>(ref.contacts.size()) == ref.n);
     GraspT g;
     for (const auto& c : ref.contacts) REQUIRE(g.add(grip_test::cast_contact<S>(c)) == Status::Ok);
     const Wrench<S> w = ref.w_ext.cast<S>();
@@ -63,6 +67,22 @@ void check_against_reference(const std::vector<grip_test::ConstrainedReference>&
       const double res_tol = (std::is_same<S, float>::value ? 1e-4 : 1e-10) * force_scale;
       worst_res = std::max(worst_res, res / force_scale);
       CHECK(res <= res_tol);
+      // The forces themselves against cvxopt's x*. F2 is strongly convex with modulus
+      // w_min = min w_i, so F2(x) - F2_min <= delta puts x within sqrt(2 delta / w_min) of the
+      // optimum x_min. cvxopt's x* has delta <= gap; ours has delta <= (F2(x) - F2(x*)) + gap.
+      // By the triangle inequality through x_min, with the round-off of the two F2 values
+      // (64 eps of double, relative) and of S in forces of size force_scale:
+      REQUIRE(ref.x.size() == static_cast<std::size_t>(g.unknowns()));
+      double w_min = 1e300;
+      for (const auto& c : ref.contacts) w_min = std::min(w_min, c.weight);
+      const double eps = std::numeric_limits<S>::epsilon();
+      const double f2_roundoff = 64 * std::numeric_limits<double>::epsilon() * (1 + ref.objective);
+      const double x_tol = std::sqrt(2 * (std::max(f2 - ref.objective, 0.0) + ref.gap + f2_roundoff) / w_min) +
+                           std::sqrt(2 * (ref.gap + f2_roundoff) / w_min) + 1e3 * eps * force_scale;
+      const Eigen::Map<const Eigen::VectorXd> x_ref(ref.x.data(), static_cast<Eigen::Index>(ref.x.size()));
+      const double dx = (xd - x_ref).norm();
+      worst_x = std::max(worst_x, dx);
+      CHECK_MESSAGE(dx <= x_tol, "instance ", index, " |x - x*| ", dx, " bound ", x_tol);
     } else {
       ++infeasible;
       CHECK_MESSAGE(sol.status == Status::Infeasible, "instance ", index, " model ", tag, " n ", g.size(), " status ", std::string(to_string(sol.status)));
@@ -80,18 +100,24 @@ void check_against_reference(const std::vector<grip_test::ConstrainedReference>&
       }
     }
   }
+  // Every instance of the model was read and run: a misread tag or a truncated file fails.
+  const int slot = grip_test::ReferenceCounts::slot(tag);
+  CHECK(count == counts.instances[slot]);
+  CHECK(infeasible == counts.infeasible[slot]);
+  CHECK(count > 0);
   std::printf("[constrained reference %c %s] %d instances (%d infeasible): worst objective rel %.2e, residual %.2e, "
-              "cone %.2e, iterations %d\n",
+              "cone %.2e, |x - x*| %.2e, iterations %d\n",
               tag, std::is_same<S, float>::value ? "float" : "double", count, infeasible, worst_obj, worst_res,
-              worst_cone, worst_iter);
+              worst_cone, worst_x, worst_iter);
 }
 
 }  // namespace
 
 TEST_CASE_TEMPLATE("solve_constrained agrees with cvxopt on every reference instance", S, double, float) {
-  const auto data = grip_test::load_constrained_reference();
-  REQUIRE(data.size() >= 250);
-  check_against_reference<HardFinger, S>(data, 'H');
-  check_against_reference<SoftFinger, S>(data, 'S');
-  check_against_reference<FrictionlessPoint, S>(data, 'F');
+  grip_test::ReferenceCounts counts;
+  const auto data = grip_test::load_constrained_reference(&counts);
+  REQUIRE(data.size() == static_cast<std::size_t>(counts.instances[0] + counts.instances[1] + counts.instances[2]));
+  check_against_reference<HardFinger, S>(data, 'H', counts);
+  check_against_reference<SoftFinger, S>(data, 'S', counts);
+  check_against_reference<FrictionlessPoint, S>(data, 'F', counts);
 }
