@@ -75,7 +75,7 @@ void check_against_reference(const std::vector<grip_test::ConstrainedReference>&
       REQUIRE(ref.x.size() == static_cast<std::size_t>(g.unknowns()));
       double w_min = 1e300;
       for (const auto& c : ref.contacts) w_min = std::min(w_min, c.weight);
-      const double eps = std::numeric_limits<S>::epsilon();
+      const double eps = static_cast<double>(std::numeric_limits<S>::epsilon());
       const double f2_roundoff = 64 * std::numeric_limits<double>::epsilon() * (1 + ref.objective);
       const double x_tol = std::sqrt(2 * (std::max(f2 - ref.objective, 0.0) + ref.gap + f2_roundoff) / w_min) +
                            std::sqrt(2 * (ref.gap + f2_roundoff) / w_min) + 1e3 * eps * force_scale;
