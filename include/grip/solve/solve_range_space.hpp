@@ -44,28 +44,51 @@ void forces_from_multipliers(const GraspT& grasp, const Wrench<typename GraspT::
   sol.multipliers = lambda;
 }
 
-/// The least-squares refinement of a Singular answer x = t + W^-1 G^T lambda whose residual
-/// G x + w_ext is not yet the smallest. G W^-1 G^T can look rank
-/// deficient at the unit balance D when G is not: weights that spread by more than
-/// 1 / rank_tolerance, soft-finger torsion columns (N m unknowns) on lever arms far from 1 m,
-/// or one contact far beyond the lever arm L; the directions cut there stay unbalanced. The
-/// correction is therefore taken on G's own columns, each scaled to unit length (rank and the
-/// least residual do not depend on column scales): with b_j = D g_j, s_j = 1 / |b_j| and
-/// A1 = sum_j s_j^2 b_j b_j^T, x_j += s_j^2 b_j^T u for u = A1^+ D (-res). Then
-/// |D (G x + w_ext)| is the smallest whatever the weights and units (F2 is smallest among such
-/// x only to within that correction). O(n): one pass to form A1 and the residual from the
-/// forces themselves (the one from the sums, M lambda - rhs, loses to cancellation what huge
-/// multipliers carry), one to correct; `res` = G x + w_ext on return.
+/// True when the residual `res` = G x + w_ext still has a component along some balanced column
+/// of G: |b_j . D res| / |b_j| > sqrt(eps) |D res| for a column b_j = D g_j (the least residual
+/// is reached exactly when there is none). One O(n) pass, no factorisation: it spares the
+/// refinement to a Singular answer that the weighted solve already made least-squares.
+template <class GraspT>
+bool residual_reducible(const GraspT& grasp, typename GraspT::ScalarType length,
+                        const Wrench<typename GraspT::ScalarType>& res) {
+  using S = typename GraspT::ScalarType;
+  using M = typename GraspT::ModelType;
+  const Wrench<S> balance = unit_balance(length);
+  const Wrench<S> r = balance.cwiseProduct(balance.cwiseProduct(res));  // D (D res)
+  const S limit = std::sqrt(std::numeric_limits<S>::epsilon()) * stable_norm(balance.cwiseProduct(res));
+  for (int i = 0; i < grasp.size(); ++i) {
+    const Eigen::Matrix<S, 6, GraspT::dim> g = M::basis(grasp.contact(i));
+    for (int j = 0; j < GraspT::dim; ++j) {
+      const S norm = stable_norm(balance.cwiseProduct(g.col(j)));
+      if (!(std::abs(g.col(j).dot(r)) <= limit * norm)) return true;
+    }
+  }
+  return false;
+}
+
+/// The least-squares refinement of an answer x whose residual G x + w_ext is not yet the
+/// smallest. G W^-1 G^T can look rank deficient at the unit balance D when G is not: weights
+/// that spread by more than 1 / rank_tolerance, soft-finger torsion columns (N m unknowns) on
+/// lever arms far from 1 m, or one contact far beyond the lever arm L; the directions cut
+/// there stay unbalanced. The correction is therefore taken on G's own columns, each scaled to
+/// unit length (rank and the least residual do not depend on column scales): with
+/// b_j = D g_j, s_j = 1 / |b_j| and A1 = sum_j s_j^2 b_j b_j^T, x_j += s_j^2 b_j^T u for
+/// u = A1^+ D (-res). Then |D (G x + w_ext)| is the smallest whatever the weights and units (F2
+/// is smallest among such x only to within that correction). Two steps, the residual taken from
+/// the forces themselves each time (the one from the sums, M lambda - rhs, loses to
+/// cancellation what huge multipliers carry): three O(n) passes and one 6x6
+/// eigen-decomposition. `res` = G x + w_ext on return.
 template <class GraspT>
 void refine_least_squares(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
                           typename GraspT::ScalarType length, Solution<GraspT>& sol,
                           Wrench<typename GraspT::ScalarType>& res) {
   using S = typename GraspT::ScalarType;
   using M = typename GraspT::ModelType;
+  using Local = Eigen::Matrix<S, GraspT::dim, 1>;
   constexpr int d = GraspT::dim;
   const Wrench<S> balance = unit_balance(length);
-  // The balanced columns b_j s_j of one contact, and s_j^2.
-  const auto columns = [&](int i, Eigen::Matrix<S, 6, d>& b, Eigen::Matrix<S, d, 1>& s2) {
+  // The balanced columns b_j of one contact, and s_j^2.
+  const auto columns = [&](int i, Eigen::Matrix<S, 6, d>& b, Local& s2) {
     b = balance.asDiagonal() * M::basis(grasp.contact(i));
     for (int j = 0; j < d; ++j) {
       const S norm = stable_norm(b.col(j));
@@ -74,21 +97,24 @@ void refine_least_squares(const GraspT& grasp, const Wrench<typename GraspT::Sca
   };
   Matrix6<S> a1 = Matrix6<S>::Zero();
   Eigen::Matrix<S, 6, d> b;
-  Eigen::Matrix<S, d, 1> s2;
+  Local s2;
   res = w_ext;
   for (int i = 0; i < grasp.size(); ++i) {
     columns(i, b, s2);
     a1.noalias() += b * s2.asDiagonal() * b.transpose();
-    res += M::wrench(grasp.contact(i), Eigen::Matrix<S, d, 1>(sol.forces.template segment<d>(i * d)));
+    res += M::wrench(grasp.contact(i), Local(sol.forces.template segment<d>(i * d)));
   }
-  Wrench<S> u;
-  least_squares_6x6(a1, Wrench<S>(-balance.cwiseProduct(res)), Wrench<S>(Wrench<S>::Ones()), u);
-  if (u.isZero(0)) return;
-  for (int i = 0; i < grasp.size(); ++i) {
-    columns(i, b, s2);
-    sol.forces.template segment<d>(i * d) += s2.cwiseProduct(b.transpose() * u);
+  const PseudoInverse6<S> pinv(a1);
+  for (int step = 0; step < 2; ++step) {
+    const Wrench<S> u = pinv.apply(Wrench<S>(-balance.cwiseProduct(res)));
+    res = w_ext;
+    for (int i = 0; i < grasp.size(); ++i) {
+      columns(i, b, s2);
+      auto xi = sol.forces.template segment<d>(i * d);
+      xi += s2.cwiseProduct(b.transpose() * u);
+      res += M::wrench(grasp.contact(i), Local(xi));
+    }
   }
-  res += balance.cwiseInverse().cwiseProduct(a1 * u);
 }
 
 /// The characteristic lever arm L = sqrt(sum k_i |r_i|^2 / sum k_i) (m) that balances force
@@ -256,15 +282,12 @@ bool range_space_solve(const GraspT& grasp, const Wrench<typename GraspT::Scalar
   const S floor2 = S(2) * balance.cwiseProduct(w_ext).squaredNorm() +
                    S(2) * eps64 * eps64 * balance.cwiseProduct(rhs).squaredNorm();
   const auto worse_than_zero = [&] { return balance.cwiseProduct(res).squaredNorm() > floor2; };
-  if (sol.status == Status::Singular || worse_than_zero()) {
-    // Two steps (the first from a residual that huge multipliers may have left inaccurate).
+  if ((sol.status == Status::Singular && residual_reducible(grasp, length, res)) || worse_than_zero()) {
     // Directions of round-off rank keep the residual of the starting point; when that is
     // still worse than x = 0, start again from x = 0.
     refine_least_squares(grasp, w_ext, length, sol, res);
-    refine_least_squares(grasp, w_ext, length, sol, res);
     if (worse_than_zero()) {
       sol.forces.setZero();
-      refine_least_squares(grasp, w_ext, length, sol, res);
       refine_least_squares(grasp, w_ext, length, sol, res);
     }
   }
@@ -308,7 +331,7 @@ Matrix6<typename GraspT::ScalarType> weighted_gram(const GraspT& grasp) {
 ///   at every valid scale: where weights spread beyond 1 / rank_tolerance, soft-finger torsion
 ///   meets lever arms far from 1 m, or one contact lies far beyond L, G W^-1 G^T looks rank
 ///   deficient although G need not be; the answer is then refined on G's own columns
-///   (detail::refine_least_squares, two to four more passes), F2 smallest only to within that
+///   (detail::refine_least_squares: three more passes and a 6x6 eigen-decomposition), F2 smallest only to within that
 ///   refinement, and the status stays Singular.
 /// - InvalidInput: incomplete grasp or non-finite/out-of-range w_ext; zeros.
 template <class GraspT>

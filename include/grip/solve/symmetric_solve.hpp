@@ -194,24 +194,36 @@ Wrench<Scalar> unit_balance(Scalar length) {
   return d;
 }
 
+/// The minimum-norm least-squares solver of A u = b for a symmetric positive semi-definite 6x6
+/// A: A^+ from the eigen-decomposition, eigenvalues below ScalarTraits::rank_tolerance times the
+/// largest counted as zero. Decomposed once, applied to any number of right-hand sides. A not
+/// finite: every answer is zero.
+template <class Scalar>
+struct PseudoInverse6 {
+  Wrench<Scalar> inv_ev{Wrench<Scalar>::Zero()};  ///< 1 / eigenvalue, 0 for those cut
+  Matrix6<Scalar> vecs{Matrix6<Scalar>::Identity()};  ///< orthonormal eigenvectors (columns)
+
+  explicit PseudoInverse6(Matrix6<Scalar> a) {
+    if (!a.allFinite()) return;
+    Wrench<Scalar> ev;
+    symmetric_eigen_6x6(a, ev, vecs);
+    const Scalar cut = ScalarTraits<Scalar>::rank_tolerance * ev.cwiseAbs().maxCoeff();
+    for (int k = 0; k < 6; ++k)
+      if (ev(k) > cut && ev(k) > Scalar(0)) inv_ev(k) = Scalar(1) / ev(k);
+  }
+  /// u = A^+ b; zero when not finite.
+  Wrench<Scalar> apply(const Wrench<Scalar>& b) const {
+    const Wrench<Scalar> u = vecs * inv_ev.cwiseProduct(vecs.transpose() * b);
+    return u.allFinite() ? u : Wrench<Scalar>::Zero();
+  }
+};
+
 /// The minimum-norm least-squares solution of M y = r on the unit-balanced scale: y = D u with
-/// u = A^+ D r, A = D M D, D = diag(`d`) (M symmetric positive semi-definite); eigenvalues of A
-/// below ScalarTraits::rank_tolerance times the largest count as zero. So |D (M y - r)| is
-/// smallest. y is finite (zero when A is not).
+/// u = A^+ D r, A = D M D, D = diag(`d`) (PseudoInverse6). So |D (M y - r)| is smallest.
 template <class Scalar>
 void least_squares_6x6(const Matrix6<Scalar>& m, const Wrench<Scalar>& r, const Wrench<Scalar>& d, Wrench<Scalar>& y) {
-  y.setZero();
-  Matrix6<Scalar> a = d.asDiagonal() * m * d.asDiagonal();
-  if (!a.allFinite()) return;
-  Wrench<Scalar> ev;
-  Matrix6<Scalar> vecs;
-  symmetric_eigen_6x6(a, ev, vecs);
-  const Scalar cut = ScalarTraits<Scalar>::rank_tolerance * ev.cwiseAbs().maxCoeff();
-  const Wrench<Scalar> q = vecs.transpose() * d.cwiseProduct(r);
-  Wrench<Scalar> u = Wrench<Scalar>::Zero();
-  for (int k = 0; k < 6; ++k)
-    if (ev(k) > cut && ev(k) > Scalar(0)) u(k) = q(k) / ev(k);
-  y = d.cwiseProduct(vecs * u);
+  const PseudoInverse6<Scalar> pinv(d.asDiagonal() * m * d.asDiagonal());
+  y = d.cwiseProduct(pinv.apply(d.cwiseProduct(r)));
   if (!y.allFinite()) y.setZero();
 }
 
