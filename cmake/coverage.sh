@@ -15,7 +15,7 @@ cmake --preset test -B "$dir" -DGRIP_BUILD_EXAMPLES=OFF -DGRIP_WARNINGS_AS_ERROR
   -DCMAKE_CXX_FLAGS_DEBUG=-O1 -DCMAKE_EXE_LINKER_FLAGS="-fprofile-instr-generate"
 cmake --build "$dir" -j 2
 rm -rf "$dir/profiles" && mkdir -p "$dir/profiles"
-LLVM_PROFILE_FILE="$PWD/$dir/profiles/%p.profraw" ctest --test-dir "$dir" -j 2
+GRIP_HOSTILE_COUNT=4000 LLVM_PROFILE_FILE="$PWD/$dir/profiles/%p.profraw" ctest --test-dir "$dir" -j 2
 tool() { command -v "$1" || command -v "$1-14"; }
 "$(tool llvm-profdata)" merge -sparse "$dir"/profiles/*.profraw -o "$dir/grip.profdata"
 bin=$dir/tests/grip_tests
