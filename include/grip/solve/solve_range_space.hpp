@@ -44,6 +44,18 @@ void forces_from_multipliers(const GraspT& grasp, const Wrench<typename GraspT::
   sol.multipliers = lambda;
 }
 
+/// The balanced columns b_j = D g_j of contact c's block of G (D = `balance`) into `b`, and
+/// s_j^2 = 1 / |b_j|^2 into `s2` (0 for a column of zero or non-finite length).
+template <class M, class S, int d>
+void balanced_columns(const Contact<S>& c, const Wrench<S>& balance, Eigen::Matrix<S, 6, d>& b,
+                      Eigen::Matrix<S, d, 1>& s2) {
+  b = balance.asDiagonal() * M::basis(c);
+  for (int j = 0; j < d; ++j) {
+    const S norm = stable_norm(b.col(j));
+    s2(j) = norm > S(0) && std::isfinite(S(1) / norm) ? S(1) / (norm * norm) : S(0);
+  }
+}
+
 /// True when the residual `res` = G x + w_ext still has a component along some balanced column
 /// of G: |b_j . D res| / |b_j| > sqrt(eps) |D res| for a column b_j = D g_j (the least residual
 /// is reached exactly when there is none). One O(n) pass, no factorisation: it spares the
@@ -52,16 +64,14 @@ template <class GraspT>
 bool residual_reducible(const GraspT& grasp, typename GraspT::ScalarType length,
                         const Wrench<typename GraspT::ScalarType>& res) {
   using S = typename GraspT::ScalarType;
-  using M = typename GraspT::ModelType;
+  constexpr int d = GraspT::dim;
   const Wrench<S> balance = unit_balance(length);
-  const Wrench<S> r = balance.cwiseProduct(balance.cwiseProduct(res));  // D (D res)
-  const S limit = std::sqrt(std::numeric_limits<S>::epsilon()) * stable_norm(balance.cwiseProduct(res));
+  const Wrench<S> r = balance.cwiseProduct(res);  // D res
+  const S limit = std::sqrt(std::numeric_limits<S>::epsilon()) * stable_norm(r);
   for (int i = 0; i < grasp.size(); ++i) {
-    const Eigen::Matrix<S, 6, GraspT::dim> g = M::basis(grasp.contact(i));
-    for (int j = 0; j < GraspT::dim; ++j) {
-      const S norm = stable_norm(balance.cwiseProduct(g.col(j)));
-      if (!(std::abs(g.col(j).dot(r)) <= limit * norm)) return true;
-    }
+    const Eigen::Matrix<S, 6, d> b = balance.asDiagonal() * GraspT::ModelType::basis(grasp.contact(i));
+    for (int j = 0; j < d; ++j)
+      if (!(std::abs(b.col(j).dot(r)) <= limit * stable_norm(b.col(j)))) return true;
   }
   return false;
 }
@@ -84,23 +94,15 @@ void refine_least_squares(const GraspT& grasp, const Wrench<typename GraspT::Sca
                           Wrench<typename GraspT::ScalarType>& res) {
   using S = typename GraspT::ScalarType;
   using M = typename GraspT::ModelType;
-  using Local = Eigen::Matrix<S, GraspT::dim, 1>;
   constexpr int d = GraspT::dim;
+  using Local = Eigen::Matrix<S, d, 1>;
   const Wrench<S> balance = unit_balance(length);
-  // The balanced columns b_j of one contact, and s_j^2.
-  const auto columns = [&](int i, Eigen::Matrix<S, 6, d>& b, Local& s2) {
-    b = balance.asDiagonal() * M::basis(grasp.contact(i));
-    for (int j = 0; j < d; ++j) {
-      const S norm = stable_norm(b.col(j));
-      s2(j) = norm > S(0) && std::isfinite(S(1) / norm) ? S(1) / (norm * norm) : S(0);
-    }
-  };
   Matrix6<S> a1 = Matrix6<S>::Zero();
   Eigen::Matrix<S, 6, d> b;
   Local s2;
   res = w_ext;
   for (int i = 0; i < grasp.size(); ++i) {
-    columns(i, b, s2);
+    balanced_columns<M>(grasp.contact(i), balance, b, s2);
     a1.noalias() += b * s2.asDiagonal() * b.transpose();
     res += M::wrench(grasp.contact(i), Local(sol.forces.template segment<d>(i * d)));
   }
@@ -109,7 +111,7 @@ void refine_least_squares(const GraspT& grasp, const Wrench<typename GraspT::Sca
     const Wrench<S> u = pinv.apply(Wrench<S>(-balance.cwiseProduct(res)));
     res = w_ext;
     for (int i = 0; i < grasp.size(); ++i) {
-      columns(i, b, s2);
+      balanced_columns<M>(grasp.contact(i), balance, b, s2);
       auto xi = sol.forces.template segment<d>(i * d);
       xi += s2.cwiseProduct(b.transpose() * u);
       res += M::wrench(grasp.contact(i), Local(xi));
@@ -331,8 +333,8 @@ Matrix6<typename GraspT::ScalarType> weighted_gram(const GraspT& grasp) {
 ///   at every valid scale: where weights spread beyond 1 / rank_tolerance, soft-finger torsion
 ///   meets lever arms far from 1 m, or one contact lies far beyond L, G W^-1 G^T looks rank
 ///   deficient although G need not be; the answer is then refined on G's own columns
-///   (detail::refine_least_squares: three more passes and a 6x6 eigen-decomposition), F2 smallest only to within that
-///   refinement, and the status stays Singular.
+///   (detail::refine_least_squares: three more passes and a 6x6 eigen-decomposition), F2
+///   smallest only to within that refinement, and the status stays Singular.
 /// - InvalidInput: incomplete grasp or non-finite/out-of-range w_ext; zeros.
 template <class GraspT>
 Solution<GraspT> solve_range_space(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext) {

@@ -184,13 +184,18 @@ void symmetric_eigen_6x6_sorted(const Matrix6<Scalar>& m, Wrench<Scalar>& ev, Ma
   }
 }
 
+/// True when a lever arm `length` L (m) can balance units: L > 0 and L, 1/L finite.
+template <class Scalar>
+bool lever_usable(Scalar length) {
+  return length > Scalar(0) && std::isfinite(length) && std::isfinite(Scalar(1) / length);
+}
+
 /// The unit balance D = diag(1, 1, 1, 1/L, 1/L, 1/L) of a lever arm `length` L (m); the identity
-/// when L is not positive or 1/L is not finite.
+/// when L is not usable (lever_usable).
 template <class Scalar>
 Wrench<Scalar> unit_balance(Scalar length) {
-  const Scalar inv_length = length > Scalar(0) ? Scalar(1) / length : Scalar(0);
   Wrench<Scalar> d = Wrench<Scalar>::Ones();
-  if (length > Scalar(0) && std::isfinite(length) && std::isfinite(inv_length)) d.template tail<3>().setConstant(inv_length);
+  if (lever_usable(length)) d.template tail<3>().setConstant(Scalar(1) / length);
   return d;
 }
 
@@ -246,7 +251,7 @@ Status solve_symmetric_6x6(const Matrix6<Scalar>& m, const Wrench<Scalar>& r, Wr
                            Scalar length = Scalar(1)) {
   const Scalar tol = ScalarTraits<Scalar>::rank_tolerance;
   const Wrench<Scalar> d = detail::unit_balance(length);
-  if (length > Scalar(0) && std::isfinite(length) && std::isfinite(Scalar(1) / length)) {
+  if (detail::lever_usable(length)) {
     Scalar ref(0);
     for (int k = 0; k < 6; ++k) ref = std::max(ref, d(k) * m(k, k) * d(k));
     detail::SmallLdlt<6, Scalar> ldlt;
