@@ -1,24 +1,25 @@
 #!/usr/bin/env bash
-# Line coverage of include/grip by the whole suite: clang++ -O0 with source-based coverage
-# (-fprofile-instr-generate -fcoverage-mapping, Debian's llvm), every test run, then
-#   build/coverage/report.txt     per header: lines, lines missed, percent covered
-#   build/coverage/uncovered.txt  per header, the line numbers that no test executed
-# and both printed. Exits non-zero only when the build or a test fails.
+# Line coverage of include/grip by the whole suite, and the suite's run under AddressSanitizer
+# and UndefinedBehaviorSanitizer, in one build: the ci-sanitize preset (clang++ -O0, source-based
+# coverage: -fprofile-instr-generate -fcoverage-mapping) builds the suite and the examples and
+# runs them, then llvm-cov (Debian's llvm) writes
+#   build/ci-sanitize/coverage/report.txt     per header: lines, lines missed, percent covered
+#   build/ci-sanitize/coverage/uncovered.txt  per header, the line numbers that no test executed
+# and both are printed. Exits non-zero when the build or a test fails.
 # Usage: bash cmake/coverage.sh            (needs clang and llvm-cov / llvm-profdata)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-dir=build/coverage
-flags="-fprofile-instr-generate -fcoverage-mapping"
-# -O0 (the test preset's): with coverage mapping, -O1 builds the unity sources several times
-# slower than the suite then saves in running.
-cmake --preset test -B "$dir" -DGRIP_BUILD_EXAMPLES=OFF -DGRIP_WARNINGS_AS_ERRORS=ON -DCMAKE_CXX_FLAGS="$flags" \
-  -DCMAKE_EXE_LINKER_FLAGS="-fprofile-instr-generate"
-cmake --build "$dir" -j 2
-rm -rf "$dir/profiles" && mkdir -p "$dir/profiles"
-GRIP_HOSTILE_COUNT=4000 LLVM_PROFILE_FILE="$PWD/$dir/profiles/%p.profraw" ctest --test-dir "$dir" -j 2
+build=build/ci-sanitize
+dir=$build/coverage
+rm -rf "$build/profiles" "$dir" && mkdir -p "$dir"
+cmake --preset ci-sanitize
+cmake --build --preset ci-sanitize
+# Only the test run's profiles count (the build runs the binary once to list its tests).
+rm -rf "$build/profiles"
+ctest --preset ci-sanitize
 tool() { command -v "$1" || command -v "$1-14"; }
-"$(tool llvm-profdata)" merge -sparse "$dir"/profiles/*.profraw -o "$dir/grip.profdata"
-bin=$dir/tests/grip_tests
+"$(tool llvm-profdata)" merge -sparse "$build"/profiles/*.profraw -o "$dir/grip.profdata"
+bin=$build/tests/grip_tests
 "$(tool llvm-cov)" report "$bin" -instr-profile="$dir/grip.profdata" "$PWD/include" > "$dir/llvm-report.txt"
 # Per header: lines and missed lines from llvm-cov's table (columns: file, regions, missed,
 # cover, functions, missed, executed, lines, missed, cover, ...; file names relative to

@@ -49,9 +49,9 @@ PY
   (
     cd "$src" &&
       cmake --preset test -B "build/$name" -DGRIP_TEST_ONLY="$tests" -DGRIP_BUILD_EXAMPLES=OFF \
-        -DCMAKE_CXX_FLAGS=-march=native &&
+        -DGRIP_UNITY_GROUPS=1 -DCMAKE_CXX_FLAGS=-march=native &&
       cmake --build "build/$name" -j 2 &&
-      ctest --test-dir "build/$name" -j 2 --output-on-failure
+      ctest --test-dir "build/$name" -j 2 --output-on-failure --stop-on-failure
   ) > "$log" 2>&1
   rc=$?
   restore
