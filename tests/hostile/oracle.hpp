@@ -172,9 +172,12 @@ const char* check_solution(const GraspT& g, const grip::Wrench<typename GraspT::
   GRIP_HOSTILE_TRACE(g, w, sol, sres, sres_t, sres_0, sscale);
 #endif
   // At every valid scale: weights spread to min_weight, lever arms from 1e-8 to max_magnitude,
-  // squeezes that cancel to 1e-12 relative.
-  if (!(sres <= sres_t * (1 + 1e-3) + 256 * eps * sscale + tiny)) return "least squares: |D(Gx+w)| worse than at x = t";
-  if (!(sres <= sres_0 * (1 + 1e-3) + 256 * eps * sscale + tiny)) return "least squares: |D(Gx+w)| worse than at x = 0";
+  // squeezes that cancel to 1e-12 relative. The absolute floor (the denormal spacing) holds
+  // per row in its own unit, and D multiplies the moment rows by 1/L: a denormal squeeze on a
+  // lever of 0.6 mm leaves moments exact only to the spacing, 1/L = 1600 times that in D's units.
+  const double tiny_d = tiny * (1 + inv_l);
+  if (!(sres <= sres_t * (1 + 1e-3) + 256 * eps * sscale + tiny_d)) return "least squares: |D(Gx+w)| worse than at x = t";
+  if (!(sres <= sres_0 * (1 + 1e-3) + 256 * eps * sscale + tiny_d)) return "least squares: |D(Gx+w)| worse than at x = 0";
   if (e.well_conditioned && !near_singular(g)) {  // near-singular: the least-squares checks above
     if (!(res <= 1e3 * eps * scale)) return "Ok but equilibrium not met";
     // Stationarity (eq. 9, lower rows): w_i (x_i - t_i) = G_i^T lambda.

@@ -22,6 +22,13 @@ struct ConstrainedReference {
   grip::Wrench<double> w_ext{grip::Wrench<double>::Zero()};
   std::vector<grip::Contact<double>> contacts;
   std::vector<double> x;     ///< cvxopt's optimal forces (feasible instances)
+  grip::Wrench<double> lambda{grip::Wrench<double>::Zero()};  ///< cvxopt's multipliers (feasible)
+  bool has_lambda{false};
+  /// Infeasible instances: |G x_c + w_ext| and F2(x_c) at cvxopt's least-residual forces x_c
+  /// (negative when the line is missing).
+  double least_residual{-1};
+  double least_residual_f2{-1};
+  std::string kind;          ///< random, rescaled-1e-3, rescaled-1e3, collinear, nearly-collinear
 };
 
 /// The file's "# counts" line: instances and infeasible ones per model tag.
@@ -57,7 +64,7 @@ inline std::vector<ConstrainedReference> load_constrained_reference(ReferenceCou
       int k = 0;
       std::string status;
       double resid = 0;
-      s >> k >> r.model >> r.n >> status >> r.objective >> resid >> r.gap;
+      s >> k >> r.model >> r.n >> status >> r.objective >> resid >> r.gap >> r.kind;
       r.feasible = status == "optimal";
       out.push_back(r);
     } else if (tag == "w") {
@@ -70,6 +77,11 @@ inline std::vector<ConstrainedReference> load_constrained_reference(ReferenceCou
     } else if (tag == "x") {
       double v = 0;
       while (s >> v) out.back().x.push_back(v);
+    } else if (tag == "l") {
+      for (int i = 0; i < 6; ++i) s >> out.back().lambda(i);
+      out.back().has_lambda = static_cast<bool>(s);
+    } else if (tag == "r") {
+      s >> out.back().least_residual >> out.back().least_residual_f2;
     }
   }
   return out;

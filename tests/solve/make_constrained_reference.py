@@ -40,10 +40,15 @@ from cvxopt import matrix, solvers
 
 SEED = 20261121
 COUNT = 300
+EXTRA_SEED = SEED + 1
+EXTRA_PER_KIND = 16  # per kind: rescaled by 1e-3, rescaled by 1e3, collinear, nearly collinear
 # coneqp reaches status 'optimal' at 1e-10; a second run at 1e-12 usually stops with
 # 'unknown' (progress stalls at round-off) but with a better objective. We keep the second
 # objective when its residual is at round-off and it agrees with the first to 1e-9.
-LOOSE = {"show_progress": False, "abstol": 1e-10, "reltol": 1e-10, "feastol": 1e-10, "maxiters": 100}
+# The hardest instances stop short of 'optimal' at 1e-10; they are retried at 1e-9 and 1e-8 and
+# kept with the duality gap reached (the C++ test's bound on |x - x*| grows with the gap).
+LADDER = [{"show_progress": False, "abstol": t, "reltol": t, "feastol": t, "maxiters": 200}
+          for t in (1e-10, 1e-9, 1e-8)]
 TIGHT = {"show_progress": False, "abstol": 1e-12, "reltol": 1e-12, "feastol": 1e-12, "maxiters": 100}
 
 
@@ -137,87 +142,232 @@ def objective(model, contacts, x):
     return f
 
 
-def solve(model, contacts, w_ext):
+def reduced_equality(A, b):
+    """G x = -w_ext on the row space of G (cvxopt needs full row rank): (U_r^T A, U_r^T b, U_r,
+    whether b lies in the range of A)."""
+    U, sv, _ = np.linalg.svd(A)
+    r = int(np.sum(sv > 1e-10 * sv[0]))
+    Ur = U[:, :r]
+    off = b - Ur @ (Ur.T @ b)
+    return Ur.T @ A, Ur.T @ b, Ur, float(np.linalg.norm(off)) <= 1e-12 * (1.0 + float(np.linalg.norm(b)))
+
+
+def least_residual(model, contacts, w_ext):
+    """min |G x + w_ext| over the cones, by two formulations that must agree to 1e-7:
+    a QP, min |G x + w_ext|^2 / 2 (coneqp, singular P = G^T G), and an SOCP, min t with
+    (t, G x + w_ext) in Q7 (conelp). Returns (|G x_c + w_ext|, F2(x_c)) at the QP's minimiser
+    x_c, or None when either fails or they disagree (a degenerate instance cvxopt cannot
+    settle)."""
     P, q, Gc, h, dims, A, b = build(model, contacts, w_ext)
-    if np.linalg.matrix_rank(A) < 6:
+    m = P.shape[0]
+    M = lambda z: matrix(np.ascontiguousarray(z, dtype=float))
+    qp = None
+    for opts in LADDER:
+        try:
+            sol = solvers.coneqp(M(A.T @ A), M(-(A.T @ b)), M(Gc), M(h), dims, options=opts)
+        except (ValueError, ArithmeticError):
+            continue
+        if sol["status"] == "optimal":
+            x = np.array(sol["x"]).ravel()
+            qp = (float(np.linalg.norm(A @ x - b)), objective(model, contacts, x))
+            break
+    if qp is None:
         return None
+    G2 = np.vstack([np.hstack([Gc, np.zeros((Gc.shape[0], 1))]),
+                    np.hstack([np.zeros((1, m)), -np.ones((1, 1))]),  # s_0 = t
+                    np.hstack([-A, np.zeros((6, 1))])])               # s_k = (A x - b)_k
+    h2 = np.concatenate([h, [0.0], -b])
+    dims2 = {"l": dims["l"], "q": dims["q"] + [7], "s": []}
+    c = np.zeros(m + 1)
+    c[m] = 1.0
+    for opts in LADDER:
+        try:
+            sol = solvers.conelp(M(c), M(G2), M(h2), dims2, options=opts)
+        except (ValueError, ArithmeticError):
+            continue
+        if sol["status"] == "optimal":
+            r = float(np.linalg.norm(A @ np.array(sol["x"]).ravel()[:m] - b))
+            return qp if abs(r - qp[0]) <= 1e-7 * (1.0 + qp[0]) else None
+    return None
+
+
+def solve(model, contacts, w_ext):
+    """(status, objective, residual, gap, x*, lambda*, least residual, hard) or None (undecided);
+    hard: cvxopt reached 'optimal' only at a looser tolerance than 1e-10."""
+    P, q, Gc, h, dims, A, b = build(model, contacts, w_ext)
+    Ar, br, Ur, in_range = reduced_equality(A, b)
     M = lambda z: matrix(np.ascontiguousarray(z, dtype=float))
     try:
-        feas = solvers.conelp(M(np.zeros(P.shape[0])), M(Gc), M(h), dims, M(A), M(b),
-                              options={"show_progress": False})  # default tolerances
-        if feas["status"] == "primal infeasible":  # certificate found
-            return ("infeasible", 0.0, 0.0, 0.0, None)
-        if feas["status"] != "optimal":
+        infeasible = not in_range  # no forces at all balance w_ext: infeasible whatever the cones
+        if in_range:
+            feas = solvers.conelp(M(np.zeros(P.shape[0])), M(Gc), M(h), dims, M(Ar), M(br),
+                                  options={"show_progress": False})  # default tolerances
+            infeasible = feas["status"] == "primal infeasible"  # certificate found
+            if not infeasible and feas["status"] != "optimal":
+                return None
+        if infeasible:
+            lr = least_residual(model, contacts, w_ext)
+            return None if lr is None else ("infeasible", 0.0, 0.0, 0.0, None, None, lr, False)
+        best = None
+        for rung, opts in enumerate(LADDER):
+            sol = solvers.coneqp(M(P), M(q), M(Gc), M(h), dims, M(Ar), M(br), options=opts)
+            if sol["status"] == "optimal":
+                x = np.array(sol["x"]).ravel()
+                y = -(Ur @ np.array(sol["y"]).ravel())  # cvxopt's y multiplies A x - b: lambda = -y
+                best = (objective(model, contacts, x), float(np.linalg.norm(A @ x - b)), abs(float(sol["gap"])), x, y)
+                break
+        hard = rung > 0
+        if best is None:
             return None
-        sol = solvers.coneqp(M(P), M(q), M(Gc), M(h), dims, M(A), M(b), options=LOOSE)
-        if sol["status"] != "optimal":
-            return None
-        x = np.array(sol["x"]).ravel()
-        best = (objective(model, contacts, x), float(np.linalg.norm(A @ x - b)), abs(float(sol["gap"])), x)
-        sol2 = solvers.coneqp(M(P), M(q), M(Gc), M(h), dims, M(A), M(b), options=TIGHT)
+        sol2 = solvers.coneqp(M(P), M(q), M(Gc), M(h), dims, M(Ar), M(br), options=TIGHT)
         x2 = np.array(sol2["x"]).ravel()
         f2, r2 = objective(model, contacts, x2), float(np.linalg.norm(A @ x2 - b))
         if r2 < 1e-12 * (1.0 + np.linalg.norm(b)) and abs(f2 - best[0]) <= 1e-9 * abs(best[0]):
-            best = (f2, r2, abs(float(sol2["gap"])), x2)
+            best = (f2, r2, abs(float(sol2["gap"])), x2, -(Ur @ np.array(sol2["y"]).ravel()))
     except (ValueError, ArithmeticError):
         return None
-    return ("optimal",) + best
+    return ("optimal",) + best + (None, hard)
+
+
+def random_instance(rng, model):
+    """A random grasp of the base set: contacts on an ellipsoid (or an upper cap), a load."""
+    kind = rng.uniform()
+    n = int(rng.integers(7 if model == "F" else 3, 21))
+    axes = rng.uniform(0.02, 0.06, size=3)
+    if rng.uniform() < 0.3:
+        axes[:] = axes[0]  # a sphere
+    cap = 0.2 if kind < 0.1 else None  # contacts on an upper cap only: often infeasible
+    contacts = [random_contact(rng, axes, cap) for _ in range(n)]
+    if model == "H" and rng.uniform() < 0.1 and n >= 7:
+        for c in contacts:
+            c["mu"] = 0.0
+    if rng.uniform() < 0.5:
+        for c in contacts:
+            c["w"] = rnd(rng.uniform(0.5, 2.0))
+    force = rng.normal(size=3)
+    force *= 5.0 * rng.uniform(0.2, 3.0) / np.linalg.norm(force)
+    if cap is not None:
+        force[2] = -abs(force[2]) - 2.0  # pushes the object down onto its upper contacts
+    w_ext = np.concatenate([force, 0.05 * rng.normal(size=3)])
+    return contacts, np.array([rnd(v) for v in w_ext])
+
+
+def rescaled_instance(rng, model, scale):
+    """A base-set grasp with every length times `scale`: positions, moments and mu_t."""
+    contacts, w_ext = random_instance(rng, model)
+    for c in contacts:
+        c["p"] = np.array([rnd(scale * v) for v in c["p"]])
+        c["mut"] = rnd(scale * c["mut"])
+    w_ext[3:] = [rnd(scale * v) for v in w_ext[3:]]
+    return contacts, w_ext
+
+
+def line_instance(rng, model, offset):
+    """Contacts along a coordinate axis (offset 0: G has rank 5 for hard fingers and
+    frictionless points, no moment about the line) or off it by `offset` metres (nearly
+    collinear), normals across the line; the load balanced by forces inside the cones (in the
+    range of G), with its moment about the line removed, or unchanged (often out of range)."""
+    n = int(rng.integers(7 if model == "F" else 3, 13))
+    u = np.eye(3)[int(rng.integers(0, 3))]  # a coordinate axis: collinear after rounding too
+    e1, e2 = tangent_basis(u)
+    contacts = []
+    for _ in range(n):
+        s = rng.uniform(-0.05, 0.05)
+        th = rng.uniform(0, 2 * np.pi)
+        radial = np.cos(th) * e1 + np.sin(th) * e2
+        p = s * u + offset * rng.normal() * radial
+        a = -radial + 0.3 * rng.normal() * u
+        a /= np.linalg.norm(a)
+        contacts.append(dict(p=np.array([rnd(v) for v in p]), a=np.array([rnd(v) for v in a]),
+                             mu=rnd(rng.uniform(0.2, 1.0)), mut=rnd(rng.uniform(0.002, 0.02)),
+                             s=rnd(rng.uniform(0.0, 3.0)), w=rnd(rng.uniform(0.5, 2.0))))
+    choice = rng.uniform()
+    if choice < 0.4:
+        d = {"H": 3, "S": 4, "F": 1}[model]
+        x0 = np.zeros(n * d)
+        for i, c in enumerate(contacts):  # inside each cone: mostly normal
+            fn = rng.uniform(0.5, 3.0)
+            if model == "F":
+                x0[i] = fn
+            else:
+                t1, t2 = tangent_basis(c["a"])
+                f = fn * c["a"] + 0.5 * c["mu"] * fn * (rng.uniform(-1, 1) * t1 + rng.uniform(-1, 1) * t2) / np.sqrt(2)
+                x0[i * d:i * d + 3] = f
+                if d == 4:
+                    x0[i * d + 3] = 0.5 * c["mut"] * fn * rng.uniform(-1, 1)
+        A = build(model, contacts, np.zeros(6))[5]
+        w_ext = -(A @ x0)
+    else:
+        force = rng.normal(size=3)
+        force *= 5.0 * rng.uniform(0.2, 3.0) / np.linalg.norm(force)
+        w_ext = np.concatenate([force, 0.05 * rng.normal(size=3)])
+        if choice < 0.7:
+            w_ext[3:] -= np.dot(w_ext[3:], u) * u
+    return contacts, np.array([rnd(v) for v in w_ext])
+
+
+def record(out, k, model, kind, contacts, w_ext, res):
+    status, obj, resid, gap, x, lam, lr, hard = res
+    if hard:
+        kind += "-hard"
+    out.append("instance %d %s %d %s %.17g %.3g %.3g %s" % (k, model, len(contacts), status, obj, resid, gap, kind))
+    out.append("w " + " ".join("%.10g" % v for v in w_ext))
+    for c in contacts:
+        vals = list(c["p"]) + list(c["a"]) + [c["mu"], c["mut"], c["s"], c["w"]]
+        out.append("c " + " ".join("%.10g" % v for v in vals))
+    if x is not None:
+        out.append("x " + " ".join("%.17g" % v for v in x))
+        out.append("l " + " ".join("%.17g" % v for v in lam))
+    if lr is not None:
+        out.append("r %.17g %.17g" % lr)
 
 
 def main():
-    rng = np.random.default_rng(SEED)
     out = []
     skipped = 0
     counts = {"H": [0, 0], "S": [0, 0], "F": [0, 0]}
     k = 0
-    while k < COUNT:
-        model = "HSF"[k % 3]
-        kind = rng.uniform()
-        n = int(rng.integers(7 if model == "F" else 3, 21))
-        axes = rng.uniform(0.02, 0.06, size=3)
-        if rng.uniform() < 0.3:
-            axes[:] = axes[0]  # a sphere
-        cap = 0.2 if kind < 0.1 else None  # contacts on an upper cap only: often infeasible
-        contacts = [random_contact(rng, axes, cap) for _ in range(n)]
-        if model == "H" and rng.uniform() < 0.1 and n >= 7:
-            for c in contacts:
-                c["mu"] = 0.0
-        if rng.uniform() < 0.5:
-            for c in contacts:
-                c["w"] = rnd(rng.uniform(0.5, 2.0))
-        force = rng.normal(size=3)
-        force *= 5.0 * rng.uniform(0.2, 3.0) / np.linalg.norm(force)
-        if cap is not None:
-            force[2] = -abs(force[2]) - 2.0  # pushes the object down onto its upper contacts
-        w_ext = np.concatenate([force, 0.05 * rng.normal(size=3)])
-        w_ext = np.array([rnd(v) for v in w_ext])
+
+    def take(model, kind, contacts, w_ext):
+        nonlocal k, skipped
         res = solve(model, contacts, w_ext)
         if res is None:
             skipped += 1
-            continue
-        status, obj, resid, gap, x = res
+            return False
         counts[model][0] += 1
-        counts[model][1] += status == "infeasible"
-        out.append("instance %d %s %d %s %.17g %.3g %.3g" % (k, model, n, status, obj, resid, gap))
-        out.append("w " + " ".join("%.10g" % v for v in w_ext))
-        for c in contacts:
-            vals = list(c["p"]) + list(c["a"]) + [c["mu"], c["mut"], c["s"], c["w"]]
-            out.append("c " + " ".join("%.10g" % v for v in vals))
-        if x is not None:
-            out.append("x " + " ".join("%.17g" % v for v in x))
+        counts[model][1] += res[0] == "infeasible"
+        record(out, k, model, kind, contacts, w_ext, res)
         k += 1
-    infeasible = sum(1 for line in out if line.startswith("instance") and " infeasible " in line)
-    head = ["# Generated by make_constrained_reference.py (cvxopt %s, seed %d): %d instances, "
-            "%d infeasible, %d candidates discarded (rank(G) < 6 or cvxopt not optimal)."
-            % (solvers.__dict__.get("__version__", "1.3"), SEED, COUNT, infeasible, skipped),
+        return True
+
+    rng = np.random.default_rng(SEED)
+    base = 0
+    while base < COUNT:
+        model = "HSF"[base % 3]
+        base += take(model, "random", *random_instance(rng, model))
+    rng = np.random.default_rng(EXTRA_SEED)
+    makers = [("rescaled-1e-3", lambda m: rescaled_instance(rng, m, 1e-3)),
+              ("rescaled-1e3", lambda m: rescaled_instance(rng, m, 1e3)),
+              ("collinear", lambda m: line_instance(rng, m, 0.0)),
+              ("nearly-collinear", lambda m: line_instance(rng, m, 1e-4))]
+    for kind, make in makers:
+        done = 0
+        while done < EXTRA_PER_KIND:
+            model = "HSF"[done % 3]
+            done += take(model, kind, *make(model))
+    infeasible = sum(counts[m][1] for m in "HSF")
+    head = ["# Generated by make_constrained_reference.py (cvxopt %s, seeds %d and %d): %d instances, "
+            "%d infeasible, %d candidates discarded (feasibility or optimum undecided by cvxopt)."
+            % (solvers.__dict__.get("__version__", "1.3"), SEED, EXTRA_SEED, k, infeasible, skipped),
             "# counts " + " ".join("%s %d %d" % (m, counts[m][0], counts[m][1]) for m in "HSF"),
-            "# instance <k> <H|S|F> <n> <optimal|infeasible> <objective> <cvxopt residual |Gx+w|> <cvxopt gap>",
+            "# instance <k> <H|S|F> <n> <optimal|infeasible> <objective> <cvxopt residual |Gx+w|> <cvxopt gap> <kind>",
             "# w <w_ext: force; moment>", "# c <px py pz nx ny nz mu mu_t squeeze weight>",
-            "# x <optimal forces x*>"]
+            "# x <optimal forces x*>", "# l <multipliers lambda* of G x + w_ext = 0 (grip's sign)>",
+            "# r <least residual |G x_c + w_ext| over the cones> <F2(x_c)> (infeasible instances)"]
     path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "constrained_reference.txt")
     with open(path, "w") as f:
         f.write("\n".join(head + out) + "\n")
-    print("wrote %s: %d instances, %d infeasible, %d discarded" % (path, COUNT, infeasible, skipped))
+    print("wrote %s: %d instances, %d infeasible, %d discarded" % (path, k, infeasible, skipped))
 
 
 if __name__ == "__main__":

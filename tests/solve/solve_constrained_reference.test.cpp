@@ -1,6 +1,9 @@
 // solve_constrained against an independent conic solver (cvxopt, data made by
-// make_constrained_reference.py): the objective at every instance, equilibrium and cone
-// feasibility of our forces checked from the definitions, and the infeasibility certificates.
+// make_constrained_reference.py): random grasps, grasps rescaled by 1e-3 and 1e3, collinear
+// contacts (G of rank 5) and nearly collinear ones. Checked at every instance: the objective,
+// the forces against cvxopt's x*, the multipliers against cvxopt's where they are unique,
+// equilibrium and cone feasibility from the definitions; for infeasible instances the
+// certificate and the least residual against cvxopt's.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -19,18 +22,84 @@ using namespace grip;
 
 namespace {
 
+/// The multipliers against cvxopt's lambda*, where they are unique. At a contact strictly inside
+/// its cone (both solutions, by 0.1 % of the force), stationarity reads w_i (x_i - t_i) =
+/// G_i^T lambda. Stacking G_i^T of those contacts into B: ours must hold it to the round-off
+/// of the projection x_i = t_i + G_i^T lambda / w_i, 64 eps sqrt(rows) (w_max |x| + |B| |lambda|)
+/// (eps of the solver's scalar), and when B has full column rank lambda is unique, so
+/// B (lambda - lambda*) = W (x - x*)_I - e + e*, e* cvxopt's own stationarity error, and
+/// |lambda - lambda*| <= (w_max |x - x*| + |e| + |e*|) / sigma_min(B).
+/// Returns whether lambda was unique (and so compared).
+template <class Model>
+bool check_multipliers(const grip_test::ConstrainedReference& ref, const Eigen::VectorXd& x,
+                       const Wrench<double>& lambda, double dx, double eps, double force_scale, double& worst) {
+  constexpr int d = Model::dim;
+  const Eigen::Map<const Eigen::VectorXd> xs(ref.x.data(), static_cast<Eigen::Index>(ref.x.size()));
+  std::vector<int> interior;
+  for (int i = 0; i < static_cast<int>(ref.contacts.size()); ++i) {
+    const auto& c = ref.contacts[size_t(i)];
+    const auto inside = [&](const Eigen::VectorXd& v) {
+      const Eigen::VectorXd xi = v.segment<d>(i * d);
+      const auto k = grip_test::cone_coordinates<Model>(c, xi);
+      const double margin = 1e-3 * xi.norm() + 1e-9;
+      double slack = k.n;
+      if constexpr (d == 3) slack = std::min(slack, c.friction * k.n - k.t);
+      if constexpr (d == 4) {
+        const double mu = c.friction, mt = c.torsional_friction;
+        slack = std::min(slack, (mu * mt * k.n - std::sqrt(mt * mt * k.t * k.t + mu * mu * k.m * k.m)) / (mu * mt));
+      }
+      return slack > margin;
+    };
+    if (inside(x) && inside(xs)) interior.push_back(i);
+  }
+  const auto rows = static_cast<Eigen::Index>(interior.size()) * d;
+  if (rows < 6) return false;
+  Eigen::MatrixXd b(rows, 6);
+  Eigen::VectorXd e(rows), e_ref(rows), dxi(rows);
+  double w_max = 0;
+  for (std::size_t j = 0; j < interior.size(); ++j) {
+    const int i = interior[j];
+    const auto& c = ref.contacts[size_t(i)];
+    const auto r = static_cast<Eigen::Index>(j) * d;
+    for (int k = 0; k < 6; ++k) b.block(r, k, d, 1) = Model::wrench_transpose(c, Wrench<double>(Wrench<double>::Unit(k)));
+    e.segment<d>(r) = c.weight * (x.segment<d>(i * d) - Model::target(c)) - Model::wrench_transpose(c, lambda);
+    e_ref.segment<d>(r) = c.weight * (xs.segment<d>(i * d) - Model::target(c)) - Model::wrench_transpose(c, ref.lambda);
+    w_max = std::max(w_max, c.weight);
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(b);
+  const double s_min = svd.singularValues()(5), s_max = svd.singularValues()(0);
+  const double e_tol = 64 * eps * std::sqrt(double(rows)) * (w_max * force_scale + s_max * lambda.norm());
+  CHECK_MESSAGE(e.norm() <= e_tol, "stationarity at interior contacts ", e.norm(), " bound ", e_tol);
+  if (!(s_min > 1e-6 * s_max)) return false;
+  const double bound = (w_max * dx + e.norm() + e_ref.norm()) / s_min * (1 + 1e-9) + 1e-12 * (1 + ref.lambda.norm());
+  const double dl = (lambda - ref.lambda).norm();
+  worst = std::max(worst, dl);
+  CHECK_MESSAGE(dl <= bound, "|lambda - lambda*| ", dl, " bound ", bound, " (", ref.kind, ")");
+  return true;
+}
+
+/// Instances of the reference whose kind solve_constrained does not yet handle: grasps a
+/// thousand times smaller (20 to 60 micrometres; the equilibrium tolerance adds newtons to
+/// newton-metres, so at this scale moments barely count: iteration limits, and Ok where no
+/// forces balance), and in float grasps a thousand times larger (20 to 60 m, where the
+/// solver's float check of its certificate misses the tolerance it promises, relative to 1 + |r_i|).
+bool known_failure(const std::string& kind, bool is_float) {
+  return kind.rfind("rescaled-1e-3", 0) == 0 || (is_float && kind.rfind("rescaled-1e3", 0) == 0);
+}
+
 template <class Model, class S>
-void check_against_reference(const std::vector<grip_test::ConstrainedReference>& data, char tag,
-                             const grip_test::ReferenceCounts& counts) {
+void check_against_reference(const std::vector<grip_test::ConstrainedReference>& data, char tag, bool known) {
   using GraspT = Grasp<Dynamic, Model, S, 20>;
   const double obj_tol = std::is_same<S, float>::value ? 1e-3 : 1e-7;
   const ConstrainedSettings<S> settings;
   int count = 0, infeasible = 0, worst_iter = 0;
-  double worst_obj = 0, worst_res = 0, worst_cone = 0, worst_x = 0;
+  double worst_obj = 0, worst_res = 0, worst_cone = 0, worst_x = 0, worst_lambda = 0, worst_least = 0;
+  int lambda_checked = 0;
+  const double eps = static_cast<double>(std::numeric_limits<S>::epsilon());
   int index = -1;
   for (const auto& ref : data) {
     ++index;
-    if (ref.model != tag) continue;
+    if (ref.model != tag || known_failure(ref.kind, std::is_same<S, float>::value) != known) continue;
     REQUIRE(static_cast<int>(ref.contacts.size()) == ref.n);
     GraspT g;
     for (const auto& c : ref.contacts) REQUIRE(g.add(grip_test::cast_contact<S>(c)) == Status::Ok);
@@ -54,38 +123,78 @@ void check_against_reference(const std::vector<grip_test::ConstrainedReference>&
     for (const auto& c : ref.contacts) (void)gd.add(c);
     const double res = (gd.wrench(xd) + ref.w_ext).norm();
     if (ref.feasible) {
-      CHECK_MESSAGE(sol.status == Status::Ok, "instance ", index, " model ", tag, " n ", g.size(), " status ", std::string(to_string(sol.status)));
+      CHECK_MESSAGE(sol.status == Status::Ok, "instance ", index, " (", ref.kind, ") model ", tag, " n ", g.size(),
+                    " status ", std::string(to_string(sol.status)));
       // F2 recomputed in double from the definition.
       double f2 = 0;
       for (int i = 0; i < gd.size(); ++i) {
         const auto& c = ref.contacts[size_t(i)];
         f2 += 0.5 * c.weight * (xd.segment<Model::dim>(i * Model::dim) - Model::target(c)).squaredNorm();
       }
-      const double rel = std::abs(f2 - ref.objective) / std::max(ref.objective, 1e-12);
+      // Our forces balance w' = w_ext - r, r = G x + w_ext their residual, not w_ext itself.
+      // The optimal value v(w) is convex in the wrench with subgradient -lambda, so F2 may sit
+      // below cvxopt's optimum by up to |lambda*| |r|, and above it by up to |lambda| |r| on top
+      // of the solver's own accuracy: the condition of the grasp, through its multipliers,
+      // sizes the tolerance (negligible in double; in float it reaches percents for grasps that
+      // need forces of 1e4 N).
+      REQUIRE(ref.has_lambda);
+      const double shift = std::max(ref.lambda.norm(), sol.multipliers.template cast<double>().norm()) * res;
+      const double rel = std::max(std::abs(f2 - ref.objective) - shift, 0.0) / std::max(ref.objective, 1e-12);
       worst_obj = std::max(worst_obj, rel);
-      CHECK_MESSAGE(rel <= obj_tol, "objective ", f2, " vs cvxopt ", ref.objective);
+      CHECK_MESSAGE(rel <= obj_tol, "objective ", f2, " vs cvxopt ", ref.objective, " shift ", shift);
       const double res_tol = (std::is_same<S, float>::value ? 1e-4 : 1e-10) * force_scale;
       worst_res = std::max(worst_res, res / force_scale);
       CHECK(res <= res_tol);
       // The forces themselves against cvxopt's x*. F2 is strongly convex with modulus
-      // w_min = min w_i, so F2(x) - F2_min <= delta puts x within sqrt(2 delta / w_min) of the
-      // optimum x_min. cvxopt's x* has delta <= gap; ours has delta <= (F2(x) - F2(x*)) + gap.
+      // w_min = min w_i, and at the optimum x_min grad F2 = G^T lambda - n with n in the normal
+      // cone of the cones, so for any x in the cones F2(x) - F2_min >= lambda.r +
+      // w_min/2 |x - x_min|^2: x lies within sqrt(2 (F2(x) - F2_min + |lambda*| |r|) / w_min)
+      // of x_min, and F2_min >= F2(x*) - gap. cvxopt's x* lies within sqrt(2 gap / w_min) of it.
       // By the triangle inequality through x_min, with the round-off of the two F2 values
       // (64 eps of double, relative) and of S in forces of size force_scale:
       REQUIRE(ref.x.size() == static_cast<std::size_t>(g.unknowns()));
       double w_min = 1e300;
       for (const auto& c : ref.contacts) w_min = std::min(w_min, c.weight);
-      const double eps = static_cast<double>(std::numeric_limits<S>::epsilon());
       const double f2_roundoff = 64 * std::numeric_limits<double>::epsilon() * (1 + ref.objective);
-      const double x_tol = std::sqrt(2 * (std::max(f2 - ref.objective, 0.0) + ref.gap + f2_roundoff) / w_min) +
-                           std::sqrt(2 * (ref.gap + f2_roundoff) / w_min) + 1e3 * eps * force_scale;
+      const double x_tol =
+          std::sqrt(2 * (std::max(f2 - ref.objective + ref.lambda.norm() * res, 0.0) + ref.gap + f2_roundoff) / w_min) +
+          std::sqrt(2 * (ref.gap + f2_roundoff) / w_min) + 1e3 * eps * force_scale;
       const Eigen::Map<const Eigen::VectorXd> x_ref(ref.x.data(), static_cast<Eigen::Index>(ref.x.size()));
       const double dx = (xd - x_ref).norm();
       worst_x = std::max(worst_x, dx);
       CHECK_MESSAGE(dx <= x_tol, "instance ", index, " |x - x*| ", dx, " bound ", x_tol);
+      REQUIRE(ref.has_lambda);
+      if (sol.status == Status::Ok && check_multipliers<Model>(ref, xd, sol.multipliers.template cast<double>(), dx,
+                                                               eps, force_scale, worst_lambda))
+        ++lambda_checked;
     } else {
       ++infeasible;
-      CHECK_MESSAGE(sol.status == Status::Infeasible, "instance ", index, " model ", tag, " n ", g.size(), " status ", std::string(to_string(sol.status)));
+      CHECK_MESSAGE(sol.status == Status::Infeasible, "instance ", index, " (", ref.kind, ") model ", tag, " n ",
+                    g.size(), " status ", std::string(to_string(sol.status)));
+      // The forces come closest to equilibrium: they are the best point, by P(x) = |r|^2/2 +
+      // delta F2(x), that phase 1 meets on its way to min P over the cones (delta =
+      // least_residual_weight times the largest diagonal entry of G W^-1 G^T). Its continuation
+      // ends the stage at 100 delta with a dual gradient |r - l| below 1e-3 of the forces'
+      // scale, and the dual gap there is |r - l|^2 / 2; cvxopt's least-residual forces x_c lie in
+      // the cones, so |r| <= sqrt(|r_c|^2 + 200 delta F2(x_c)) + kappa force_scale. kappa: the
+      // stage's 1e-3 bounds it; observed below 2e-6 (double) and 2e-3 (float), asserted at
+      // 1e-5 and 1e-2. The float solver may retry with smaller delta, which only lowers the bound.
+      REQUIRE(ref.least_residual >= 0.0);
+      double delta = 0;
+      for (int k = 0; k < 6; ++k) {
+        double d = 0;
+        for (const auto& c : ref.contacts) d += Model::wrench_transpose(c, Wrench<double>(Wrench<double>::Unit(k))).squaredNorm() / c.weight;
+        delta = std::max(delta, d);
+      }
+      delta *= static_cast<double>(settings.least_residual_weight);
+      const double slack = (std::is_same<S, float>::value ? 1e-2 : 1e-5) * force_scale;
+      const double bound = std::sqrt(ref.least_residual * ref.least_residual + 200 * delta * ref.least_residual_f2) + slack;
+      worst_least = std::max(worst_least, (res - ref.least_residual) / force_scale);
+      CHECK_MESSAGE(res <= bound, "instance ", index, " (", ref.kind, ") least residual ", res, " vs cvxopt ",
+                    ref.least_residual, " bound ", bound);
+      // And no lower than cvxopt's minimum (two formulations agreed on it to 1e-7).
+      CHECK_MESSAGE(res >= ref.least_residual - 1e-6 * (1 + ref.least_residual), "instance ", index, " residual ", res,
+                    " below cvxopt's least residual ", ref.least_residual);
       if (sol.status == Status::Infeasible) {
         // Farkas: y.w_ext > 0 and G_i^T y in K_i^* for every contact (checked from the definitions).
         const Wrench<double> y = sol.certificate.template cast<double>();
@@ -94,30 +203,66 @@ void check_against_reference(const std::vector<grip_test::ConstrainedReference>&
         for (int i = 0; i < gd.size(); ++i) {
           const auto& c = ref.contacts[size_t(i)];
           const auto z = Model::wrench_transpose(c, y);
-          // ConstrainedSettings::certificate_tolerance: 1e-5 (double), 2e-3 (float), times 1 + |r_i|.
-          CHECK(grip_test::dual_cone_violation<Model>(c, z) <= (std::is_same<S, float>::value ? 3e-3 : 2e-5));
+          // ConstrainedSettings::certificate_tolerance (1e-5 double, 2e-3 float) times 1 + |r_i|,
+          // as the solver checks it in S; rechecked here in double, with 50 % (float) and 100 %
+          // (double) for the round-off of the solver's own check.
+          const double cert_tol = (std::is_same<S, float>::value ? 1.5 : 2.0) *
+                                  static_cast<double>(settings.certificate_tolerance) * (1 + c.position.norm());
+          CHECK_MESSAGE(grip_test::dual_cone_violation<Model>(c, z) <= cert_tol, "instance ", index, " (", ref.kind,
+                        ")");
         }
       }
     }
   }
-  // Every instance of the model was read and run: a misread tag or a truncated file fails.
-  const int slot = grip_test::ReferenceCounts::slot(tag);
-  CHECK(count == counts.instances[slot]);
-  CHECK(infeasible == counts.infeasible[slot]);
   CHECK(count > 0);
+  // The multipliers were compared somewhere (unique ones are common for every model).
+  CHECK(lambda_checked > 0);
   std::printf("[constrained reference %c %s] %d instances (%d infeasible): worst objective rel %.2e, residual %.2e, "
-              "cone %.2e, |x - x*| %.2e, iterations %d\n",
+              "cone %.2e, |x - x*| %.2e, |lambda - lambda*| %.2e (%d unique), least residual excess %.2e, "
+              "iterations %d\n",
               tag, std::is_same<S, float>::value ? "float" : "double", count, infeasible, worst_obj, worst_res,
-              worst_cone, worst_x, worst_iter);
+              worst_cone, worst_x, worst_lambda, lambda_checked, worst_least, worst_iter);
 }
 
 }  // namespace
 
-TEST_CASE_TEMPLATE("solve_constrained agrees with cvxopt on every reference instance", S, double, float) {
+TEST_CASE("the cvxopt reference file is read whole") {
+  // Every instance of every model read, as the file's header counts them: a misread tag or a
+  // truncated file fails; every feasible instance carries x* and lambda*, every infeasible
+  // one its least residual.
   grip_test::ReferenceCounts counts;
   const auto data = grip_test::load_constrained_reference(&counts);
-  REQUIRE(data.size() == static_cast<std::size_t>(counts.instances[0] + counts.instances[1] + counts.instances[2]));
-  check_against_reference<HardFinger, S>(data, 'H', counts);
-  check_against_reference<SoftFinger, S>(data, 'S', counts);
-  check_against_reference<FrictionlessPoint, S>(data, 'F', counts);
+  int instances[3] = {0, 0, 0}, infeasible[3] = {0, 0, 0}, known = 0;
+  for (const auto& ref : data) {
+    const int slot = grip_test::ReferenceCounts::slot(ref.model);
+    ++instances[slot];
+    infeasible[slot] += ref.feasible ? 0 : 1;
+    known += known_failure(ref.kind, true) ? 1 : 0;
+    CHECK(static_cast<int>(ref.contacts.size()) == ref.n);
+    CHECK((ref.feasible ? ref.has_lambda && !ref.x.empty() : ref.least_residual >= 0.0));
+  }
+  for (int k = 0; k < 3; ++k) {
+    CHECK(instances[k] == counts.instances[k]);
+    CHECK(infeasible[k] == counts.infeasible[k]);
+  }
+  CHECK(known < static_cast<int>(data.size()) / 10);
+}
+
+TEST_CASE_TEMPLATE("solve_constrained agrees with cvxopt on every reference instance", S, double, float) {
+  const auto data = grip_test::load_constrained_reference();
+  check_against_reference<HardFinger, S>(data, 'H', false);
+  check_against_reference<SoftFinger, S>(data, 'S', false);
+  check_against_reference<FrictionlessPoint, S>(data, 'F', false);
+}
+
+// Known failures (docs/testing.md): these instances fail today, and this test case fails with
+// them; when solve_constrained handles them it passes, doctest reports that as a failure, and
+// the kinds move into the test case above.
+TEST_CASE_TEMPLATE("solve_constrained on grasps of micrometres, and in float of tens of metres (known failure)" *
+                   doctest::should_fail(),
+                   S, double, float) {
+  const auto data = grip_test::load_constrained_reference();
+  check_against_reference<HardFinger, S>(data, 'H', true);
+  check_against_reference<SoftFinger, S>(data, 'S', true);
+  check_against_reference<FrictionlessPoint, S>(data, 'F', true);
 }

@@ -53,14 +53,25 @@ Matrix3<Scalar> skew(const Vector3<Scalar>& r) {
 /// scalar's smallest normal value (valid inputs, e.g. a denormal squeeze) square to zero, so
 /// v.norm() can report 0 for a vector of length 1e-43. The sum of squares is used when it is
 /// safely above the underflow range (each entry it loses weighs below eps of it) and finite;
-/// otherwise Eigen's scaled stableNorm(). No heap.
+/// otherwise the entries scaled by the largest magnitude (NaN stays NaN, infinity infinity).
+/// No heap, and a frame of a few scalars (Eigen's stableNorm() copies a block expression into a
+/// 4096-entry buffer on the stack). v is a vector.
 template <class Derived>
 typename Derived::RealScalar stable_norm(const Eigen::MatrixBase<Derived>& v) {
   using S = typename Derived::RealScalar;
   const S s2 = v.squaredNorm();
   constexpr S safe = S(64) * std::numeric_limits<S>::min() / std::numeric_limits<S>::epsilon();
   if (s2 >= safe && s2 <= std::numeric_limits<S>::max()) return std::sqrt(s2);
-  return v.stableNorm();
+  if (std::isnan(s2)) return s2;
+  S scale(0);
+  for (Eigen::Index i = 0; i < v.size(); ++i) scale = std::max(scale, std::abs(v.derived().coeff(i)));
+  if (scale == S(0) || !std::isfinite(scale)) return scale;
+  S sum(0);
+  for (Eigen::Index i = 0; i < v.size(); ++i) {
+    const S t = v.derived().coeff(i) / scale;
+    sum += t * t;
+  }
+  return scale * std::sqrt(sum);
 }
 
 }  // namespace grip
