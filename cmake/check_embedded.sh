@@ -4,7 +4,7 @@
 #   1. every translation unit compiles, warnings as errors;
 #   2. no object references malloc, free, calloc, realloc, operator new/delete or __cxa_throw;
 #   3. grasp_step.o (solve_range_space + StabilityMonitor): .text < 16 KiB;
-#   4. its worst-case stack < 2 KiB: the deepest call chain from grip_grasp_step, frames summed
+#   4. its worst-case stack < 2.5 KiB: the deepest call chain from grip_grasp_step, frames summed
 #      (-fstack-usage -fcallgraph-info=su, cmake/stack_depth.py; recursion or a dynamic frame fails).
 # Usage: bash cmake/check_embedded.sh [build-dir]   (default build/embedded)
 # Prints a figures table and "checks: N passed, M failed"; exits non-zero on any failure.
@@ -18,7 +18,7 @@ flags=(-std=c++17 -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -fn
        -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wdouble-promotion -Werror
        -Iinclude -isystem /usr/include/eigen3)
 code_budget=16384
-stack_budget=2048
+stack_budget=2560
 passed=0 failed=0
 check() {  # check NAME CONDITION-EXIT-CODE
   if [ "$2" -eq 0 ]; then passed=$((passed + 1)); echo "  ok    $1"; else failed=$((failed + 1)); echo "  FAIL  $1"; fi
