@@ -94,7 +94,7 @@ void check_against_reference(const std::vector<grip_test::ConstrainedReference>&
   const ConstrainedSettings<S> settings;
   int count = 0, infeasible = 0, worst_iter = 0;
   double worst_obj = 0, worst_res = 0, worst_cone = 0, worst_x = 0, worst_lambda = 0, worst_least = 0;
-  int lambda_checked = 0;
+  int lambda_checked = 0, marginal = 0;
   const double eps = static_cast<double>(std::numeric_limits<S>::epsilon());
   int index = -1;
   for (const auto& ref : data) {
@@ -122,6 +122,30 @@ void check_against_reference(const std::vector<grip_test::ConstrainedReference>&
     Grasp<Dynamic, Model, double, 20> gd;
     for (const auto& c : ref.contacts) (void)gd.add(c);
     const double res = (gd.wrench(xd) + ref.w_ext).norm();
+    const auto check_certificate = [&]() {
+      // Farkas: y.w_ext > 0 and G_i^T y in K_i^* for every contact (checked from the definitions).
+      const Wrench<double> y = sol.certificate.template cast<double>();
+      CHECK(y.norm() == doctest::Approx(1.0).epsilon(1e-5));
+      CHECK(y.dot(ref.w_ext) > 0.0);
+      for (int i = 0; i < gd.size(); ++i) {
+        const auto& c = ref.contacts[size_t(i)];
+        const auto z = Model::wrench_transpose(c, y);
+        // ConstrainedSettings::certificate_tolerance (1e-5 double, 2e-3 float) times 1 + |r_i|,
+        // as the solver checks it in S; rechecked here in double, with 50 % (float) and 100 %
+        // (double) for the round-off of the solver's own check.
+        const double cert_tol = (std::is_same<S, float>::value ? 1.5 : 2.0) *
+                                static_cast<double>(settings.certificate_tolerance) * (1 + c.position.norm());
+        CHECK_MESSAGE(grip_test::dual_cone_violation<Model>(c, z) <= cert_tol, "instance ", index, " (", ref.kind,
+                      ")");
+      }
+    };
+    // float: a feasible instance that is infeasible to within the float certificate tolerance
+    // (2e-3) may be called Infeasible; then its certificate must hold at that tolerance. Few may.
+    if (ref.feasible && std::is_same<S, float>::value && sol.status == Status::Infeasible) {
+      ++marginal;
+      check_certificate();
+      continue;
+    }
     if (ref.feasible) {
       CHECK_MESSAGE(sol.status == Status::Ok, "instance ", index, " (", ref.kind, ") model ", tag, " n ", g.size(),
                     " status ", std::string(to_string(sol.status)));
@@ -195,26 +219,11 @@ void check_against_reference(const std::vector<grip_test::ConstrainedReference>&
       // And no lower than cvxopt's minimum (two formulations agreed on it to 1e-7).
       CHECK_MESSAGE(res >= ref.least_residual - 1e-6 * (1 + ref.least_residual), "instance ", index, " residual ", res,
                     " below cvxopt's least residual ", ref.least_residual);
-      if (sol.status == Status::Infeasible) {
-        // Farkas: y.w_ext > 0 and G_i^T y in K_i^* for every contact (checked from the definitions).
-        const Wrench<double> y = sol.certificate.template cast<double>();
-        CHECK(y.norm() == doctest::Approx(1.0).epsilon(1e-5));
-        CHECK(y.dot(ref.w_ext) > 0.0);
-        for (int i = 0; i < gd.size(); ++i) {
-          const auto& c = ref.contacts[size_t(i)];
-          const auto z = Model::wrench_transpose(c, y);
-          // ConstrainedSettings::certificate_tolerance (1e-5 double, 2e-3 float) times 1 + |r_i|,
-          // as the solver checks it in S; rechecked here in double, with 50 % (float) and 100 %
-          // (double) for the round-off of the solver's own check.
-          const double cert_tol = (std::is_same<S, float>::value ? 1.5 : 2.0) *
-                                  static_cast<double>(settings.certificate_tolerance) * (1 + c.position.norm());
-          CHECK_MESSAGE(grip_test::dual_cone_violation<Model>(c, z) <= cert_tol, "instance ", index, " (", ref.kind,
-                        ")");
-        }
-      }
+      if (sol.status == Status::Infeasible) check_certificate();
     }
   }
   CHECK(count > 0);
+  CHECK(marginal <= 2);
   // The multipliers were compared somewhere (unique ones are common for every model).
   CHECK(lambda_checked > 0);
   std::printf("[constrained reference %c %s] %d instances (%d infeasible): worst objective rel %.2e, residual %.2e, "
