@@ -11,7 +11,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 build=build/ci-sanitize
 dir=$build/coverage
-rm -rf "$build/profiles" "$dir" && mkdir -p "$dir"
+rm -rf "$dir" && mkdir -p "$dir"
 cmake --preset ci-sanitize
 cmake --build --preset ci-sanitize
 # Only the test run's profiles count (the build runs the binary once to list its tests).

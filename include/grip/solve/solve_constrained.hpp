@@ -380,15 +380,20 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
     }
   };
   keep();
+  // The next stage of the continuation, from the current l: false when this one was the last.
+  const auto next_stage = [&]() {
+    if (!(dl > delta)) return false;
+    dl = dl / S(100) < delta ? delta : dl / S(100);
+    cur = passes.pass(w_ext, Wrench<S>(-lambda / dl), x, &cur_h);
+    cur_phi = phi(cur, lambda);
+    keep();
+    return true;
+  };
   int it = 0;
   for (; it < settings.max_iterations; ++it) {
     const Wrench<S> g = cur.residual - lambda;  // grad phi
     if (g.norm() <= settings.tolerance * cur.scale || (dl > delta && g.norm() <= S(1e-3f) * cur.scale)) {
-      if (!(dl > delta)) break;
-      dl = dl / S(100) < delta ? delta : dl / S(100);
-      cur = passes.pass(w_ext, Wrench<S>(-lambda / dl), x, &cur_h);
-      cur_phi = phi(cur, lambda);
-      keep();
+      if (!next_stage()) break;
       continue;
     }
     Matrix6<S> h = cur_h.matrix();
@@ -398,14 +403,10 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
     const Wrench<S> dir = e.cwiseProduct(solve_newton_6x6(hs, Wrench<S>(dl * e.cwiseProduct(g)), S(16) * eps));
     const S slope = g.dot(dir);
     if (dir.norm() <= S(4) * eps * (lambda.norm() + cur.scale) || !(slope > S(0))) {  // at round-off
-      if (!(dl > delta)) break;
-      dl = dl / S(100) < delta ? delta : dl / S(100);
-      cur = passes.pass(w_ext, Wrench<S>(-lambda / dl), x, &cur_h);
-      cur_phi = phi(cur, lambda);
-      keep();
+      if (!next_stage()) break;
       continue;
     }
-    if (!(slope > S(0)) || !dir.allFinite()) break;
+    if (!dir.allFinite()) break;  // slope > 0 here: the branch above took the rest
     bool accepted = false;
     S alpha = S(1);
     Wrench<S> lt;
@@ -422,11 +423,7 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
       }
     }
     if (!accepted) {
-      if (!(dl > delta)) break;
-      dl = dl / S(100) < delta ? delta : dl / S(100);
-      cur = passes.pass(w_ext, Wrench<S>(-lambda / dl), x, &cur_h);
-      cur_phi = phi(cur, lambda);
-      keep();
+      if (!next_stage()) break;
       continue;
     }
     lambda = lt;
