@@ -14,7 +14,7 @@
 
 #include "../examples/06_haptic_loop/session.hpp"
 
-#include <grip/pipeline/constrained_frame_solver.hpp>
+#include <grip/pipeline/frame_solver.hpp>
 
 namespace {
 

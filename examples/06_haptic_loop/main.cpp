@@ -12,7 +12,7 @@
 
 #include "session.hpp"
 
-#include <grip/pipeline/constrained_frame_solver.hpp>
+#include <grip/pipeline/frame_solver.hpp>
 
 // The optimum inside the exact friction cones, warm-started from the previous frame.
 using FrameSolver = grip::ConstrainedFrameSolver<haptic_session::S>;

@@ -69,6 +69,6 @@
 #include "grip/pipeline/cylinder_scene.hpp"
 #include "grip/pipeline/octree_scene.hpp"
 #include "grip/pipeline/frame_solver.hpp"
-#include "grip/pipeline/constrained_frame_solver.hpp"
+#include "grip/pipeline/haptic_frame.hpp"
 #include "grip/pipeline/haptic_pipeline.hpp"
 #include "grip/pipeline/close_hand.hpp"

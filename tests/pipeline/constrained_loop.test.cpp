@@ -1,7 +1,7 @@
 // The haptic loop with the friction-constrained solver, warm-started frame to frame.
 #include <doctest/doctest.h>
 
-#include <grip/pipeline/constrained_frame_solver.hpp>
+#include <grip/pipeline/frame_solver.hpp>
 
 #include "pipeline/pipeline_fixture.hpp"
 #include "support/allocation_counter.hpp"

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include <grip/pipeline/constrained_frame_solver.hpp>
+#include <grip/pipeline/frame_solver.hpp>
 
 #include "pipeline/pipeline_fixture.hpp"
 #include "support/allocation_counter.hpp"

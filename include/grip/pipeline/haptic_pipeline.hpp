@@ -2,6 +2,8 @@
 /// \file
 /// The closed haptic loop, one frame at a time: hand pose and joint angles in, per-phalanx
 /// feedback forces out, the grasped object simulated in between. Fixed-size, heap-free.
+/// step() runs a frame as named stages, private members defined below the class. A frame's
+/// inputs and outputs are in haptic_frame.hpp, the frame solvers in frame_solver.hpp.
 
 #include <algorithm>
 #include <array>
@@ -17,6 +19,7 @@
 #include "grip/dynamics/external_wrench.hpp"
 #include "grip/dynamics/integrator.hpp"
 #include "grip/dynamics/rigid_body.hpp"
+#include "grip/geometry/collision.hpp"
 #include "grip/grasp/grasp.hpp"
 #include "grip/hand/hand_kinematics.hpp"
 #include "grip/hand/hand_model.hpp"
@@ -25,111 +28,26 @@
 #include "grip/monitor/resolution.hpp"
 #include "grip/monitor/stability_monitor.hpp"
 #include "grip/pipeline/frame_solver.hpp"
-#include "grip/geometry/collision.hpp"
+#include "grip/pipeline/haptic_frame.hpp"
 #include "grip/pipeline/obstacle_contacts.hpp"
 #include "grip/pipeline/scene.hpp"
 
 namespace grip {
 
-/// The tracker's reading for one frame: the wrist pose (hand frame to world) and the
-/// wrist origin's velocity and acceleration, world axes (m, m/s, m/s^2, rad/s, rad/s^2).
-/// The accelerations set the inertial terms the hand imposes on a held object; a real
-/// tracker needs a filter to supply them (left to the user).
-template <class Scalar>
-struct WristState {
-  /// Hand frame to world: rotation orthonormal, translation the wrist origin (m).
-  Eigen::Transform<Scalar, 3, Eigen::Isometry> pose{Eigen::Transform<Scalar, 3, Eigen::Isometry>::Identity()};
-  Vector3<Scalar> linear_velocity{Vector3<Scalar>::Zero()};       ///< of the wrist origin (m/s)
-  Vector3<Scalar> angular_velocity{Vector3<Scalar>::Zero()};      ///< of the hand (rad/s)
-  Vector3<Scalar> linear_acceleration{Vector3<Scalar>::Zero()};   ///< of the wrist origin (m/s^2)
-  Vector3<Scalar> angular_acceleration{Vector3<Scalar>::Zero()};  ///< of the hand (rad/s^2)
-};
-
-/// Settings of a HapticPipeline (SI units).
-template <class Scalar>
-struct HapticSettings {
-  HandDimensions<Scalar> hand{HandDimensions<Scalar>::standard()};  ///< the hand model
-  /// Contribution d_i of each phalanx (eq. 8); default Table 1 (cylindrical power grip).
-  ContributionTable<Scalar> contribution{cylindrical_power_grip<Scalar>()};
-  /// Thumb proximal and distal shares (Table 1 has no thumb row; the thumb opposes the
-  /// fingers, so it gets a share of its own).
-  std::array<Scalar, 2> thumb_contribution{{Scalar(0.15), Scalar(0.25)}};
-  /// Contact stiffness K_i per phalanx (N/m) of eq. 8.
-  std::array<Scalar, hand_phalanx_count> stiffness{};
-  Scalar friction{Scalar(0.8)};                              ///< Coulomb mu of every hand contact
-  Vector3<Scalar> gravity{Scalar(0), Scalar(0), Scalar(-9.81)};  ///< g (m/s^2)
-  PenaltyMaterial<Scalar> obstacle_material{};               ///< object-obstacle spring-damper
-  /// The device's largest force per phalanx along its actuation direction (N).
-  std::array<Scalar, hand_phalanx_count> device_limit{};
-  Scalar dt{Scalar(1e-3)};                                   ///< frame period (s)
-  int max_resolves{4};  ///< re-solves per frame after dropping separating contacts, >= 0
-  /// Weight of contact i in F2: 1 (the paper's F2) when false; when true
-  /// `w_i = 1 / max(s_i, weight_floor)` (1/N), so that each contact's share of the
-  /// equilibrium correction grows with its squeeze: strongly pressed phalanges, which have
-  /// the most friction to spare, carry the load (the grip's Table 1 distribution).
-  bool weight_by_squeeze{true};
-  Scalar weight_floor{Scalar(0.5)};  ///< s floor (N) of weight_by_squeeze, > 0
-
-  HapticSettings() {
-    stiffness.fill(Scalar(3e4));
-    device_limit.fill(Scalar(10));
-  }
-};
-
-/// What one phalanx feels in one frame.
-template <class Scalar>
-struct PhalanxFeedback {
-  Vector3<Scalar> force{Vector3<Scalar>::Zero()};  ///< -f_i summed over the phalanx's contacts (N, world)
-  /// Unit direction in which the device pushes the phalanx: extension, d x e for phalanx
-  /// direction d and flexion axis e (world); the object pressing on the palmar side pushes
-  /// along it.
-  Vector3<Scalar> actuation_direction{Vector3<Scalar>::Zero()};
-  Scalar actuated{0};    ///< force . actuation_direction (N)
-  Scalar command{0};     ///< actuated clamped to [0, device_limit] (N): what the device renders
-  bool in_contact{false};  ///< the phalanx touches the object
-  bool clamped{false};     ///< command != actuated (beyond the limit, or pulling)
-  bool sliding{false};     ///< its contact force left the friction cone
-};
-
-/// Everything the pipeline computed in one frame.
-template <class Scalar>
-struct HapticFrame {
-  std::array<PhalanxFeedback<Scalar>, hand_phalanx_count> phalanges{};  ///< order of hand_model.hpp
-  ExternalWrench<Scalar> external{};  ///< w_ext's terms (gravity, inertial, obstacles)
-  /// Wrench left unbalanced, w_ext + G f' with f' the transmitted forces (zero when held).
-  Wrench<Scalar> unbalanced{Wrench<Scalar>::Zero()};
-  Status solve_status{Status::InvalidInput};  ///< status of the last solve of the frame
-  Status status{Status::InvalidInput};        ///< Ok, or InvalidInput (bad wrist/angles/state)
-  int contacts{0};      ///< hand contacts detected
-  int obstacles{0};     ///< obstacle contacts
-  int sliding{0};       ///< contacts outside their cone (after re-solves)
-  int separating{0};    ///< contacts dropped as separating (f . a <= 0)
-  int clamped{0};       ///< phalanges whose command was clamped
-  int solves{0};        ///< solver calls this frame
-  int iterations{0};    ///< solver iterations this frame (0 for direct solvers)
-  bool held{false};     ///< the grasp is stable: the object moves with the hand
-  Scalar min_margin{0};  ///< smallest Coulomb margin (N) over the contacts of the last solve
-};
-
-/// The per-frame haptic pipeline: hand pose and joint angles in; contacts from `Scene`;
-/// squeeze s_i = d_i K_i dr_i (eq. 8); external wrench (gravity, inertial terms of the
-/// motion the hand imposes, obstacle penalty contacts); optimal forces from `Solver`;
-/// friction-cone monitor (StabilityMonitor, exact cones; resolve() for what slides or
-/// separates); per-phalanx feedback -f_i out, clamped to the device's limits.
+/// The per-frame haptic pipeline. step() runs the stages of docs/pipeline.md in order, each a
+/// private member: pose_hand, carry_held_object, find_contacts, object_wrench, solve_forces
+/// (build_grasp, `Solver`, monitor_cones, resolve()), move_object, phalanx_feedback.
 ///
 /// - `Scene`: the contact source (scene.hpp: CylinderScene, OctreeScene, or your own). A
-///   phalanx with several contacts feels their sum; each contact's squeeze is eq. 8's with
-///   its own depth.
-/// - `Solver`: a frame solver policy (RangeSpaceFrameSolver, KktFrameSolver, ...).
+///   phalanx with several contacts feels their sum, each contact's squeeze eq. 8's with its
+///   own depth.
+/// - `Solver`: a frame solver policy (frame_solver.hpp: RangeSpaceFrameSolver, ...).
 ///
-/// The object's state machine. Held: the object is rigidly attached to the wrist with the
-/// pose it had when the grasp became stable, and the contacts must balance w_ext. Free:
-/// it moves by Newton-Euler (step_free) under gravity, obstacles and the forces the fingers
-/// can transmit (each force projected onto its cone; separating ones zero). Each frame the
-/// pipeline asks whether the hand could impose its own motion on the object (w_ext with the
-/// inertial terms of the wrist's motion at the object's centre of mass): the object is held
-/// when the solve is Ok and every contact kept is inside its cone. A grasp the monitor finds
-/// slipping therefore lets the unbalanced wrench move the object.
+/// The object is held (rigidly attached to the wrist with the pose it had when the grasp
+/// became stable; the contacts must balance w_ext) while the solve is Ok and every contact
+/// kept is inside its exact cone. Otherwise it is free: it moves by Newton-Euler (step_free)
+/// under gravity, obstacles and the forces the fingers can transmit (each force projected
+/// onto its cone, separating ones zero), so a slipping grasp lets the unbalanced wrench move it.
 template <class Scalar, class Scene, class Solver = RangeSpaceFrameSolver>
 class HapticPipeline {
  public:
@@ -153,131 +71,13 @@ class HapticPipeline {
   Status step(const WristState<Scalar>& wrist, const JointAngles<Scalar>& angles, HapticFrame<Scalar>& frame) {
     frame = HapticFrame<Scalar>{};
     frame.status = Status::InvalidInput;
-    if (!wrist.pose.matrix().allFinite() || !wrist.linear_velocity.allFinite() ||
-        !wrist.angular_velocity.allFinite() || !wrist.linear_acceleration.allFinite() ||
-        !wrist.angular_acceleration.allFinite() || !angles.allFinite() || validate(object_) != Status::Ok ||
-        !(settings_.dt > Scalar(0)))
-      return frame.status;
-    if (forward_kinematics(settings_.hand, wrist.pose, angles, posture_) != Status::Ok) return frame.status;
-
-    // 1. A held object moves with the wrist.
-    const Vector3<Scalar> wrist_origin = wrist.pose.translation();
-    if (held_) {
-      const Isometry pose = wrist.pose * offset_;
-      object_.position = pose.translation();
-      object_.orientation = Eigen::Quaternion<Scalar>(pose.linear()).normalized();
-      object_.linear_velocity = wrist.linear_velocity + wrist.angular_velocity.cross(object_.position - wrist_origin);
-      object_.angular_velocity = wrist.angular_velocity;
-    }
-
-    // 2. Contacts.
-    scene_.hand_contacts(posture_, object_, hand_);
-    scene_.obstacle_contacts(object_, obstacles_);
-    for (int i = 0; i < obstacles_.count; ++i) {
-      PenaltyContact<Scalar>& c = obstacles_.items[static_cast<std::size_t>(i)];
-      c.depth_rate = -c.normal.dot(object_.point_velocity(object_.position + c.point));
-    }
-    frame.contacts = hand_.count;
-    frame.obstacles = obstacles_.count;
-
-    // 3. External wrench with the inertial terms of the motion the wrist would impose.
-    const Vector3<Scalar> r = object_.position - wrist_origin;
-    const Vector3<Scalar>& w = wrist.angular_velocity;
-    const Vector3<Scalar> a = wrist.linear_acceleration + wrist.angular_acceleration.cross(r) + w.cross(w.cross(r));
-    RigidBody<Scalar> imposed = object_;
-    imposed.angular_velocity = w;
-    frame.external = external_wrench(imposed, settings_.gravity, a, wrist.angular_acceleration,
-                                     obstacles_.items.data(), obstacles_.count, settings_.obstacle_material);
-    if (frame.external.status != Status::Ok) return frame.status;
-    const Wrench<Scalar> w_ext = frame.external.total();
-
-    // 4. Optimal forces, monitored (StabilityMonitor, exact cones); separating contacts are
-    //    dropped and the rest re-solved; what slides or separates is resolved (resolve()).
-    std::array<bool, max_contacts> keep{};
-    for (int i = 0; i < hand_.count; ++i) keep[static_cast<std::size_t>(i)] = true;
-    std::array<Vector3<Scalar>, max_contacts> force{};
-    std::array<bool, max_contacts> slide{};
-    bool stable = false;
-    const int rounds = std::max(0, settings_.max_resolves);
-    for (int round = 0; round <= rounds; ++round) {
-      build_grasp(keep);
-      force.fill(Vector3<Scalar>::Zero());
-      slide.fill(false);
-      if (grasp_.size() == 0) {
-        frame.solve_status = Status::Singular;
-        break;
-      }
-      const Solution<GraspType> sol = solver_(grasp_, w_ext);
-      ++frame.solves;
-      frame.iterations += sol.iterations;
-      frame.solve_status = sol.status;
-      const GraspState<GraspType> state = monitor_.evaluate(grasp_, sol.forces);
-      if (state.status != Status::Ok) {
-        frame.solve_status = Status::InvalidInput;
-        break;
-      }
-      frame.sliding = state.sliding_count;
-      frame.min_margin = state.count > 0 && state.sticking_count + state.sliding_count > 0 ? state.min_margin : Scalar(0);
-      const bool last = state.separating_count == 0 || round == rounds;
-      if (!last) {  // drop the separating contacts and solve again with the rest
-        frame.separating += state.separating_count;
-        for (int j = 0; j < grasp_.size(); ++j)
-          if (state.is_separating(j)) keep[static_cast<std::size_t>(index_[static_cast<std::size_t>(j)])] = false;
-        continue;
-      }
-      frame.separating += state.separating_count;
-      stable = sol.status == Status::Ok && state.stable;
-      const Resolution<GraspType> res = resolve(grasp_, sol.forces, state, w_ext);
-      for (int j = 0; j < grasp_.size(); ++j) {
-        const auto i = static_cast<std::size_t>(index_[static_cast<std::size_t>(j)]);
-        force[i] = res.status == Status::Ok ? Vector3<Scalar>(res.transmitted.template segment<3>(3 * j))
-                                            : Vector3<Scalar>::Zero();
-        slide[i] = state.is_sliding(j);
-      }
-      break;
-    }
-
-    // 5. The object: held, or moved by what is left unbalanced.
-    Wrench<Scalar> transmitted = Wrench<Scalar>::Zero();
-    for (int i = 0; i < hand_.count; ++i) {
-      const Vector3<Scalar>& f = force[static_cast<std::size_t>(i)];
-      const Vector3<Scalar> p = hand_.items[static_cast<std::size_t>(i)].point - object_.position;
-      transmitted.template head<3>() += f;
-      transmitted.template tail<3>() += p.cross(f);
-    }
-    if (stable) {
-      if (!held_) offset_ = wrist.pose.inverse() * object_pose();
-      held_ = true;
-    } else {
-      held_ = false;
-      frame.unbalanced = w_ext + transmitted;
-      (void)step_free(object_, Wrench<Scalar>(frame.external.applied() + transmitted), settings_.dt);
-    }
-    frame.held = held_;
-
-    // 6. Feedback per phalanx.
-    const Matrix3<Scalar> rw = wrist.pose.linear();
-    for (int i = 0; i < hand_.count; ++i) {
-      const HandContact<Scalar>& hc = hand_.items[static_cast<std::size_t>(i)];
-      const int k = phalanx_index(hc.finger, hc.phalanx);
-      if (k < 0 || k >= hand_phalanx_count) continue;
-      PhalanxFeedback<Scalar>& fb = frame.phalanges[static_cast<std::size_t>(k)];
-      fb.force -= force[static_cast<std::size_t>(i)];
-      fb.in_contact = true;
-      fb.sliding = fb.sliding || slide[static_cast<std::size_t>(i)];
-    }
-    for (int k = 0; k < hand_phalanx_count; ++k) {
-      PhalanxFeedback<Scalar>& fb = frame.phalanges[static_cast<std::size_t>(k)];
-      const PhalanxCapsule<Scalar>& c = posture_.phalanges[static_cast<std::size_t>(k)];
-      const Vector3<Scalar> d = (c.tip - c.base).normalized();
-      const Vector3<Scalar> e = rw * settings_.hand.flexion_axis[static_cast<std::size_t>(phalanx_finger(k))];
-      fb.actuation_direction = d.cross(e).normalized();
-      fb.actuated = fb.force.dot(fb.actuation_direction);
-      const Scalar limit = settings_.device_limit[static_cast<std::size_t>(k)];
-      fb.command = std::min(limit, std::max(Scalar(0), fb.actuated));
-      fb.clamped = fb.in_contact && fb.command != fb.actuated;
-      if (fb.clamped) ++frame.clamped;
-    }
+    if (!pose_hand(wrist, angles)) return frame.status;
+    carry_held_object(wrist);
+    find_contacts(frame);
+    if (!object_wrench(wrist, frame)) return frame.status;
+    solve_forces(frame);
+    move_object(wrist, frame);
+    phalanx_feedback(wrist, frame);
     frame.status = Status::Ok;
     return frame.status;
   }
@@ -305,6 +105,50 @@ class HapticPipeline {
   Scene& scene() { return scene_; }
 
  private:
+  /// What the later stages of a frame read from the earlier ones, rewritten every frame.
+  struct Forces {
+    Wrench<Scalar> w_ext{Wrench<Scalar>::Zero()};  ///< by object_wrench: the external wrench
+    /// By solve_forces, per hand contact (hand_'s order): the force it transmits to the
+    /// object (N, world; zero if dropped as separating or if resolve() failed).
+    std::array<Vector3<Scalar>, max_contacts> transmitted{};
+    std::array<bool, max_contacts> sliding{};  ///< by solve_forces: the contact left its cone
+    bool stable{false};  ///< by solve_forces: the last solve Ok and every contact kept sticks
+  };
+
+  // The stages, in step()'s order.
+
+  /// 1. Inputs: false for an input step() rejects (see step()). Reads `wrist`, `angles`,
+  /// settings_, object_; writes posture_ (forward kinematics).
+  bool pose_hand(const WristState<Scalar>& wrist, const JointAngles<Scalar>& angles);
+  /// 2. Held object: if held_, object_ takes the pose wrist.pose * offset_, the wrist's angular
+  /// velocity and the velocity v_w + omega_w x r. Reads `wrist`, held_, offset_; writes object_.
+  void carry_held_object(const WristState<Scalar>& wrist);
+  /// 3. Contacts: reads posture_, object_, scene_; writes hand_, obstacles_ (each obstacle
+  /// contact's depth_rate from object_'s twist), frame.contacts and frame.obstacles.
+  void find_contacts(HapticFrame<Scalar>& frame);
+  /// 4. External wrench: gravity, obstacles, and the inertial terms of the motion the wrist
+  /// would impose on object_. Reads `wrist`, object_, obstacles_, settings_; writes
+  /// frame.external and forces_.w_ext. False if external_wrench() fails.
+  bool object_wrench(const WristState<Scalar>& wrist, HapticFrame<Scalar>& frame);
+  /// 5-6. Forces: build_grasp() of the contacts kept, solved by solver_, checked by
+  /// monitor_cones(); separating contacts dropped and the rest solved again, up to
+  /// max_resolves times; the last solve resolve()d into what the fingers transmit. Reads
+  /// hand_, object_, forces_.w_ext; writes grasp_, index_, forces_'s other fields, and
+  /// frame.solve_status, solves, iterations, sliding, separating and min_margin.
+  void solve_forces(HapticFrame<Scalar>& frame);
+  /// 6. Monitor: the state of grasp_ under `sol`'s forces (StabilityMonitor, exact cones).
+  /// Writes frame.sliding and frame.min_margin; frame.solve_status = InvalidInput if the
+  /// monitor rejects its input (the state's status says so).
+  GraspState<GraspType> monitor_cones(const Solution<GraspType>& sol, HapticFrame<Scalar>& frame) const;
+  /// 7. Object: stable, it becomes (or stays) held; else frame.unbalanced = w_ext + G f' and
+  /// step_free moves object_ by dt. Reads forces_, hand_, `wrist`; writes held_, offset_,
+  /// object_, frame.unbalanced and frame.held.
+  void move_object(const WristState<Scalar>& wrist, HapticFrame<Scalar>& frame);
+  /// 8. Feedback: each phalanx feels -f_i summed over its contacts, its command clamped to
+  /// [0, device_limit]. Reads forces_, hand_, posture_, the wrist's rotation, settings_;
+  /// writes frame.phalanges and frame.clamped.
+  void phalanx_feedback(const WristState<Scalar>& wrist, HapticFrame<Scalar>& frame);
+
   Isometry object_pose() const {
     Isometry t = Isometry::Identity();
     t.linear() = object_.rotation();
@@ -318,6 +162,9 @@ class HapticPipeline {
     return settings_.contribution(phalanx_finger(k), phalanx_kind(k));
   }
 
+  /// 5. Grasp: one Contact per hand contact kept (r_i from the centre of mass, friction,
+  /// squeeze of eq. 8, weight). Reads hand_, object_, settings_; writes grasp_ and index_
+  /// (index_[j]: the hand contact of grasp_'s contact j).
   void build_grasp(const std::array<bool, max_contacts>& keep) {
     grasp_.clear();
     for (int i = 0; i < hand_.count; ++i) {
@@ -347,6 +194,153 @@ class HapticPipeline {
   ObstacleContactSet<Scalar> obstacles_{};
   GraspType grasp_{};
   std::array<int, max_contacts> index_{};
+  Forces forces_{};
 };
+
+template <class Scalar, class Scene, class Solver>
+bool HapticPipeline<Scalar, Scene, Solver>::pose_hand(const WristState<Scalar>& wrist,
+                                                      const JointAngles<Scalar>& angles) {
+  if (!wrist.pose.matrix().allFinite() || !wrist.linear_velocity.allFinite() ||
+      !wrist.angular_velocity.allFinite() || !wrist.linear_acceleration.allFinite() ||
+      !wrist.angular_acceleration.allFinite() || !angles.allFinite() || validate(object_) != Status::Ok ||
+      !(settings_.dt > Scalar(0)))
+    return false;
+  return forward_kinematics(settings_.hand, wrist.pose, angles, posture_) == Status::Ok;
+}
+
+template <class Scalar, class Scene, class Solver>
+void HapticPipeline<Scalar, Scene, Solver>::carry_held_object(const WristState<Scalar>& wrist) {
+  if (!held_) return;
+  const Vector3<Scalar> wrist_origin = wrist.pose.translation();
+  const Isometry pose = wrist.pose * offset_;
+  object_.position = pose.translation();
+  object_.orientation = Eigen::Quaternion<Scalar>(pose.linear()).normalized();
+  object_.linear_velocity = wrist.linear_velocity + wrist.angular_velocity.cross(object_.position - wrist_origin);
+  object_.angular_velocity = wrist.angular_velocity;
+}
+
+template <class Scalar, class Scene, class Solver>
+void HapticPipeline<Scalar, Scene, Solver>::find_contacts(HapticFrame<Scalar>& frame) {
+  scene_.hand_contacts(posture_, object_, hand_);
+  scene_.obstacle_contacts(object_, obstacles_);
+  for (int i = 0; i < obstacles_.count; ++i) {
+    PenaltyContact<Scalar>& c = obstacles_.items[static_cast<std::size_t>(i)];
+    c.depth_rate = -c.normal.dot(object_.point_velocity(object_.position + c.point));
+  }
+  frame.contacts = hand_.count;
+  frame.obstacles = obstacles_.count;
+}
+
+template <class Scalar, class Scene, class Solver>
+bool HapticPipeline<Scalar, Scene, Solver>::object_wrench(const WristState<Scalar>& wrist, HapticFrame<Scalar>& frame) {
+  const Vector3<Scalar> wrist_origin = wrist.pose.translation();
+  const Vector3<Scalar> r = object_.position - wrist_origin;
+  const Vector3<Scalar>& w = wrist.angular_velocity;
+  const Vector3<Scalar> a = wrist.linear_acceleration + wrist.angular_acceleration.cross(r) + w.cross(w.cross(r));
+  RigidBody<Scalar> imposed = object_;
+  imposed.angular_velocity = w;
+  frame.external = external_wrench(imposed, settings_.gravity, a, wrist.angular_acceleration,
+                                   obstacles_.items.data(), obstacles_.count, settings_.obstacle_material);
+  if (frame.external.status != Status::Ok) return false;
+  forces_.w_ext = frame.external.total();
+  return true;
+}
+
+template <class Scalar, class Scene, class Solver>
+void HapticPipeline<Scalar, Scene, Solver>::solve_forces(HapticFrame<Scalar>& frame) {
+  std::array<bool, max_contacts> keep{};
+  for (int i = 0; i < hand_.count; ++i) keep[static_cast<std::size_t>(i)] = true;
+  forces_.stable = false;
+  const int rounds = std::max(0, settings_.max_resolves);
+  for (int round = 0; round <= rounds; ++round) {
+    build_grasp(keep);
+    forces_.transmitted.fill(Vector3<Scalar>::Zero());
+    forces_.sliding.fill(false);
+    if (grasp_.size() == 0) {
+      frame.solve_status = Status::Singular;
+      return;
+    }
+    const Solution<GraspType> sol = solver_(grasp_, forces_.w_ext);
+    ++frame.solves;
+    frame.iterations += sol.iterations;
+    frame.solve_status = sol.status;
+    const GraspState<GraspType> state = monitor_cones(sol, frame);
+    if (state.status != Status::Ok) return;
+    frame.separating += state.separating_count;
+    if (state.separating_count == 0 || round == rounds) {  // the last solve: what the fingers transmit
+      forces_.stable = sol.status == Status::Ok && state.stable;
+      const Resolution<GraspType> res = resolve(grasp_, sol.forces, state, forces_.w_ext);
+      for (int j = 0; j < grasp_.size(); ++j) {
+        const auto i = static_cast<std::size_t>(index_[static_cast<std::size_t>(j)]);
+        forces_.transmitted[i] = res.status == Status::Ok ? Vector3<Scalar>(res.transmitted.template segment<3>(3 * j))
+                                                          : Vector3<Scalar>::Zero();
+        forces_.sliding[i] = state.is_sliding(j);
+      }
+      return;
+    }
+    for (int j = 0; j < grasp_.size(); ++j)  // drop the separating contacts and solve again with the rest
+      if (state.is_separating(j)) keep[static_cast<std::size_t>(index_[static_cast<std::size_t>(j)])] = false;
+  }
+}
+
+template <class Scalar, class Scene, class Solver>
+auto HapticPipeline<Scalar, Scene, Solver>::monitor_cones(const Solution<GraspType>& sol,
+                                                          HapticFrame<Scalar>& frame) const -> GraspState<GraspType> {
+  GraspState<GraspType> state = monitor_.evaluate(grasp_, sol.forces);
+  if (state.status != Status::Ok) {
+    frame.solve_status = Status::InvalidInput;
+    return state;
+  }
+  frame.sliding = state.sliding_count;
+  frame.min_margin = state.count > 0 && state.sticking_count + state.sliding_count > 0 ? state.min_margin : Scalar(0);
+  return state;
+}
+
+template <class Scalar, class Scene, class Solver>
+void HapticPipeline<Scalar, Scene, Solver>::move_object(const WristState<Scalar>& wrist, HapticFrame<Scalar>& frame) {
+  Wrench<Scalar> transmitted = Wrench<Scalar>::Zero();
+  for (int i = 0; i < hand_.count; ++i) {
+    const Vector3<Scalar>& f = forces_.transmitted[static_cast<std::size_t>(i)];
+    const Vector3<Scalar> p = hand_.items[static_cast<std::size_t>(i)].point - object_.position;
+    transmitted.template head<3>() += f;
+    transmitted.template tail<3>() += p.cross(f);
+  }
+  if (forces_.stable) {
+    if (!held_) offset_ = wrist.pose.inverse() * object_pose();
+    held_ = true;
+  } else {
+    held_ = false;
+    frame.unbalanced = forces_.w_ext + transmitted;
+    (void)step_free(object_, Wrench<Scalar>(frame.external.applied() + transmitted), settings_.dt);
+  }
+  frame.held = held_;
+}
+
+template <class Scalar, class Scene, class Solver>
+void HapticPipeline<Scalar, Scene, Solver>::phalanx_feedback(const WristState<Scalar>& wrist,
+                                                             HapticFrame<Scalar>& frame) {
+  const Matrix3<Scalar> rw = wrist.pose.linear();
+  for (int i = 0; i < hand_.count; ++i) {
+    const HandContact<Scalar>& hc = hand_.items[static_cast<std::size_t>(i)];
+    const int k = phalanx_index(hc.finger, hc.phalanx);
+    if (k < 0 || k >= hand_phalanx_count) continue;
+    PhalanxFeedback<Scalar>& fb = frame.phalanges[static_cast<std::size_t>(k)];
+    fb.force -= forces_.transmitted[static_cast<std::size_t>(i)];
+    fb.in_contact = true;
+    fb.sliding = fb.sliding || forces_.sliding[static_cast<std::size_t>(i)];
+  }
+  for (int k = 0; k < hand_phalanx_count; ++k) {
+    PhalanxFeedback<Scalar>& fb = frame.phalanges[static_cast<std::size_t>(k)];
+    const PhalanxCapsule<Scalar>& c = posture_.phalanges[static_cast<std::size_t>(k)];
+    const Vector3<Scalar> d = (c.tip - c.base).normalized();
+    const Vector3<Scalar> e = rw * settings_.hand.flexion_axis[static_cast<std::size_t>(phalanx_finger(k))];
+    fb.actuation_direction = d.cross(e).normalized();
+    fb.actuated = fb.force.dot(fb.actuation_direction);
+    const Scalar limit = settings_.device_limit[static_cast<std::size_t>(k)];
+    fb.command = std::min(limit, std::max(Scalar(0), fb.actuated));
+    fb.clamped = fb.in_contact && fb.command != fb.actuated;
+    if (fb.clamped) ++frame.clamped;
+  }
+}
 
 }  // namespace grip

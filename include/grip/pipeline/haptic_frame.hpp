@@ -1,0 +1,99 @@
+#pragma once
+/// \file
+/// What one frame of the haptic pipeline (haptic_pipeline.hpp) takes and gives: the wrist's
+/// state in, the settings, the per-phalanx feedback and the frame's report out. Fixed-size.
+
+#include <array>
+
+#include <Eigen/Geometry>
+
+#include "grip/core/status.hpp"
+#include "grip/core/types.hpp"
+#include "grip/dynamics/external_wrench.hpp"
+#include "grip/dynamics/penalty_contact.hpp"
+#include "grip/hand/hand_model.hpp"
+#include "grip/hand/squeeze.hpp"
+
+namespace grip {
+
+/// The tracker's reading for one frame: the wrist pose (hand frame to world) and the
+/// wrist origin's velocity and acceleration, world axes (m, m/s, m/s^2, rad/s, rad/s^2).
+/// The accelerations set the inertial terms the hand imposes on a held object; a real
+/// tracker needs a filter to supply them (left to the user).
+template <class Scalar>
+struct WristState {
+  /// Hand frame to world: rotation orthonormal, translation the wrist origin (m).
+  Eigen::Transform<Scalar, 3, Eigen::Isometry> pose{Eigen::Transform<Scalar, 3, Eigen::Isometry>::Identity()};
+  Vector3<Scalar> linear_velocity{Vector3<Scalar>::Zero()};       ///< of the wrist origin (m/s)
+  Vector3<Scalar> angular_velocity{Vector3<Scalar>::Zero()};      ///< of the hand (rad/s)
+  Vector3<Scalar> linear_acceleration{Vector3<Scalar>::Zero()};   ///< of the wrist origin (m/s^2)
+  Vector3<Scalar> angular_acceleration{Vector3<Scalar>::Zero()};  ///< of the hand (rad/s^2)
+};
+
+/// Settings of a HapticPipeline (SI units).
+template <class Scalar>
+struct HapticSettings {
+  HandDimensions<Scalar> hand{HandDimensions<Scalar>::standard()};  ///< the hand model
+  /// Contribution d_i of each phalanx (eq. 8); default Table 1 (cylindrical power grip).
+  ContributionTable<Scalar> contribution{cylindrical_power_grip<Scalar>()};
+  /// Thumb proximal and distal shares (Table 1 has no thumb row; the thumb opposes the
+  /// fingers, so it gets a share of its own).
+  std::array<Scalar, 2> thumb_contribution{{Scalar(0.15), Scalar(0.25)}};
+  /// Contact stiffness K_i per phalanx (N/m) of eq. 8.
+  std::array<Scalar, hand_phalanx_count> stiffness{};
+  Scalar friction{Scalar(0.8)};                              ///< Coulomb mu of every hand contact
+  Vector3<Scalar> gravity{Scalar(0), Scalar(0), Scalar(-9.81)};  ///< g (m/s^2)
+  PenaltyMaterial<Scalar> obstacle_material{};               ///< object-obstacle spring-damper
+  /// The device's largest force per phalanx along its actuation direction (N).
+  std::array<Scalar, hand_phalanx_count> device_limit{};
+  Scalar dt{Scalar(1e-3)};                                   ///< frame period (s)
+  int max_resolves{4};  ///< re-solves per frame after dropping separating contacts, >= 0
+  /// Weight of contact i in F2: 1 (the paper's F2) when false; when true
+  /// `w_i = 1 / max(s_i, weight_floor)` (1/N), so that each contact's share of the
+  /// equilibrium correction grows with its squeeze: strongly pressed phalanges, which have
+  /// the most friction to spare, carry the load (the grip's Table 1 distribution).
+  bool weight_by_squeeze{true};
+  Scalar weight_floor{Scalar(0.5)};  ///< s floor (N) of weight_by_squeeze, > 0
+
+  HapticSettings() {
+    stiffness.fill(Scalar(3e4));
+    device_limit.fill(Scalar(10));
+  }
+};
+
+/// What one phalanx feels in one frame.
+template <class Scalar>
+struct PhalanxFeedback {
+  Vector3<Scalar> force{Vector3<Scalar>::Zero()};  ///< -f_i summed over the phalanx's contacts (N, world)
+  /// Unit direction in which the device pushes the phalanx: extension, d x e for phalanx
+  /// direction d and flexion axis e (world); the object pressing on the palmar side pushes
+  /// along it.
+  Vector3<Scalar> actuation_direction{Vector3<Scalar>::Zero()};
+  Scalar actuated{0};    ///< force . actuation_direction (N)
+  Scalar command{0};     ///< actuated clamped to [0, device_limit] (N): what the device renders
+  bool in_contact{false};  ///< the phalanx touches the object
+  bool clamped{false};     ///< command != actuated (beyond the limit, or pulling)
+  bool sliding{false};     ///< its contact force left the friction cone
+};
+
+/// Everything the pipeline computed in one frame.
+template <class Scalar>
+struct HapticFrame {
+  std::array<PhalanxFeedback<Scalar>, hand_phalanx_count> phalanges{};  ///< order of hand_model.hpp
+  ExternalWrench<Scalar> external{};  ///< w_ext's terms (gravity, inertial, obstacles)
+  /// Wrench left unbalanced, w_ext + G f' with f' the transmitted forces (zero when held).
+  Wrench<Scalar> unbalanced{Wrench<Scalar>::Zero()};
+  Status solve_status{Status::InvalidInput};  ///< status of the last solve of the frame
+  Status status{Status::InvalidInput};        ///< Ok, or InvalidInput (bad wrist/angles/state)
+  int contacts{0};      ///< hand contacts detected
+  int obstacles{0};     ///< obstacle contacts
+  int sliding{0};       ///< contacts outside their cone (after re-solves)
+  int separating{0};    ///< contacts dropped as separating (f . a <= 0)
+  int clamped{0};       ///< phalanges whose command was clamped
+  int solves{0};        ///< solver calls this frame
+  int iterations{0};    ///< solver iterations this frame (0 for direct solvers)
+  bool held{false};     ///< the grasp is stable: the object moves with the hand
+  Scalar min_margin{0};  ///< smallest Coulomb margin (N) over the contacts of the last solve
+};
+
+}  // namespace grip
