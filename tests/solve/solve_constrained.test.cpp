@@ -327,6 +327,60 @@ TEST_CASE_TEMPLATE("solve_constrained: bad input gives InvalidInput and zeros", 
   CHECK(lim.iterations <= 2 * st.max_iterations);
 }
 
+TEST_CASE_TEMPLATE("solve_constrained: every tuning constant is range-checked; defaults by ScalarTraits", S, double,
+                   float) {
+  std::mt19937 rng(19);
+  using GraspT = Grasp<Dynamic, HardFinger, S, 6>;
+  const GraspT g = grip_test::random_grasp<GraspT>(rng, 5);
+  const Wrench<S> w = grip_test::random_wrench<S>(rng);
+  constexpr bool single = ScalarTraits<S>::is_single_precision;
+  const ConstrainedSettings<S> d;
+  CHECK(d.infeasible_grace == (single ? 12 : 0));
+  CHECK(d.certificate_attempts == (single ? 3 : 1));
+  CHECK(d.infeasibility_bar == (single ? S(10) : S(1000)));
+  CHECK(d.certificate_guard == (single ? S(0.1) : S(1)));
+  CHECK(d.multiplier_certificate == single);
+  CHECK(solve_constrained(g, w, d).status != Status::InvalidInput);
+  const S nan = std::numeric_limits<S>::quiet_NaN(), inf = std::numeric_limits<S>::infinity();
+  const auto invalid = [&](const char* what, const auto& change) {
+    ConstrainedSettings<S> st;
+    change(st);
+    const auto s = solve_constrained(g, w, st);
+    CHECK_MESSAGE(s.status == Status::InvalidInput, what);
+    CHECK(s.forces.isZero(S(0)));
+  };
+  invalid("armijo 0", [](ConstrainedSettings<S>& st) { st.armijo = S(0); });
+  invalid("armijo 1", [](ConstrainedSettings<S>& st) { st.armijo = S(1); });
+  invalid("jacobi_floor -1", [](ConstrainedSettings<S>& st) { st.jacobi_floor = S(-1); });
+  invalid("stall_limit 0", [](ConstrainedSettings<S>& st) { st.stall_limit = 0; });
+  invalid("infeasible_grace -1", [](ConstrainedSettings<S>& st) { st.infeasible_grace = -1; });
+  invalid("infeasibility_bar 0", [](ConstrainedSettings<S>& st) { st.infeasibility_bar = S(0); });
+  invalid("certificate_attempts 0", [](ConstrainedSettings<S>& st) { st.certificate_attempts = 0; });
+  invalid("certificate_retry_factor 2", [](ConstrainedSettings<S>& st) { st.certificate_retry_factor = S(2); });
+  invalid("certificate_retry_factor 0", [](ConstrainedSettings<S>& st) { st.certificate_retry_factor = S(0); });
+  invalid("certificate_guard -1", [](ConstrainedSettings<S>& st) { st.certificate_guard = S(-1); });
+  invalid("least_residual_stage_tolerance 0",
+          [](ConstrainedSettings<S>& st) { st.least_residual_stage_tolerance = S(0); });
+  invalid("least_residual_continuation 1", [](ConstrainedSettings<S>& st) { st.least_residual_continuation = S(1); });
+  // Not finite: NaN fails every comparison, infinity the finiteness test.
+  for (const S b : {nan, inf}) {
+    invalid("armijo not finite", [b](ConstrainedSettings<S>& st) { st.armijo = b; });
+    invalid("jacobi_floor not finite", [b](ConstrainedSettings<S>& st) { st.jacobi_floor = b; });
+    invalid("infeasibility_bar not finite", [b](ConstrainedSettings<S>& st) { st.infeasibility_bar = b; });
+    invalid("certificate_guard not finite", [b](ConstrainedSettings<S>& st) { st.certificate_guard = b; });
+    invalid("least_residual_stage_tolerance not finite",
+            [b](ConstrainedSettings<S>& st) { st.least_residual_stage_tolerance = b; });
+    invalid("least_residual_continuation not finite",
+            [b](ConstrainedSettings<S>& st) { st.least_residual_continuation = b; });
+  }
+  // In range: accepted (infeasible_grace 0 and certificate_retry_factor 1 are the bounds).
+  ConstrainedSettings<S> edge;
+  edge.infeasible_grace = 0;
+  edge.certificate_retry_factor = S(1);
+  edge.multiplier_certificate = !single;
+  CHECK(solve_constrained(g, w, edge).status != Status::InvalidInput);
+}
+
 TEST_CASE_TEMPLATE("solve_constrained: IterationLimit by a bound that bites, forces in the cones", S, double, float) {
   // Five hard fingers, mu = 0.3, a load that the squeeze targets alone do not balance inside
   // the cones: the default needs several Newton steps.

@@ -5,13 +5,18 @@
 namespace grip {
 
 /// Numerical tolerances of grip for one scalar type. Specialised for float and double;
-/// a user type may specialise it too.
+/// a user type may specialise it too. Like Eigen's NumTraits, it is the place for per-scalar
+/// values: an algorithm whose numbers depend on the precision reads these members (or settings
+/// whose defaults come from them) rather than testing std::is_same<Scalar, float>.
 template <class Scalar>
 struct ScalarTraits;
 
 /// Tolerances for double.
 template <>
 struct ScalarTraits<double> {
+  /// False: double's defaults (tight tolerances, no float-specific safeguards) apply to the
+  /// iterative solvers' settings (e.g. ConstrainedSettings).
+  static constexpr bool is_single_precision = false;
   /// Largest accepted |normal| - 1 (a normal must be unit length within this).
   static constexpr double normal_tolerance = 1e-6;
   /// Relative pivot below which a (Jacobi-scaled) matrix is treated as rank deficient.
@@ -27,6 +32,9 @@ struct ScalarTraits<double> {
 /// Tolerances for float.
 template <>
 struct ScalarTraits<float> {
+  /// True: the iterative solvers' settings (e.g. ConstrainedSettings) take their single-precision
+  /// defaults: looser tolerances, and the safeguards that round-off at 1e-7 needs.
+  static constexpr bool is_single_precision = true;
   /// Largest accepted |normal| - 1 (a normal must be unit length within this).
   static constexpr float normal_tolerance = 1e-4f;
   /// Relative pivot below which a (Jacobi-scaled) matrix is treated as rank deficient.

@@ -8,8 +8,8 @@
 ///   x_i = P_i(v_i)                             (projection onto the Coulomb cone of eq. 4-5)
 /// and sums what the Newton iteration reads: G x + w_ext, F2(x), |x| and, on request,
 /// sum_i k_i G_i J_i G_i^T with J_i = dP_i/dv (minus the dual's generalised Hessian). Same
-/// regions and formulas as coulomb_project_accumulate in solve_constrained.hpp (the contact-by-
-/// contact form, kept as the reference the tests compare with):
+/// regions and formulas as coulomb_project_accumulate in detail/constrained_passes.hpp (the
+/// contact-by-contact form, kept as the reference the tests compare with):
 /// - interior (|v_t| < mu v.a): x = v, J = I, added in GramAccumulator's closed form;
 /// - polar cone, v_t = 0 outside the interior, and v with a component beyond max_magnitude or
 ///   not finite: x = 0, J = 0;

@@ -175,9 +175,9 @@ bool solve_gram_by_schur(const GramAccumulator<S>& acc, const Wrench<S>& r, S le
           a12 = (m12 + cy * cz * inv_k0) * u, a22 = (m22 + (cz * cz - c2) * inv_k0) * u;
   // Straight-line solve by the adjugate when det > tol: as for SmallLdlt, the product of the
   // pivots (det) then proves that diagonally pivoted LDL^T would accept; else SmallLdlt decides.
-  const S b00 = a11 * a22 - a12 * a12, b01 = a02 * a12 - a01 * a22, b02 = a01 * a12 - a02 * a11,
-          b11 = a00 * a22 - a02 * a02, b12 = a01 * a02 - a00 * a12, b22 = a00 * a11 - a01 * a01;
-  const S det = a00 * b00 + a01 * b01 + a02 * b02;
+  const Adjugate3<S> adj = adjugate3(a00, a01, a02, a11, a12, a22);
+  const S b00 = adj.c00, b01 = adj.c01, b02 = adj.c02, b11 = adj.c11, b12 = adj.c12, b22 = adj.c22;
+  const S det = adj.det;
   const bool by_adjugate = det > tol;
   SmallLdlt<3, S> ldlt;
   if (!by_adjugate) {

@@ -1,7 +1,8 @@
 #pragma once
 /// \file
 /// Solving the small symmetric positive semi-definite 6x6 systems M y = r that every
-/// range-space method in grip reduces to (M = G W^-1 G^T).
+/// range-space method in grip reduces to (M = G W^-1 G^T), and the regularised 6x6 Newton
+/// systems of solve_constrained (detail::solve_newton_6x6, detail::solve_floored_6x6).
 
 #include <algorithm>
 #include <cmath>
@@ -118,6 +119,31 @@ struct SmallLdlt {
   }
 };
 
+/// The adjugate and determinant of a symmetric 3x3 matrix (adjugate3).
+template <class Scalar>
+struct Adjugate3 {
+  Scalar c00, c01, c02, c11, c12, c22;  ///< the adjugate's upper triangle (it is symmetric)
+  Scalar det;                           ///< the determinant, a00 c00 + a01 c01 + a02 c02
+};
+
+/// The adjugate (the transposed cofactor matrix, so A^-1 = adj(A) / det A) and determinant of
+/// the symmetric 3x3 matrix A = [[a00, a01, a02], [a01, a11, a12], [a02, a12, a22]]: six
+/// products of differences and a first-row expansion, no division. Each entry is one
+/// expression of fixed operation order, so its rounding does not depend on the caller.
+template <class Scalar>
+EIGEN_ALWAYS_INLINE Adjugate3<Scalar> adjugate3(Scalar a00, Scalar a01, Scalar a02, Scalar a11, Scalar a12,
+                                                Scalar a22) {
+  Adjugate3<Scalar> r;
+  r.c00 = a11 * a22 - a12 * a12;
+  r.c01 = a02 * a12 - a01 * a22;
+  r.c02 = a01 * a12 - a02 * a11;
+  r.c11 = a00 * a22 - a02 * a02;
+  r.c12 = a01 * a02 - a00 * a12;
+  r.c22 = a00 * a11 - a01 * a01;
+  r.det = a00 * r.c00 + a01 * r.c01 + a02 * r.c02;
+  return r;
+}
+
 /// Eigen-decomposition of a symmetric 6x6 matrix by cyclic Jacobi rotations: a = v diag(ev) v^T
 /// (`a` is overwritten, its diagonal ends as ev: no copy, for small stacks).
 /// Fixed size, no heap, no static state (Eigen's SelfAdjointEigenSolver pulls dynamic-size
@@ -230,6 +256,94 @@ void least_squares_6x6(const Matrix6<Scalar>& m, const Wrench<Scalar>& r, const 
   const PseudoInverse6<Scalar> pinv(d.asDiagonal() * m * d.asDiagonal());
   y = d.cwiseProduct(pinv.apply(d.cwiseProduct(r)));
   if (!y.allFinite()) y.setZero();
+}
+
+/// Solves A y = b for a symmetric 6x6 A known to satisfy A >= floor I (here: a Jacobi-scaled
+/// M + el I) by Cholesky with every pivot raised to at least `floor`, so that round-off can
+/// neither break the factorisation nor hide the directions that only the floor keeps.
+template <class Scalar>
+Wrench<Scalar> solve_floored_6x6(const Matrix6<Scalar>& a, const Wrench<Scalar>& b, Scalar floor) {
+  Matrix6<Scalar> l = a;
+  Wrench<Scalar> inv;  // 1 / l(j, j): one division per pivot
+  for (int j = 0; j < 6; ++j) {
+    Scalar p = l(j, j);
+    for (int k = 0; k < j; ++k) p -= l(j, k) * l(j, k);
+    if (!(p > floor)) p = floor;
+    p = std::sqrt(p);
+    l(j, j) = p;
+    inv(j) = Scalar(1) / p;
+    for (int i = j + 1; i < 6; ++i) {
+      Scalar t = l(i, j);
+      for (int k = 0; k < j; ++k) t -= l(i, k) * l(j, k);
+      l(i, j) = t * inv(j);
+    }
+  }
+  Wrench<Scalar> z = b;
+  for (int i = 0; i < 6; ++i) {
+    for (int k = 0; k < i; ++k) z(i) -= l(i, k) * z(k);
+    z(i) *= inv(i);
+  }
+  for (int i = 5; i >= 0; --i) {
+    for (int k = i + 1; k < 6; ++k) z(i) -= l(k, i) * z(k);
+    z(i) *= inv(i);
+  }
+  return z;
+}
+
+/// Solves A y = b for the symmetric positive definite Newton matrix A (6x6, Jacobi-scaled) by
+/// 3x3 blocks: A = [[P, Q], [Q^T, R]], P^-1 and the Schur complement T = R - Q^T P^-1 Q inverted
+/// by their adjugates (adjugate3: two divisions, no square root: the floored Cholesky's six
+/// square roots and divisions form one chain of latencies). Taken in double precision only
+/// (ScalarTraits::is_single_precision false), and only when both 3x3 determinants exceed 1e-4
+/// times the product of their diagonals and T's diagonal keeps 1e-4 of A's (no cancellation),
+/// so that the answer loses at most about 1e8 eps (backward error); otherwise (and always in
+/// float, and for any non-finite input) solve_floored_6x6(a, b, floor).
+template <class S>
+Wrench<S> solve_newton_6x6(const Matrix6<S>& a, const Wrench<S>& b, S floor) {
+  if constexpr (ScalarTraits<S>::is_single_precision) return solve_floored_6x6(a, b, floor);
+  const S hadamard = S(1e-4);
+  const S p00 = a(0, 0), p01 = a(0, 1), p02 = a(0, 2), p11 = a(1, 1), p12 = a(1, 2), p22 = a(2, 2);
+  const Adjugate3<S> pa = adjugate3(p00, p01, p02, p11, p12, p22);  // adj(P) and det(P)
+  const S c00 = pa.c00, c01 = pa.c01, c02 = pa.c02, c11 = pa.c11, c12 = pa.c12, c22 = pa.c22;
+  const S dp = pa.det;
+  if (!(dp > hadamard * p00 * p11 * p22) || !(p00 > S(0) && p11 > S(0) && p22 > S(0)))
+    return solve_floored_6x6(a, b, floor);
+  const S ip = S(1) / dp;
+  // X = P^-1 Q (Q = rows 0-2, columns 3-5), then the Schur complement T = R - Q^T X.
+  S x[3][3];
+  for (int j = 0; j < 3; ++j) {
+    const S q0 = a(0, 3 + j), q1 = a(1, 3 + j), q2 = a(2, 3 + j);
+    x[0][j] = (c00 * q0 + c01 * q1 + c02 * q2) * ip;
+    x[1][j] = (c01 * q0 + c11 * q1 + c12 * q2) * ip;
+    x[2][j] = (c02 * q0 + c12 * q1 + c22 * q2) * ip;
+  }
+  const auto t = [&](int i, int j) {
+    return a(3 + i, 3 + j) - (a(0, 3 + i) * x[0][j] + a(1, 3 + i) * x[1][j] + a(2, 3 + i) * x[2][j]);
+  };
+  const S t00 = t(0, 0), t01 = t(0, 1), t02 = t(0, 2), t11 = t(1, 1), t12 = t(1, 2), t22 = t(2, 2);
+  const Adjugate3<S> ta = adjugate3(t00, t01, t02, t11, t12, t22);  // adj(T) and det(T)
+  const S d00 = ta.c00, d01 = ta.c01, d02 = ta.c02, d11 = ta.c11, d12 = ta.c12, d22 = ta.c22;
+  const S dt = ta.det;
+  // T's diagonal must not have cancelled (t_ii against a_ii), nor its determinant against its
+  // diagonal.
+  if (!(dt > hadamard * t00 * t11 * t22) || !(t00 > hadamard * a(3, 3) && t11 > hadamard * a(4, 4) &&
+                                               t22 > hadamard * a(5, 5)))
+    return solve_floored_6x6(a, b, floor);
+  const S it = S(1) / dt;
+  // u = P^-1 b_1; y_2 = T^-1 (b_2 - Q^T u); y_1 = u - X y_2.
+  const S u0 = (c00 * b(0) + c01 * b(1) + c02 * b(2)) * ip, u1 = (c01 * b(0) + c11 * b(1) + c12 * b(2)) * ip,
+          u2 = (c02 * b(0) + c12 * b(1) + c22 * b(2)) * ip;
+  const S r0 = b(3) - (a(0, 3) * u0 + a(1, 3) * u1 + a(2, 3) * u2);
+  const S r1 = b(4) - (a(0, 4) * u0 + a(1, 4) * u1 + a(2, 4) * u2);
+  const S r2 = b(5) - (a(0, 5) * u0 + a(1, 5) * u1 + a(2, 5) * u2);
+  Wrench<S> y;
+  y(3) = (d00 * r0 + d01 * r1 + d02 * r2) * it;
+  y(4) = (d01 * r0 + d11 * r1 + d12 * r2) * it;
+  y(5) = (d02 * r0 + d12 * r1 + d22 * r2) * it;
+  y(0) = u0 - (x[0][0] * y(3) + x[0][1] * y(4) + x[0][2] * y(5));
+  y(1) = u1 - (x[1][0] * y(3) + x[1][1] * y(4) + x[1][2] * y(5));
+  y(2) = u2 - (x[2][0] * y(3) + x[2][1] * y(4) + x[2][2] * y(5));
+  return y;
 }
 
 }  // namespace detail

@@ -1,0 +1,152 @@
+#pragma once
+/// \file
+/// Phase 1 of solve_constrained (namespace grip::detail): the least-residual problem, solved
+/// when the Newton iteration stalls, and the test of an infeasibility certificate.
+///
+/// The least-residual forces come closest to equilibrium inside the cones (ties broken by F2);
+/// for any multipliers of its dual, the projections make their direction an infeasibility
+/// certificate up to a term of order delta, so one solve both decides infeasibility and gives
+/// the forces that an Infeasible answer returns.
+
+#include <cmath>
+#include <limits>
+
+#include "grip/contact/contact_model.hpp"
+#include "grip/contact/exact_cone.hpp"
+#include "grip/core/types.hpp"
+#include "grip/solve/constrained_settings.hpp"
+#include "grip/solve/detail/constrained_passes.hpp"
+#include "grip/solve/symmetric_solve.hpp"
+
+namespace grip {
+namespace detail {
+
+/// Phase 1: forces in the cones that come closest to equilibrium. Solves
+///   min over x in the cones of 1/2 |G x + w_ext|^2 + delta/2 sum_i w_i |x_i - t_i|^2
+/// (delta small: the least residual, ties broken by F2) through its strongly concave dual
+///   phi(l) = -1/2 |l|^2 + l.(G x(l) + w_ext) + delta F2(x(l)), x_i(l) = P_i(t_i - G_i^T l/(delta w_i)),
+/// by the same semi-smooth Newton method (Hessian -(I + sum G_i J_i G_i^T/(delta w_i))). At its
+/// maximiser l = G x + w_ext. For ANY l, x_i(l) is a projection, so G_i^T l + delta w_i (x_i - t_i)
+/// lies in K_i^* exactly: l/|l| is an infeasibility certificate up to delta w_i |x_i - t_i| / |l|.
+/// Writes the forces into x, the multipliers into lambda, and returns the iterations used (at
+/// most settings.max_iterations).
+template <class Passes>
+int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& w_ext, typename Passes::Scalar delta,
+                   const ConstrainedSettings<typename Passes::Scalar>& settings, typename Passes::Forces& x,
+                   Wrench<typename Passes::Scalar>& lambda, typename Passes::Scalar& f2) {
+  using S = typename Passes::Scalar;
+  const S eps = std::numeric_limits<S>::epsilon();
+  typename Passes::Forces xt = passes.make_forces();
+  // The Hessian sums at the current point and at the line-search point, from their passes.
+  GramAccumulator<S> cur_h, trial_h;
+  lambda.setZero();
+  // Continuation: delta starts at delta_max (a well-scaled problem) and drops `drop`-fold (100)
+  // each time the current problem is solved, down to the requested delta (warm-started each time).
+  S dl = delta;
+  const S delta_max = delta / settings.least_residual_weight;
+  const S drop = settings.least_residual_continuation;
+  while (dl * drop <= delta_max) dl *= drop;
+  const auto phi = [&](const ConstrainedPass<S>& p, const Wrench<S>& l) {
+    return -S(0.5) * l.squaredNorm() + l.dot(p.residual) + dl * p.f2;
+  };
+  ConstrainedPass<S> cur = passes.pass(w_ext, Wrench<S>(-lambda / dl), x, &cur_h);
+  S cur_phi = phi(cur, lambda);
+  // The forces returned are the best point met by the requested problem's objective
+  // |r|^2/2 + delta F2: at the last, tiny delta, x(l) is so sensitive to l that the last
+  // iterate's forces can lie far from the least residual even though l itself is right.
+  typename Passes::Forces best = passes.make_forces();
+  S best_objective = std::numeric_limits<S>::infinity(), best_f2 = S(0);
+  const auto keep = [&]() {
+    const S p = S(0.5) * cur.residual.squaredNorm() + delta * cur.f2;
+    if (p < best_objective) {
+      best_objective = p;
+      best_f2 = cur.f2;
+      best = x;
+    }
+  };
+  keep();
+  // The next stage of the continuation, from the current l: false when this one was the last.
+  const auto next_stage = [&]() {
+    if (!(dl > delta)) return false;
+    dl = dl / drop < delta ? delta : dl / drop;
+    cur = passes.pass(w_ext, Wrench<S>(-lambda / dl), x, &cur_h);
+    cur_phi = phi(cur, lambda);
+    keep();
+    return true;
+  };
+  int it = 0;
+  for (; it < settings.max_iterations; ++it) {
+    const Wrench<S> g = cur.residual - lambda;  // grad phi
+    if (g.norm() <= settings.tolerance * cur.scale ||
+        (dl > delta && g.norm() <= settings.least_residual_stage_tolerance * cur.scale)) {
+      if (!next_stage()) break;
+      continue;
+    }
+    Matrix6<S> h = cur_h.matrix();
+    h.diagonal().array() += dl;
+    const Wrench<S> e = h.diagonal().cwiseSqrt().cwiseInverse();
+    const Matrix6<S> hs = e.asDiagonal() * h * e.asDiagonal();
+    const S floor = S(constrained_roundoff) * eps;
+    const Wrench<S> dir = e.cwiseProduct(solve_newton_6x6(hs, Wrench<S>(dl * e.cwiseProduct(g)), floor));
+    const S slope = g.dot(dir);
+    if (dir.norm() <= S(4) * eps * (lambda.norm() + cur.scale) || !(slope > S(0))) {  // at round-off
+      if (!next_stage()) break;
+      continue;
+    }
+    if (!dir.allFinite()) break;  // slope > 0 here: the branch above took the rest
+    bool accepted = false;
+    S alpha = S(1);
+    Wrench<S> lt;
+    ConstrainedPass<S> trial;
+    S trial_phi = cur_phi;
+    for (int ls = 0; ls < settings.max_line_search; ++ls, alpha *= S(0.5)) {
+      lt = lambda + alpha * dir;
+      trial = passes.pass(w_ext, Wrench<S>(-lt / dl), xt, &trial_h);
+      trial_phi = phi(trial, lt);
+      const S slack =
+          S(constrained_roundoff) * eps * (std::abs(cur_phi) + std::abs(trial_phi) + lt.squaredNorm());
+      if (trial_phi >= cur_phi + settings.armijo * alpha * slope - slack) {
+        accepted = true;
+        break;
+      }
+    }
+    if (!accepted) {
+      if (!next_stage()) break;
+      continue;
+    }
+    lambda = lt;
+    x = xt;
+    cur_h = trial_h;
+    cur = trial;
+    cur_phi = trial_phi;
+    keep();
+  }
+  x = best;
+  f2 = best_f2;
+  return it;
+}
+
+/// True when y (unit) certifies infeasibility: y.w_ext > 0 and G_i^T y in K_i^* for all i, up
+/// to `tol`: the distance from G_i^T y to K_i^* is at most tol (1 + |r_i|) (|r_i| in m: the
+/// scale of G_i^T y for a unit y), and y.w_ext > guard tol |w_ext|, which keeps directions of
+/// round-off out (ConstrainedSettings::certificate_guard).
+template <class GraspT>
+bool is_infeasibility_certificate(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
+                                  const Wrench<typename GraspT::ScalarType>& y, typename GraspT::ScalarType tol,
+                                  typename GraspT::ScalarType guard) {
+  using S = typename GraspT::ScalarType;
+  using M = typename GraspT::ModelType;
+  using Cone = ExactConeT<M, S>;
+  const S wtol = tol * guard;
+  if (!(y.dot(w_ext) > wtol * w_ext.norm())) return false;
+  for (int i = 0; i < grasp.size(); ++i) {
+    const auto& c = grasp.contact(i);
+    const typename GraspT::ContactVector z = M::wrench_transpose(c, y);
+    const auto dual = Cone::from_contact(c).dual();
+    if (!((z - dual.project(z)).norm() <= tol * (S(1) + c.position.norm()))) return false;
+  }
+  return true;
+}
+
+}  // namespace detail
+}  // namespace grip

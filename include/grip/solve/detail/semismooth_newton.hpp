@@ -1,0 +1,300 @@
+#pragma once
+/// \file
+/// solve_constrained's iteration after the fast path (namespace grip::detail): semi-smooth
+/// Newton ascent on the 6-dimensional dual, with the infeasibility decision by phase 1
+/// (least_residual.hpp). Included by solve_constrained.hpp, which defines ConstrainedSolution.
+///
+/// For multipliers lambda the Lagrangian L(x, lambda) = F2(x) - lambda.(G x + w_ext) is
+/// minimised over the cones by x_i(lambda) = P_i(v_i), v_i = t_i + w_i^-1 G_i^T lambda (P_i:
+/// Euclidean projection onto K_i; the weight is a scalar, so the weighted projection is the
+/// Euclidean one). The dual function q(lambda) = L(x(lambda), lambda) is concave and C^1 with
+/// gradient -(G x(lambda) + w_ext); its generalised Hessian is -sum_i w_i^-1 G_i J_i G_i^T with
+/// J_i a generalised Jacobian of P_i (projection_jacobian.hpp). Each iteration: a regularised
+/// 6x6 solve for the direction (the matrix comes from the previous pass), and an Armijo line
+/// search on q (one pass per trial, constrained_passes.hpp). Every x(lambda) lies in the cones
+/// and satisfies stationarity and complementarity exactly; only the equilibrium residual is
+/// driven to zero.
+
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Core>
+
+#include "grip/contact/contact_model.hpp"
+#include "grip/core/status.hpp"
+#include "grip/core/types.hpp"
+#include "grip/solve/constrained_settings.hpp"
+#include "grip/solve/detail/constrained_passes.hpp"
+#include "grip/solve/detail/least_residual.hpp"
+#include "grip/solve/symmetric_solve.hpp"
+
+namespace grip {
+
+template <class GraspT>
+struct ConstrainedSolution;  // solve_constrained.hpp
+
+namespace detail {
+
+/// `sol` as InvalidInput: zero forces (`unknowns` of them) and multipliers, the largest residual.
+template <class GraspT>
+void fill_invalid(ConstrainedSolution<GraspT>& sol, int unknowns) {
+  sol.forces.setZero(unknowns);
+  sol.multipliers.setZero();
+  sol.status = Status::InvalidInput;
+  sol.residual = std::numeric_limits<typename GraspT::ScalarType>::max();
+  sol.iterations = 0;
+}
+
+/// The semi-smooth Newton iteration of solve_constrained (see the file comment), with its state
+/// in members: the iterate (lambda_, its forces x_ and pass sums cur_, the Hessian sums cur_h_),
+/// the Levenberg-Marquardt damping, the stall count, and phase 1's verdict, kept pending in the
+/// p_* members until apply_infeasible(). Entry: run().
+template <class GraspT>
+class SemismoothNewton {
+ public:
+  using S = typename GraspT::ScalarType;
+  using Passes = ConstrainedPasses<GraspT>;
+  using Forces = typename Passes::Forces;
+
+  /// Runs the iteration after the fast path failed: `lambda` and `gram_diagonal` as
+  /// constrained_fast_path left them (the start, unless `warm` is given), every field of `sol`
+  /// written. Kept out of line so that the fast path (the common case of a real-time loop) does
+  /// not pay for its frame.
+  static EIGEN_DONT_INLINE void run(const GraspT& grasp, const Wrench<S>& w_ext, const ConstrainedSettings<S>& settings,
+                                    const Wrench<S>* warm, const Wrench<S>& lambda, const Wrench<S>& gram_diagonal,
+                                    ConstrainedSolution<GraspT>& sol) {
+    fill_invalid(sol, grasp.unknowns());
+    SemismoothNewton newton(grasp, w_ext, settings, sol,
+                            warm != nullptr ? *warm : (lambda.allFinite() ? lambda : Wrench<S>::Zero()), gram_diagonal);
+    newton.iterate();
+    newton.finish();
+  }
+
+ private:
+  SemismoothNewton(const GraspT& grasp, const Wrench<S>& w_ext, const ConstrainedSettings<S>& settings,
+                   ConstrainedSolution<GraspT>& sol, const Wrench<S>& lambda, const Wrench<S>& gram_diagonal)
+      : grasp_(grasp), w_ext_(w_ext), settings_(settings), sol_(sol), m_(grasp.unknowns()), lambda_(lambda),
+        passes_(grasp), x_(passes_.make_forces()), xt_(passes_.make_forces()), p_x_(passes_.make_forces()),
+        grace_(settings.infeasible_grace) {
+    // Jacobi scaling D of the Levenberg-Marquardt term: the unconstrained Gram diagonal, floored.
+    jacobi_ = gram_diagonal;
+    const S jmax = jacobi_.maxCoeff();
+    for (int k = 0; k < 6; ++k)
+      jacobi_(k) = jacobi_(k) > settings_.jacobi_floor * jmax ? jacobi_(k) : settings_.jacobi_floor * jmax;
+    dinv_ = jacobi_.cwiseSqrt().cwiseInverse();
+    cur_ = passes_.pass(w_ext_, lambda_, x_, &cur_h_);
+  }
+
+  /// The iteration until convergence, the bound, the end of ascent or an infeasibility verdict;
+  /// at the bound, infeasibility is decided (or the pending verdict applied) once more.
+  void iterate() {
+    for (;; ++it_) {
+      const S rn = cur_.residual.norm();
+      const S floor = S(constrained_roundoff) * eps() * cur_.scale;
+      if (rn <= floor || (rn <= settings_.tolerance * cur_.scale &&
+                          std::abs(lambda_.dot(cur_.residual)) <= settings_.gap_tolerance * cur_.f2)) {
+        status_ = Status::Ok;
+        break;
+      }
+      if (it_ >= settings_.max_iterations) break;
+      if (!newton_step(rn)) break;
+      if (!watch_stall(rn)) break;
+    }
+    if (status_ == Status::IterationLimit) {
+      if (pending_ || (!phase1_done_ && decide_infeasible())) apply_infeasible();
+    }
+  }
+
+  /// One Newton step from lambda_ (residual norm `rn`): the direction from
+  /// (H + mu D) d = -r, H = sum w^-1 G J G^T, solved Jacobi-scaled, with
+  /// mu = min(damping, |r|/scale) + regularisation (quadratic convergence near the optimum, and
+  /// steps that grow geometrically along a direction of unbounded ascent: infeasible problems),
+  /// then the Armijo line search on q. The accepted point becomes the iterate; false when no
+  /// step is accepted (no ascent left at round-off: Ok if the residual is within tolerance).
+  bool newton_step(S rn) {
+    const S reg = settings_.regularisation;
+    Matrix6<S> h = cur_h_.matrix();
+    const S rel = cur_.scale > S(0) ? rn / cur_.scale : S(1);
+    const S mu = (damping_ < rel ? damping_ : rel) + reg;
+    h.diagonal() += mu * jacobi_;
+    const Matrix6<S> hs = dinv_.asDiagonal() * h * dinv_.asDiagonal();
+    const Wrench<S> dir = dinv_.cwiseProduct(solve_newton_6x6(hs, Wrench<S>(-dinv_.cwiseProduct(cur_.residual)), mu));
+    const S slope = -cur_.residual.dot(dir);  // q'(0) along dir, > 0
+    bool accepted = false;
+    ConstrainedPass<S> trial;
+    Wrench<S> lt;
+    int cuts = 0;
+    if (slope > S(0) && dir.allFinite()) {
+      S alpha = S(1);
+      for (; cuts < settings_.max_line_search; ++cuts, alpha *= S(0.5)) {
+        lt = lambda_ + alpha * dir;
+        trial = passes_.pass(w_ext_, lt, xt_, &trial_h_);
+        const S slack =
+            S(constrained_roundoff) * eps() * (std::abs(trial.dual) + std::abs(cur_.dual) + std::abs(cur_.f2));
+        if (trial.dual >= cur_.dual + settings_.armijo * alpha * slope - slack) {
+          accepted = true;
+          break;
+        }
+      }
+    }
+    if (!accepted) {
+      if (rn <= settings_.tolerance * cur_.scale) status_ = Status::Ok;
+      return false;
+    }
+    // Levenberg-Marquardt: /10 after a full step, *4 (up to 1) after a cut one.
+    damping_ = cuts == 0 ? damping_ * S(0.1) : (damping_ * S(4) < S(1) ? damping_ * S(4) : S(1));
+    if (damping_ < reg) damping_ = reg;
+    lambda_ = lt;
+    x_ = xt_;
+    cur_h_ = trial_h_;
+    cur_ = trial;
+    return true;
+  }
+
+  /// After a step from residual norm `rn`: slow progress (the residual no longer halves,
+  /// settings.stall_limit times in a row) suggests that no forces in the cones balance w_ext;
+  /// it is decided once by the least-residual problem. A verdict of infeasibility waits
+  /// settings.infeasible_grace iterations for Newton to converge after all. False: stop now.
+  bool watch_stall(S rn) {
+    stall_ = cur_.residual.norm() > S(0.5) * rn ? stall_ + 1 : 0;
+    if (stall_ >= settings_.stall_limit && !phase1_done_) {
+      phase1_done_ = true;
+      if (decide_infeasible()) {
+        pending_ = true;
+        if (grace_ <= 0) return false;
+      } else if (p_lambda_.allFinite()) {
+        restart_from_phase1();
+      }
+    } else if (pending_ && --grace_ <= 0) {
+      return false;
+    }
+    return true;
+  }
+
+  /// Feasible after all: the least-residual solve is a penalty approximation of this problem,
+  /// so -y/delta (p_lambda_) estimates the multipliers; continue from it if the dual is higher.
+  void restart_from_phase1() {
+    ConstrainedPass<S> alt = passes_.pass(w_ext_, p_lambda_, xt_, &trial_h_);
+    if (alt.dual > cur_.dual && std::isfinite(alt.dual)) {
+      lambda_ = p_lambda_;
+      x_ = xt_;
+      cur_h_ = trial_h_;
+      cur_ = alt;
+      stall_ = 0;
+    }
+  }
+
+  /// Phase 1: the least-residual forces; true (the verdict and its forces, multipliers and
+  /// certificate kept in p_*) if the direction of its multipliers, or in float that of the
+  /// diverging Newton multipliers, checks out as an infeasibility certificate.
+  bool decide_infeasible() {
+    Wrench<S> y;
+    S f2 = S(0);
+    S delta = settings_.least_residual_weight * jacobi_.maxCoeff();
+    // y is (to delta) the least residual: a feasible problem leaves only round-off there,
+    // below settings.infeasibility_bar tolerance |w_ext|.
+    const S bar = settings_.infeasibility_bar * settings_.tolerance * w_ext_.norm();
+    bool ok = false;
+    // The certificate's error is delta w_i |x_i - t_i| / |y|: nearly infeasible grasps need
+    // large least-residual forces, so the solve may be retried with smaller delta
+    // (settings.certificate_attempts) when the first certificate misses the tolerance.
+    const int tries = settings_.certificate_attempts;
+    phase1_iterations_ = 0;
+    // The tries share one budget of settings.max_iterations iterations.
+    ConstrainedSettings<S> budget = settings_;
+    for (int k = 0; k < tries && !ok && phase1_iterations_ < settings_.max_iterations;
+         ++k, delta *= settings_.certificate_retry_factor) {
+      budget.max_iterations = settings_.max_iterations - phase1_iterations_;
+      phase1_iterations_ += least_residual(passes_, w_ext_, delta, budget, p_x_, y, f2);
+      p_lambda_ = -y / delta;  // the penalty estimate of the multipliers (x(p_lambda_) = p_x_)
+      const S rn = y.norm();
+      if (rn > bar) {
+        p_cert_ = y / rn;
+        ok = is_infeasibility_certificate(grasp_, w_ext_, p_cert_, settings_.certificate_tolerance,
+                                          settings_.certificate_guard);
+      }
+    }
+    // Second candidate (settings.multiplier_certificate, float by default): the direction
+    // -lambda of the diverging Newton multipliers. x_i(lambda) is a projection, so -G_i^T lambda
+    // lies in K_i^* up to w_i |x_i - t_i| / |lambda|: a certificate when |lambda| has grown large.
+    const S ln = lambda_.norm();
+    if (settings_.multiplier_certificate && !ok && ln > S(0) && lambda_.allFinite()) {
+      p_cert_ = -lambda_ / ln;
+      ok = is_infeasibility_certificate(grasp_, w_ext_, p_cert_, settings_.certificate_tolerance,
+                                        settings_.certificate_guard);
+    }
+    if (!ok) return false;
+    p_y_ = y;
+    p_f2_ = f2;
+    typename GraspT::ForceVector forces(m_);
+    passes_.store(p_x_, forces);
+    p_r_ = grasp_.wrench(forces) + w_ext_;
+    return true;
+  }
+
+  /// The pending verdict becomes the answer: Infeasible, with phase 1's forces, multipliers and
+  /// certificate.
+  void apply_infeasible() {
+    status_ = Status::Infeasible;
+    sol_.certificate = p_cert_;
+    x_ = p_x_;
+    lambda_ = p_y_;
+    cur_.residual = p_r_;
+    cur_.f2 = p_f2_;
+    cur_.dual = p_f2_ - lambda_.dot(p_r_);
+  }
+
+  /// Writes the iterate into the solution; anything not finite becomes zero forces and
+  /// multipliers (an Ok verdict then IterationLimit).
+  void finish() {
+    ConstrainedSolution<GraspT>& sol = sol_;
+    passes_.store(x_, sol.forces);
+    sol.multipliers = lambda_;
+    sol.residual = stable_norm(cur_.residual);
+    sol.objective = cur_.f2;
+    sol.dual_objective = cur_.dual;
+    sol.iterations = it_ + phase1_iterations_;
+    sol.status = status_;
+    if (!sol.forces.allFinite() || !sol.multipliers.allFinite() || !std::isfinite(sol.dual_objective)) {
+      sol.forces.setZero(m_);
+      sol.multipliers.setZero();
+      sol.residual = stable_norm(w_ext_);
+      sol.objective = S(0);
+      sol.dual_objective = S(0);
+      if (sol.status == Status::Ok) sol.status = Status::IterationLimit;
+    }
+  }
+
+  static S eps() { return std::numeric_limits<S>::epsilon(); }
+
+  // The problem.
+  const GraspT& grasp_;
+  const Wrench<S>& w_ext_;
+  const ConstrainedSettings<S>& settings_;
+  ConstrainedSolution<GraspT>& sol_;
+  const int m_;  ///< unknowns
+  // The iterate.
+  Wrench<S> lambda_;
+  Wrench<S> jacobi_;  ///< D: the Gram diagonal, floored at settings.jacobi_floor of its largest entry
+  Wrench<S> dinv_;    ///< D^-1/2
+  const Passes passes_;  ///< hard fingers: the grasp copied into columns once
+  Forces x_, xt_;        ///< the forces at lambda_ and at the line-search point
+  GramAccumulator<S> cur_h_, trial_h_;  ///< the Hessian sums at lambda_ and at the line-search point
+  ConstrainedPass<S> cur_;              ///< the pass sums at lambda_
+  S damping_{1};  ///< Levenberg-Marquardt state: /10 after a full step, *4 after a cut one
+  Status status_{Status::IterationLimit};
+  int it_{0};
+  int stall_{0};              ///< steps in a row whose residual did not halve
+  int phase1_iterations_{0};  ///< counted apart: the Newton budget stays max_iterations
+  bool phase1_done_{false};
+  // Phase 1's verdict, pending until apply_infeasible().
+  Wrench<S> p_cert_{Wrench<S>::Zero()}, p_y_{Wrench<S>::Zero()}, p_r_{Wrench<S>::Zero()};
+  S p_f2_{0};
+  Forces p_x_;
+  Wrench<S> p_lambda_{Wrench<S>::Zero()};
+  bool pending_{false};  ///< an infeasibility verdict awaits the grace iterations
+  int grace_{0};         ///< iterations left for Newton to converge before the verdict stands
+};
+
+}  // namespace detail
+}  // namespace grip
