@@ -5,6 +5,7 @@
 # runs them, then llvm-cov (Debian's llvm) writes
 #   build/ci-sanitize/coverage/report.txt     per header: lines, lines missed, percent covered
 #   build/ci-sanitize/coverage/uncovered.txt  per header, the line numbers that no test executed
+#   build/ci-sanitize/coverage/unexecuted_functions.txt  the functions that no test executed
 # and both are printed. Exits non-zero when the build or a test fails.
 # Usage: bash cmake/coverage.sh            (needs clang and llvm-cov / llvm-profdata)
 set -euo pipefail
@@ -33,7 +34,12 @@ awk '$1 ~ /\.hpp$/ {printf "%-50s %6s %6s %8s\n", "include/grip/" $1, $8, $9, $1
   awk -F'|' '/^\/.*\.hpp:$/ {file = $0; sub(/:$/, "", file); sub(/.*include\//, "include/", file); next}
              NF >= 3 && $2 ~ /^ *0 *$/ {gsub(/ /, "", $1); miss[file] = miss[file] " " $1}
              END {for (f in miss) print f ":" miss[f]}' | sort > "$dir/uncovered.txt"
+# The functions that no test executed (any instantiation counts).
+"$(tool llvm-cov)" export "$bin" -instr-profile="$dir/grip.profdata" "$PWD/include" -skip-expansions |
+  python3 cmake/unexecuted_functions.py > "$dir/unexecuted_functions.txt"
 echo "== line coverage of include/grip (lines, missed, covered) =="
 cat "$dir/report.txt"
 echo "== uncovered lines per header =="
 cat "$dir/uncovered.txt"
+echo "== functions never executed =="
+cat "$dir/unexecuted_functions.txt"

@@ -202,3 +202,15 @@ TEST_CASE_TEMPLATE("Pyramid: edge cases have defined, finite answers", S, double
   CHECK(ray.dual().dual().mu() == S(0));
   CHECK(scope.allocations() == 0);
 }
+
+TEST_CASE_TEMPLATE("Pyramid: the default pyramid is the ray along z (mu = 0)", S, double, float) {
+  const PyramidCone<4, S> k;
+  CHECK(k.normal() == Vector3<S>::UnitZ());
+  CHECK(k.mu() == S(0));
+  CHECK(k.half_step() == 0);
+  CHECK(k.inner_radius() == S(0));
+  CHECK(k.outer_radius() == S(0));
+  const Vector3<S> f(S(3), S(-4), S(2));
+  CHECK(k.normal_part(f) == S(2));
+  CHECK(k.tangential_norm(f) == S(5));
+}

@@ -1,10 +1,14 @@
-// core/types.hpp: skew() and stable_norm() against hand-worked values.
+// core/types.hpp: skew(), stable_norm() and the size helpers against hand-worked values;
+// core/version.hpp: its spellings agree.
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <string>
 
 #include <grip/core/types.hpp>
+#include <grip/core/version.hpp>
 
 namespace types_test {
 
@@ -39,6 +43,28 @@ TEST_CASE_TEMPLATE("stable_norm: 3-4-5 at every scale, where a sum of squares un
   // Not finite stays not finite.
   CHECK(std::isnan(stable_norm(Vector3<S>(S(1), L::quiet_NaN(), S(0)))));
   CHECK(std::isinf(stable_norm(Vector3<S>(S(1), L::infinity(), S(0)))));
+}
+
+
+TEST_CASE("times_or_dynamic and plus_or_dynamic: products and sums of sizes, Dynamic kept") {
+  volatile int three = 3, dynamic = Dynamic;  // evaluated at run time as well as in constexpr uses
+  CHECK(times_or_dynamic(three, 4) == 12);
+  CHECK(times_or_dynamic(dynamic, 4) == Dynamic);
+  CHECK(plus_or_dynamic(6, three * 3) == 15);  // the KKT size of three hard fingers: 6 + 3 n
+  CHECK(plus_or_dynamic(6, dynamic) == Dynamic);
+}
+
+TEST_CASE("version: the macros, the string literal and version() agree") {
+  // Three spellings of the version are written by hand in version.hpp; a release that bumps one
+  // must bump all.
+  const Version v = version();
+  char text[32];
+  std::snprintf(text, sizeof text, "%d.%d.%d", v.major, v.minor, v.patch);
+  CHECK(std::string(text) == GRIP_VERSION_STRING);
+  CHECK(GRIP_VERSION == v.major * 10000 + v.minor * 100 + v.patch);
+  CHECK(v.major == GRIP_VERSION_MAJOR);
+  CHECK(v.minor == GRIP_VERSION_MINOR);
+  CHECK(v.patch == GRIP_VERSION_PATCH);
 }
 
 }  // namespace types_test

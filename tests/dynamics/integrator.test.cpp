@@ -139,3 +139,15 @@ TEST_CASE_TEMPLATE("a free step does not touch the heap", S, double, float) {
   CHECK(scope.allocations() == 0);
   CHECK(ok == 10);
 }
+
+TEST_CASE_TEMPLATE("momenta: m v, and the step changes m v by F dt", S, double, float) {
+  RigidBody<S> b = box_body<S>();
+  b.mass = S(2);
+  b.linear_velocity << S(0.5), S(-1), S(3);
+  CHECK((b.linear_momentum() - Vector3<S>(S(1), S(-2), S(6))).norm() <= S(1e-6));  // by hand
+  Wrench<S> w = Wrench<S>::Zero();
+  w.template head<3>() << S(4), S(0), S(-2);
+  const Vector3<S> before = b.linear_momentum();
+  REQUIRE(step_free<S>(b, w, S(0.01)) == Status::Ok);
+  CHECK((b.linear_momentum() - before - Vector3<S>(S(0.04), S(0), S(-0.02))).norm() <= rel_tol<S>(1e-12, 1e-6));
+}

@@ -80,6 +80,57 @@ double brute_distance(const std::vector<std::array<double, 9>>& tris, const V3& 
 }
 }  // namespace
 
+TEST_CASE_TEMPLATE("a square pyramid (6 triangles: a padded block): hierarchy, far field and distance", S, double, float) {
+  // Base [-a, a]^2 at z = 0, apex (0, 0, h). Its triangle count is not a multiple of 4, so the
+  // last block of the SIMD distance pass is padded.
+  const double a = 0.02, h = 0.03;
+  Soup soup;
+  soup.v = {V3(-a, -a, 0), V3(a, -a, 0), V3(a, a, 0), V3(-a, a, 0), V3(0, 0, h)};
+  soup.t = {{0, 2, 1}, {0, 3, 2}, {0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}};  // outward
+  static TriangleMesh<S, 16, 16> m;
+  static MeshShape<S, 16, 16> f;
+  REQUIRE(load(soup, m).ok());
+  CHECK(f.mesh() == nullptr);
+  REQUIRE(f.build(m) == Status::Ok);
+  CHECK(f.mesh() == &m);
+  REQUIRE(f.node_count() >= 1);
+  CHECK(f.quad_count() >= 1);
+  // The leaves hold the 6 triangles, 1 to 4 each; the root's box is the pyramid's.
+  int held = 0;
+  for (int i = 0; i < f.node_count(); ++i) {
+    const auto& node = f.node(i);
+    CHECK(node.count <= 4);
+    held += node.count;
+  }
+  CHECK(held == 6);
+  const double tol = grip_test::tol_of<S>(1e-15, 1e-7);
+  CHECK((f.node(0).lo.template cast<double>() - V3(-a, -a, 0)).norm() <= tol);
+  CHECK((f.node(0).hi.template cast<double>() - V3(a, a, h)).norm() <= tol);
+  // Far field of the root, by hand: area 4 a^2 + 4 a sqrt(h^2 + a^2); a closed surface's
+  // area-weighted normals sum to zero.
+  const auto& root = f.winding_node(0);
+  const double area = 4 * a * a + 4 * a * std::sqrt(h * h + a * a);
+  CHECK(std::abs(double(root.area) - area) <= 10 * tol);
+  CHECK(double(root.normal_sum.norm()) <= 10 * tol);
+  // Distances against the tests' own point-triangle distance; the sign from the winding number.
+  const std::vector<std::array<double, 9>> tris = grip_mesh_test::plain_triangles(m);
+  const auto view = winding_signed(f, true);
+  std::mt19937 g(57);
+  int inside = 0;
+  for (int i = 0; i < 200; ++i) {
+    const V3 p(uniform(g, -0.03, 0.03), uniform(g, -0.03, 0.03), uniform(g, -0.01, 0.04));
+    const double expect = brute_distance(tris, p);
+    if (expect < 1e-4) continue;  // the sign is decided well away from the surface
+    const bool in = p.z() > 0 && std::max(std::abs(p.x()), std::abs(p.y())) < a * (1 - p.z() / h);
+    const Vector3<S> q = p.cast<S>();
+    CHECK(std::abs(double(f.distance(q)) - (in ? -expect : expect)) <= 100 * tol);
+    CHECK(std::abs(double(view.distance(q)) - (in ? -expect : expect)) <= 100 * tol);
+    CHECK(std::abs(double(f.winding_number_exact(q)) - (in ? 1.0 : 0.0)) <= grip_test::tol_of<S>(1e-12, 1e-4));
+    inside += in ? 1 : 0;
+  }
+  CHECK(inside > 5);
+}
+
 TEST_CASE_TEMPLATE("a box mesh's signed distance is grip's analytic box SDF", S, double, float) {
   Mesh<S>& m = mesh_a<S>();
   Field<S>& f = field_a<S>();
@@ -144,7 +195,7 @@ TEST_CASE_TEMPLATE("an icosphere's signed distance is the sphere's within the te
   CHECK(m.volume() >= S(4.0 / 3 * pi * std::pow(R - sag, 3)));
 }
 
-TEST_CASE_TEMPLATE("the hierarchy's distance equals a loop over all triangles; the sign the winding number's", S, double, float) {
+TEST_CASE_TEMPLATE("the hierarchy's distance equals a loop over all triangles, its sign the winding number's", S, double, float) {
   Mesh<S>& m = mesh_a<S>();
   Field<S>& f = field_a<S>();
   // A star-shaped blob with concave dents (320 triangles: the brute force is O(T) per point).
@@ -189,7 +240,7 @@ TEST_CASE_TEMPLATE("the hierarchy's distance equals a loop over all triangles; t
   CHECK(outside > 30);
 }
 
-TEST_CASE_TEMPLATE("the fast winding number stays within its error bound; the winding view agrees", S, double, float) {
+TEST_CASE_TEMPLATE("the fast winding number stays within its error bound, and the winding view agrees", S, double, float) {
   Mesh<S>& m = mesh_a<S>();
   Field<S>& f = field_a<S>();
   REQUIRE(load(grip_mesh_test::sphere_soup(3, 0, V3::Zero(), true), m).ok());
@@ -240,7 +291,7 @@ TEST_CASE_TEMPLATE("the fast winding number stays within its error bound; the wi
   CHECK(exact_view.distance(Vector3<S>::Zero()) < S(0));
 }
 
-TEST_CASE_TEMPLATE("mesh distance: no heap per query; bad points and unbuilt shapes give finite answers", S, double, float) {
+TEST_CASE_TEMPLATE("mesh distance: no heap per query, and bad points and unbuilt shapes give finite answers", S, double, float) {
   Mesh<S>& m = mesh_a<S>();
   Field<S>& f = field_a<S>();
   REQUIRE(load(grip_mesh_test::sphere_soup(3, 0, V3::Zero(), true), m).ok());

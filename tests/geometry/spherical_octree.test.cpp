@@ -1,8 +1,10 @@
 // Sphere trees and spherical octrees: index arithmetic, containment, convergence, capacity.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -82,13 +84,16 @@ TEST_CASE_TEMPLATE("octree: contains every primitive and union, and keeps nothin
     shape.bounding_box(lo, hi);
     grip_test::Uniform u(0.0, 1.0);
     int inside = 0, far = 0;
+    std::vector<int> hit;  // the distinct solid leaves found at points of the shape
     for (int t = 0; t < 1500; ++t) {
       const Vector3<S> p = lo + grip_test::draw3(rng, u).cast<S>().cwiseProduct(hi - lo) * S(1.2) -
                            S(0.1) * (hi - lo);
       const S d = shape.distance(p);
       if (d <= S(0)) {  // a point of the shape lies in a kept leaf cell
         ++inside;
-        CHECK(oct.find_leaf(p) >= 0);
+        const int leaf = oct.find_leaf(p);
+        CHECK(leaf >= 0);
+        if (leaf >= 0 && std::find(hit.begin(), hit.end(), leaf) == hit.end()) hit.push_back(leaf);
       } else if (d > S(2) * rho) {  // a kept leaf's points are within 2 rho of the shape
         ++far;
         CHECK(oct.find_leaf(p) == -1);
@@ -96,6 +101,10 @@ TEST_CASE_TEMPLATE("octree: contains every primitive and union, and keeps nothin
     }
     CHECK(inside > 50);
     CHECK(far > 50);
+    // Every leaf found is a solid leaf, so there are at least as many, and fewer than nodes.
+    CHECK(oct.leaf_count() >= static_cast<int>(hit.size()));
+    CHECK(oct.leaf_count() < oct.tree().size());
+    for (const int leaf : hit) CHECK(oct.is_solid_leaf(leaf));
     // Structure: children contiguous and inside their parent's sphere; leaves carry a unit normal.
     bool contiguous = true, nested = true, unit = true, full_depth = true, empty_is_leaf = true;
     for (int i = 1; i < oct.tree().size(); ++i) {

@@ -137,6 +137,12 @@ TEST_CASE_TEMPLATE("finalize turns an inward mesh outward and says so", S, doubl
   const MeshReport r = load(inward, m);
   REQUIRE(r.ok());
   CHECK(r.flipped);
+  // The mesh keeps the report of its finalize: a box has 8 vertices, 12 triangles, one surface.
+  CHECK(m.report().ok());
+  CHECK(m.report().flipped);
+  CHECK(m.report().vertices == 8);
+  CHECK(m.report().triangles == 12);
+  CHECK(m.report().components == 1);
   CHECK(m.volume() == doctest::Approx(8 * 0.02 * 0.03 * 0.04).epsilon(1e-5).scale(0));
   for (int t = 0; t < 12; ++t) {  // outward again: the normal points away from the centre
     const Vector3<S> c = (m.vertex(m.triangle(t)[0]) + m.vertex(m.triangle(t)[1]) + m.vertex(m.triangle(t)[2])) / S(3);

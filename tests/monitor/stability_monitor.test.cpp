@@ -115,6 +115,12 @@ TEST_CASE_TEMPLATE("Monitor: a squeezed grasp holds, the same grasp with little 
   CHECK_FALSE(slip.stable);
   CHECK(slip.sliding_count == 4);
   CHECK(slip.min_margin == doctest::Approx(0.2 - 0.25).epsilon(1e-3));
+  // The monitor as a function object: the same hand-derived verdict.
+  const StabilityMonitor<G> monitor;
+  const auto called = monitor(g, solve_range_space(g, w).forces);
+  CHECK_FALSE(called.stable);
+  CHECK(called.sliding_count == 4);
+  CHECK(called.min_margin == doctest::Approx(0.2 - 0.25).epsilon(1e-3));
 }
 
 TEST_CASE_TEMPLATE("Monitor: cone policies are interchangeable and nest", S, double, float) {

@@ -36,6 +36,20 @@ TEST_CASE_TEMPLATE("a held object at rest feels its weight, moments balanced", S
   const Vector3<S> expected(S(0), S(0), S(-0.4 * 9.81));
   CHECK((grip_test::total_feedback(f) - expected).norm() <= force_tol<S>());
   CHECK(grip_test::finger_moment(f, p).norm() <= force_tol<S>() * S(0.1));
+  // The accessors: held, the settings given, the last grasp (its contacts are among the frame's),
+  // the posture forward kinematics gives for the wrist and joint angles.
+  CHECK(p.held());
+  CHECK(p.settings().device_limit == h.settings.device_limit);
+  CHECK(p.settings().hand.thumb_cmc == h.settings.hand.thumb_cmc);
+  CHECK(p.grasp().size() >= 1);
+  CHECK(p.grasp().size() <= f.contacts);
+  HandPosture<S> expect_posture;
+  REQUIRE(forward_kinematics(h.settings.hand, h.wrist.pose, h.closed, expect_posture) == Status::Ok);
+  for (std::size_t k = 0; k < expect_posture.phalanges.size(); ++k) {
+    CHECK((p.posture().phalanges[k].base - expect_posture.phalanges[k].base).norm() <= S(1e-6));
+    CHECK((p.posture().phalanges[k].tip - expect_posture.phalanges[k].tip).norm() <= S(1e-6));
+    CHECK(p.posture().phalanges[k].radius == expect_posture.phalanges[k].radius);
+  }
   // The object stays where it is.
   REQUIRE(p.step(h.wrist, h.closed, f) == Status::Ok);
   CHECK((p.object().position - h.object.position).norm() <= S(1e-6));

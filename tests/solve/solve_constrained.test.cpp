@@ -327,7 +327,7 @@ TEST_CASE_TEMPLATE("solve_constrained: bad input gives InvalidInput and zeros", 
   CHECK(lim.iterations <= 2 * st.max_iterations);
 }
 
-TEST_CASE_TEMPLATE("solve_constrained: every tuning constant is range-checked; defaults by ScalarTraits", S, double,
+TEST_CASE_TEMPLATE("solve_constrained: every tuning constant is range-checked, defaults by ScalarTraits", S, double,
                    float) {
   std::mt19937 rng(19);
   using GraspT = Grasp<Dynamic, HardFinger, S, 6>;
