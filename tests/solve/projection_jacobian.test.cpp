@@ -8,6 +8,8 @@
 #include <cmath>
 #include <random>
 
+#include <Eigen/Eigenvalues>
+
 #include <grip/contact/coulomb_cone.hpp>
 #include <grip/contact/normal_cone.hpp>
 #include <grip/contact/soft_finger_cone.hpp>
