@@ -8,6 +8,7 @@
 #include <grip/analysis/batch.hpp>
 
 #include "support/fixtures.hpp"
+#include "support/test_scale.hpp"
 
 using namespace grip;
 
@@ -15,7 +16,8 @@ TEST_CASE("evaluate_batch on 2 and 3 threads equals the serial evaluate_grasp, b
   using G = Grasp<Dynamic, HardFinger, double, 6>;
   std::mt19937 rng(41);
   std::vector<G> grasps;
-  for (int i = 0; i < 24; ++i) grasps.push_back(grip_test::random_grasp<G>(rng, 3 + i % 4));
+  const int count = grip_test::scaled(24, 6);  // at least two grasps per thread and a remainder
+  for (int i = 0; i < count; ++i) grasps.push_back(grip_test::random_grasp<G>(rng, 3 + i % 4));
   BatchSettings<double> s;
   s.torque_scale = 0.05;
   s.epsilon_linf = true;

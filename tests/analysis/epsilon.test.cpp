@@ -10,6 +10,7 @@
 #include "support/allocation_counter.hpp"
 #include "support/fixtures.hpp"
 #include "support/random.hpp"
+#include "support/test_scale.hpp"
 
 using namespace grip;
 
@@ -127,7 +128,8 @@ TEST_CASE_TEMPLATE("epsilon L1 equals a brute-force facet enumeration, L-inf bra
   auto ws = std::make_unique<EpsilonWorkspace<S>>();
   const double rho = 0.05;
   int closures = 0;
-  for (int rep = 0; rep < 12; ++rep) {
+  const int reps = grip_test::scaled(12, 4);
+  for (int rep = 0; rep < reps; ++rep) {
     const auto g = grip_test::random_grasp<Grasp<3, HardFinger, S>>(rng, 3);
     std::vector<Eigen::Matrix<double, 6, 1>> pts{Eigen::Matrix<double, 6, 1>::Zero()};
     for (int i = 0; i < 3; ++i) {

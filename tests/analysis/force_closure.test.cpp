@@ -8,6 +8,7 @@
 #include "support/allocation_counter.hpp"
 #include "support/fixtures.hpp"
 #include "support/random.hpp"
+#include "support/test_scale.hpp"
 
 using namespace grip;
 
@@ -157,7 +158,8 @@ TEST_CASE_TEMPLATE("random grasps: the returned internal force or certificate ch
   std::mt19937 rng(29);
   const double tol = std::is_same<S, float>::value ? 5e-3 : 1e-6;
   int yes = 0, no = 0;
-  for (int rep = 0; rep < 30; ++rep) {
+  const int reps = grip_test::scaled(30, 8);
+  for (int rep = 0; rep < reps; ++rep) {
     const auto g = grip_test::random_grasp<Grasp<Dynamic, HardFinger, S, 6>>(rng, 2 + rep % 4);
     const auto f = force_closure(g);
     REQUIRE(f.status == Status::Ok);

@@ -21,6 +21,7 @@
 #include "support/constants.hpp"
 #include "support/exact_geometry.hpp"
 #include "support/hand_postures.hpp"
+#include "support/test_scale.hpp"
 
 namespace collision_bounds_test {
 
@@ -142,11 +143,12 @@ void aim_and_check(const Field& field, const Exact& exact, std::mt19937& rng, co
   check_phalanx<S>(field, exact, surface_of(exact), random_pose<S>(rng), a, b, r, true, tally);
 }
 
-// The coverage a case needs: enough contacts, poses apart, and deep axes.
-void check_tally(const Tally& t, int contacts, int apart, int deep) {
-  CHECK(t.contacts > contacts);
-  CHECK(t.apart > apart);
-  CHECK(t.deep > deep);
+// The coverage a case needs: enough contacts, poses apart, and deep axes; the bounds are for
+// `full` trials (see grip_test::scaled_bound when GRIP_TEST_SCALE runs fewer).
+void check_tally(const Tally& t, int contacts, int apart, int deep, int trials, int full) {
+  CHECK(t.contacts > grip_test::scaled_bound(contacts, trials, full));
+  CHECK(t.apart > grip_test::scaled_bound(apart, trials, full));
+  CHECK(t.deep > grip_test::scaled_bound(deep, trials, full));
 }
 
 template <class S>
@@ -171,7 +173,8 @@ TEST_CASE_TEMPLATE("box: faces, edges, corners and deep axes, the capsule's exac
   REQUIRE(octree<S>().build(shape, 4) == Status::Ok);
   Tally tally;
   int edges = 0, corners = 0;
-  for (int trial = 0; trial < 240; ++trial) {
+  const int trials = grip_test::scaled(240, 30);
+  for (int trial = 0; trial < trials; ++trial) {
     V3 q, n;  // local feature point and outward normal
     const int kind = trial % 3;
     if (kind == 0) {  // a face
@@ -201,12 +204,12 @@ TEST_CASE_TEMPLATE("box: faces, edges, corners and deep axes, the capsule's exac
     }
     aim_and_check<S>(shape, exact, rng, c + R * q, R * n, tally);
   }
-  check_tally(tally, 120, 20, 5);
-  CHECK(edges == 80);
-  CHECK(corners == 80);
+  check_tally(tally, 120, 20, 5, trials, 240);
+  CHECK(edges == (trials + 1) / 3);  // trial % 3 == 1
+  CHECK(corners == trials / 3);      // trial % 3 == 2
 }
 
-TEST_CASE_TEMPLATE("cylinder: side, caps and rims; the rim case a user hit gets no contact", S, double, float) {
+TEST_CASE_TEMPLATE("cylinder: side, caps and rims, and the rim case a user hit gets no contact", S, double, float) {
   const double radius = 0.035, half = 0.07;
   std::mt19937 rng(12);
   const Eigen::Matrix3d R = grip_test::rotation(rng);
@@ -215,7 +218,8 @@ TEST_CASE_TEMPLATE("cylinder: side, caps and rims; the rim case a user hit gets 
   const Shape<S> shape(make_cylinder<S>(S(radius), S(half), c.cast<S>(), R.cast<S>()));
   REQUIRE(octree<S>().build(shape, 5) == Status::Ok);
   Tally tally;
-  for (int trial = 0; trial < 240; ++trial) {
+  const int trials = grip_test::scaled(240, 30);
+  for (int trial = 0; trial < trials; ++trial) {
     const double phi = uniform(rng, 0, 2 * grip_test::pi), s = sign(rng);
     const V3 radial(std::cos(phi), std::sin(phi), 0);
     V3 q, n;
@@ -232,7 +236,7 @@ TEST_CASE_TEMPLATE("cylinder: side, caps and rims; the rim case a user hit gets 
     }
     aim_and_check<S>(shape, exact, rng, c + R * q, R * n, tally);
   }
-  check_tally(tally, 120, 20, 5);
+  check_tally(tally, 120, 20, 5, trials, 240);
 
   // The minimal case: a phalanx (r = 8 mm) 0.5 to 1 mm above the cap, lying across the rim.
   // The paper mode reported a contact 8.77 mm deep with a horizontal normal; there is none.
@@ -257,7 +261,8 @@ TEST_CASE_TEMPLATE("sphere and capsule: curved surfaces and deep axes, exact", S
   const grip_test::ExactSphere ball{c, 0.04};
   const Shape<S> sphere(make_sphere<S>(S(0.04), c.cast<S>()));
   REQUIRE(octree<S>().build(sphere, 5) == Status::Ok);
-  for (int trial = 0; trial < 120; ++trial) {
+  const int trials = grip_test::scaled(120, 15);
+  for (int trial = 0; trial < trials; ++trial) {
     const V3 u = grip_test::unit_vector(rng);
     aim_and_check<S>(sphere, ball, rng, c + 0.04 * u, u, tally);
   }
@@ -265,13 +270,13 @@ TEST_CASE_TEMPLATE("sphere and capsule: curved surfaces and deep axes, exact", S
   const grip_test::ExactCapsule pill{c, R, 0.02, 0.03};
   const Shape<S> capsule(make_capsule<S>(S(0.02), S(0.03), c.cast<S>(), R.cast<S>()));
   REQUIRE(octree<S>().build(capsule, 5) == Status::Ok);
-  for (int trial = 0; trial < 120; ++trial) {
+  for (int trial = 0; trial < trials; ++trial) {
     const V3 u = grip_test::unit_vector(rng);
     const V3 axis_point = c + R * V3(0, 0, uniform(rng, -0.04, 0.04));
     const V3 q = c + R * V3(0, 0, std::clamp((R.transpose() * (axis_point - c)).z(), -0.03, 0.03));
     aim_and_check<S>(capsule, pill, rng, q + 0.02 * u, u, tally);
   }
-  check_tally(tally, 100, 10, 5);
+  check_tally(tally, 100, 10, 5, trials, 120);
 }
 
 TEST_CASE_TEMPLATE("a union (not convex): true penetrations, at least the deepest sample's", S, double, float) {
@@ -286,7 +291,8 @@ TEST_CASE_TEMPLATE("a union (not convex): true penetrations, at least the deepes
   REQUIRE(shape.add(make_sphere<S>(S(0.025), Vector3<S>(S(0.04), S(0.03), S(0.02)))) == Status::Ok);
   REQUIRE(octree<S>().build(shape, 5) == Status::Ok);
   Tally tally;
-  for (int trial = 0; trial < 200; ++trial) {
+  const int trials = grip_test::scaled(200, 50);
+  for (int trial = 0; trial < trials; ++trial) {
     // Aim at the seam: a point on the ball's surface near where it leaves the box.
     const V3 u = grip_test::unit_vector(rng);
     const V3 f = ball.c + ball.radius * u;
@@ -296,8 +302,8 @@ TEST_CASE_TEMPLATE("a union (not convex): true penetrations, at least the deepes
     const auto off = [&](const V3& p) { return std::min(std::abs(box(p)), std::abs(ball(p))); };
     check_phalanx<S>(shape, exact, off, random_pose<S>(rng), a, b, r, false, tally);
   }
-  CHECK(tally.contacts > 100);
-  CHECK(tally.apart > 10);
+  CHECK(tally.contacts > grip_test::scaled_bound(100, trials, 200));
+  CHECK(tally.apart > grip_test::scaled_bound(10, trials, 200));
 }
 
 TEST_CASE_TEMPLATE("without refinement, depths are the deepest sample's, exactly", S, double, float) {
@@ -309,7 +315,8 @@ TEST_CASE_TEMPLATE("without refinement, depths are the deepest sample's, exactly
   ContactSettings<S> samples_only;
   samples_only.refine_iterations = 0;
   int touching = 0;
-  for (int trial = 0; trial < 100; ++trial) {
+  const int trials = grip_test::scaled(100, 12);
+  for (int trial = 0; trial < trials; ++trial) {
     const double sx = sign(rng), sy = sign(rng), z = uniform(rng, -h.z(), h.z());
     V3 q(sx * h.x(), sy * h.y(), z);
     const V3 n = V3(q.x(), q.y(), 0).normalized();
@@ -338,7 +345,7 @@ TEST_CASE_TEMPLATE("without refinement, depths are the deepest sample's, exactly
     CHECK(out[0].samples == penetrating);
     CHECK(std::abs(double(out[0].axis_parameter) - j_deepest / 7.0) <= 1e-6);
   }
-  CHECK(touching > 40);
+  CHECK(touching > grip_test::scaled_bound(40, trials, 100));
 }
 
 namespace {
@@ -382,10 +389,10 @@ void same_contacts(const HandContacts<S, K>& x, const HandContacts<S, K>& y) {
 }
 
 template <class S, class Field>
-int compare_broad_phase(const Field& field, int depth, std::mt19937& rng) {
+int compare_broad_phase(const Field& field, int depth, std::mt19937& rng, int trials) {
   REQUIRE(octree<S>().build(field, depth) == Status::Ok);
   int total = 0;
-  for (int trial = 0; trial < 40; ++trial) {
+  for (int trial = 0; trial < trials; ++trial) {
     HandCollisionModel<S> hand;
     REQUIRE(hand.set_posture(random_hand<S>(rng)) == Status::Ok);
     Iso<S> pose = random_pose<S>(rng);
@@ -407,9 +414,11 @@ int compare_broad_phase(const Field& field, int depth, std::mt19937& rng) {
 TEST_CASE_TEMPLATE("the octree's broad phase drops nothing: the contacts of every sample evaluated", S, double,
                    float) {
   std::mt19937 rng(16);
-  CHECK(compare_broad_phase<S>(Shape<S>(make_box<S>(Vector3<S>(S(0.05), S(0.04), S(0.03)))), 4, rng) > 30);
-  CHECK(compare_broad_phase<S>(Shape<S>(make_cylinder<S>(S(0.035), S(0.07))), 5, rng) > 30);
-  CHECK(compare_broad_phase<S>(l_shape<S>(), 4, rng) > 30);
+  const int trials = grip_test::scaled(40, 5);  // per shape; at least 30 contacts per 40 trials
+  const int least = grip_test::scaled_bound(30, trials, 40);
+  CHECK(compare_broad_phase<S>(Shape<S>(make_box<S>(Vector3<S>(S(0.05), S(0.04), S(0.03)))), 4, rng, trials) > least);
+  CHECK(compare_broad_phase<S>(Shape<S>(make_cylinder<S>(S(0.035), S(0.07))), 5, rng, trials) > least);
+  CHECK(compare_broad_phase<S>(l_shape<S>(), 4, rng, trials) > least);
 }
 
 TEST_CASE_TEMPLATE("several contacts per phalanx: a groove's two walls, a box edge's faces", S, double, float) {
@@ -561,7 +570,8 @@ TEST_CASE("a box as a triangle mesh: the capsule's exact deepest point, as for t
   const grip_test::ExactBox exact{V3::Zero(), h, Eigen::Matrix3d::Identity()};
   std::mt19937 rng(19);
   Tally tally;
-  for (int trial = 0; trial < 150; ++trial) {
+  const int trials = grip_test::scaled(150, 38);
+  for (int trial = 0; trial < trials; ++trial) {
     V3 q, n = V3::Zero();  // an edge or a corner
     for (int i = 0; i < 3; ++i) q(i) = sign(rng) * h(i);
     const int free_axis = trial % 4;  // 3: a corner
@@ -571,7 +581,7 @@ TEST_CASE("a box as a triangle mesh: the capsule's exact deepest point, as for t
     n.normalize();
     aim_and_check<S>(shape, exact, rng, q, n, tally);
   }
-  check_tally(tally, 70, 10, 3);
+  check_tally(tally, 70, 10, 3, trials, 150);
 }
 
 TEST_CASE_TEMPLATE("a mesh with cavities and a handle (the mug): the bounds of any field", S, double, float) {
@@ -591,7 +601,8 @@ TEST_CASE_TEMPLATE("a mesh with cavities and a handle (the mug): the bounds of a
   const auto exact = [&](const V3& p) { return double(shape.distance(p.cast<S>())); };
   std::mt19937 rng(20);
   Tally tally;
-  for (int trial = 0; trial < 60; ++trial) {
+  const int trials = grip_test::scaled(60, 8);
+  for (int trial = 0; trial < trials; ++trial) {
     const int v = int(grip_test::u01(rng) * mug.vertex_count()) % mug.vertex_count();
     const V3 n = mug.vertex_normal(v).template cast<double>();
     const V3 f = mug.vertex(v).template cast<double>() + (trial % 3 == 0 ? 0.003 : 0.0) * n;  // some pulled away
@@ -600,8 +611,8 @@ TEST_CASE_TEMPLATE("a mesh with cavities and a handle (the mug): the bounds of a
     aim(rng, f, n, r, a, b);
     check_phalanx<S>(shape, exact, surface_of(exact), Iso<S>::Identity(), a, b, r, false, tally, 300);
   }
-  CHECK(tally.contacts > 25);
-  CHECK(tally.apart > 3);
+  CHECK(tally.contacts > grip_test::scaled_bound(25, trials, 60));
+  CHECK(tally.apart > grip_test::scaled_bound(3, trials, 60));
 }
 
 }  // namespace collision_bounds_test

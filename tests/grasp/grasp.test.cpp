@@ -53,6 +53,21 @@ TEST_CASE_TEMPLATE("G and H match the paper's eq. 3 and eq. 9 block by block", S
   CHECK(H.template block<3, 3>(9, 6) == -Matrix3<S>::Identity());
   CHECK(H.template block<3, 3>(9, 9) == paper_r(c2.position));
 
+  // The matrix-free product G x, by hand: f1 = (1, 0, 0) at r1 gives r1 x f1 = (0, 0.03, -0.02);
+  // f2 = (0, 1, 0) at r2 gives r2 x f2 = (-0.01, 0, -0.02).
+  typename Grasp<2, HardFinger, S>::ForceVector x;
+  x << S(1), S(0), S(0), S(0), S(1), S(0);
+  Wrench<S> gx_hand;
+  gx_hand << S(1), S(1), S(0), S(-0.01), S(0.03), S(-0.04);
+  CHECK((g.wrench(x) - gx_hand).norm() <= grip_test::tight<S>());
+  CHECK((G * x - gx_hand).norm() <= grip_test::tight<S>());
+  // G^T l, by hand: l = (l_f, l_m) gives f-block l_f + l_m x r_i (= l_f - r_i x l_m).
+  Wrench<S> l;
+  l << S(1), S(2), S(3), S(4), S(5), S(6);
+  const Vector3<S> lf = l.template head<3>(), lm = l.template tail<3>();
+  CHECK((HardFinger::wrench_transpose(c1, l) - (lf + lm.cross(c1.position))).norm() <= grip_test::tight<S>());
+  CHECK((HardFinger::wrench_transpose(c2, l) - (lf + lm.cross(c2.position))).norm() <= grip_test::tight<S>());
+
   Wrench<S> w_ext;
   w_ext << S(1), S(2), S(3), S(4), S(5), S(6);
   const auto b = g.kkt_rhs(w_ext);

@@ -29,6 +29,7 @@
 
 #include "support/fixtures.hpp"
 #include "support/random.hpp"
+#include "support/test_scale.hpp"
 
 namespace invariance_test {
 
@@ -228,7 +229,8 @@ TEST_CASE_TEMPLATE("invariance: force closure and epsilon", S, double, float) {
   auto ws = std::make_unique<EpsilonWorkspace<S>>();
   const double tol = std::is_same<S, float>::value ? 5e-3 : 1e-7;
   int closures = 0, epsilons = 0;
-  for (int trial = 0; trial < 10; ++trial) {
+  const int trials = grip_test::scaled(10, 3);
+  for (int trial = 0; trial < trials; ++trial) {
     const GraspT g = grip_test::random_grasp<GraspT>(rng, 5, true, 0.3);
     const auto fc = force_closure(g);
     REQUIRE(fc.status == Status::Ok);
@@ -251,8 +253,8 @@ TEST_CASE_TEMPLATE("invariance: force closure and epsilon", S, double, float) {
       ++epsilons;
     }
   }
-  CHECK(closures >= 3);
-  CHECK(epsilons >= 40);
+  CHECK(closures > grip_test::scaled_bound(2, trials, 10));  // at least 3 in 10
+  CHECK(epsilons >= 4 * trials);
 }
 
 }  // namespace invariance_test
