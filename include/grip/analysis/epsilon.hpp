@@ -159,7 +159,7 @@ template <int K, class GraspT, class Workspace>
 Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, EpsilonNorm norm,
                                                            typename GraspT::ScalarType torque_scale, Workspace& ws,
                                                            typename GraspT::ScalarType tolerance =
-                                                               std::is_same<typename GraspT::ScalarType, float>::value
+                                                               ScalarTraits<typename GraspT::ScalarType>::is_single_precision
                                                                    ? typename GraspT::ScalarType(1e-4)
                                                                    : typename GraspT::ScalarType(1e-10)) {
   static_assert(K >= 3, "a linearised cone needs K >= 3 sides");

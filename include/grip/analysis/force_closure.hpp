@@ -39,7 +39,7 @@ struct ConicAnalysisSettings {
   /// Barrier bound theta/tau at which the solver stops (relative to 1 + |objective|); the
   /// reported margin/scale is within this of the exact optimum. Also the decision threshold:
   /// force closure is reported only when margin > 10 * tolerance.
-  Scalar tolerance{std::is_same<Scalar, float>::value ? Scalar(1e-4) : Scalar(1e-9)};
+  Scalar tolerance{ScalarTraits<Scalar>::is_single_precision ? Scalar(1e-4) : Scalar(1e-9)};
   /// Bound on Newton steps (each O(n) plus a 6x6 solve): the worst-case time.
   int max_newton_steps{400};
 };
