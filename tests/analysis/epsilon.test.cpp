@@ -2,6 +2,7 @@
 #include <doctest/doctest.h>
 
 #include <array>
+#include <cstring>
 #include <memory>
 #include <vector>
 
@@ -163,6 +164,25 @@ TEST_CASE_TEMPLATE("epsilon L1 equals a brute-force facet enumeration, L-inf bra
     }
   }
   CHECK(closures > 0);
+}
+
+TEST_CASE_TEMPLATE("epsilon without a workspace: the same answer as with one, bit for bit", S, double, float) {
+  // The convenience overload takes its workspace from the heap (never a 2 MB stack frame).
+  std::mt19937 rng(37);
+  auto ws = std::make_unique<EpsilonWorkspace<S>>();
+  for (int rep = 0; rep < 3; ++rep) {
+    const auto g = grip_test::random_grasp<Grasp<4, HardFinger, S>>(rng, 4);
+    for (const EpsilonNorm norm : {EpsilonNorm::L1, EpsilonNorm::LInfinity}) {
+      const auto with = ferrari_canny_epsilon<4>(g, norm, S(0.05), *ws);
+      const auto without = ferrari_canny_epsilon<4>(g, norm, S(0.05));
+      REQUIRE(with.status == Status::Ok);
+      CHECK(without.status == with.status);
+      CHECK(std::memcmp(&without.epsilon, &with.epsilon, sizeof(S)) == 0);
+      CHECK(std::memcmp(&without.upper, &with.upper, sizeof(S)) == 0);
+      CHECK(without.direction == with.direction);
+      CHECK(without.facets == with.facets);
+    }
+  }
 }
 
 TEST_CASE_TEMPLATE("epsilon: bad input", S, double, float) {

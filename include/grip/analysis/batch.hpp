@@ -5,9 +5,11 @@
 /// This is a set-up / offline tool for grasp-planning experiments, NOT a real-time one:
 /// std::thread allocates internally (its state and stack) and may fail to start, which
 /// terminates the program in builds without exceptions. The library code itself allocates
-/// nothing: the caller provides the grasps and the result storage; each worker keeps its
-/// EpsilonWorkspace on its own stack (about 2.0 MB for double; thread stacks are 8 MB by
-/// default on Linux).
+/// nothing else: the caller provides the grasps and the result storage, and the workers'
+/// EpsilonWorkspaces (about 2.0 MB each for double) come from one heap allocation made on the
+/// calling thread before any worker starts (evaluate_batch returns IterationLimit, nothing
+/// written, when it fails), never from a thread's stack (secondary threads get 512 KiB to 8 MB
+/// of stack, depending on the system).
 ///
 /// Determinism: every grasp is evaluated by the same function, evaluate_grasp(), on one
 /// thread, with no shared accumulation, so per-grasp results are bit-identical to a serial
@@ -15,6 +17,9 @@
 
 #include <algorithm>
 #include <array>
+#include <functional>
+#include <memory>
+#include <new>
 #include <thread>
 
 #include "grip/analysis/epsilon.hpp"
@@ -80,7 +85,8 @@ GraspMetrics<typename GraspT::ScalarType> evaluate_grasp(const GraspT& grasp,
 
 /// Evaluates grasps[0..count) into results[0..count) (caller-provided storage) on
 /// settings.threads threads, contiguous chunks. Returns InvalidInput (nothing written) for
-/// null pointers or count < 0, Ok otherwise (per-grasp statuses are in the results).
+/// null pointers or count < 0, IterationLimit (nothing written) when the workers' workspaces
+/// cannot be allocated, Ok otherwise (per-grasp statuses are in the results).
 template <int K, class GraspT>
 Status evaluate_batch(const GraspT* grasps, int count, GraspMetrics<typename GraspT::ScalarType>* results,
                       const BatchSettings<typename GraspT::ScalarType>& settings) {
@@ -89,16 +95,20 @@ Status evaluate_batch(const GraspT* grasps, int count, GraspMetrics<typename Gra
   if (count == 0) return Status::Ok;
   int threads = settings.threads > 0 ? settings.threads : static_cast<int>(std::thread::hardware_concurrency());
   threads = std::max(1, std::min({threads, count, 64}));
-  auto work = [grasps, results, &settings](int begin, int end) {
-    EpsilonWorkspace<S> ws;
+  const std::unique_ptr<EpsilonWorkspace<S>[]> workspaces(new (std::nothrow)
+                                                               EpsilonWorkspace<S>[static_cast<std::size_t>(threads)]);
+  if (workspaces == nullptr) return Status::IterationLimit;
+  auto work = [grasps, results, &settings](int begin, int end, EpsilonWorkspace<S>& ws) {
     for (int i = begin; i < end; ++i) results[i] = evaluate_grasp<K>(grasps[i], settings, ws);
   };
   auto chunk_begin = [count, threads](int t) {
     return static_cast<int>(static_cast<long long>(count) * t / threads);
   };
   std::array<std::thread, 64> pool;
-  for (int t = 1; t < threads; ++t) pool[static_cast<std::size_t>(t)] = std::thread(work, chunk_begin(t), chunk_begin(t + 1));
-  work(chunk_begin(0), chunk_begin(1));
+  for (int t = 1; t < threads; ++t)
+    pool[static_cast<std::size_t>(t)] =
+        std::thread(work, chunk_begin(t), chunk_begin(t + 1), std::ref(workspaces[static_cast<std::size_t>(t)]));
+  work(chunk_begin(0), chunk_begin(1), workspaces[0]);
   for (int t = 1; t < threads; ++t) pool[static_cast<std::size_t>(t)].join();
   return Status::Ok;
 }

@@ -34,6 +34,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <new>
 #include <type_traits>
 
 #include <Eigen/Geometry>
@@ -378,12 +380,23 @@ Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, 
   return out;
 }
 
-/// As above with a workspace of the default size on the stack (about 2.0 MB for double).
+/// As above with a workspace of the default size from the heap (about 2.0 MB for double, one
+/// allocation per call): an offline convenience. Repeated calls, and any thread that must not
+/// allocate, pass a workspace kept in static storage or a member. Never throws: when the
+/// allocation fails the answer is the one of a workspace full from the start, IterationLimit
+/// with epsilon 0 (a lower bound) and upper the largest finite value.
 template <int K, class GraspT>
 Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, EpsilonNorm norm,
                                                            typename GraspT::ScalarType torque_scale) {
-  EpsilonWorkspace<typename GraspT::ScalarType> ws;
-  return ferrari_canny_epsilon<K>(grasp, norm, torque_scale, ws);
+  using S = typename GraspT::ScalarType;
+  const std::unique_ptr<EpsilonWorkspace<S>> ws(new (std::nothrow) EpsilonWorkspace<S>);
+  if (ws == nullptr) {
+    Epsilon<S> out;
+    out.upper = std::numeric_limits<S>::max();
+    out.status = Status::IterationLimit;
+    return out;
+  }
+  return ferrari_canny_epsilon<K>(grasp, norm, torque_scale, *ws);
 }
 
 }  // namespace grip
