@@ -92,7 +92,7 @@ struct ConstrainedSettings {
   /// least residual 8e-4 |w_ext|) has a genuine certificate with y.w_ext of 7.5e-4 |w_ext|,
   /// below the float certificate_tolerance of 2e-3.
   Scalar certificate_guard{ScalarTraits<Scalar>::is_single_precision ? Scalar(0.1) : Scalar(1)};
-  /// When the least-residual certificates fail, also try the direction -lambda of the diverging
+  /// When the least-residual certificates fail, also test the direction -lambda of the diverging
   /// Newton multipliers (x_i(lambda) is a projection, so -G_i^T lambda lies in K_i^* up to
   /// w_i |x_i - t_i| / |lambda|). Float only by default: float least-residual solves can stop
   /// short of the tolerance; double results are validated by the least-residual certificate alone.
