@@ -25,6 +25,7 @@
 #include "grip/analysis/epsilon.hpp"
 #include "grip/analysis/force_closure.hpp"
 #include "grip/analysis/quality.hpp"
+#include "grip/core/index.hpp"
 #include "grip/core/status.hpp"
 
 namespace grip {
@@ -96,7 +97,7 @@ Status evaluate_batch(const GraspT* grasps, int count, GraspMetrics<typename Gra
   int threads = settings.threads > 0 ? settings.threads : static_cast<int>(std::thread::hardware_concurrency());
   threads = std::max(1, std::min({threads, count, 64}));
   const std::unique_ptr<EpsilonWorkspace<S>[]> workspaces(new (std::nothrow)
-                                                               EpsilonWorkspace<S>[static_cast<std::size_t>(threads)]);
+                                                               EpsilonWorkspace<S>[detail::idx(threads)]);
   if (workspaces == nullptr) return Status::IterationLimit;
   auto work = [grasps, results, &settings](int begin, int end, EpsilonWorkspace<S>& ws) {
     for (int i = begin; i < end; ++i) results[i] = evaluate_grasp<K>(grasps[i], settings, ws);
@@ -106,10 +107,10 @@ Status evaluate_batch(const GraspT* grasps, int count, GraspMetrics<typename Gra
   };
   std::array<std::thread, 64> pool;
   for (int t = 1; t < threads; ++t)
-    pool[static_cast<std::size_t>(t)] =
-        std::thread(work, chunk_begin(t), chunk_begin(t + 1), std::ref(workspaces[static_cast<std::size_t>(t)]));
+    pool[detail::idx(t)] =
+        std::thread(work, chunk_begin(t), chunk_begin(t + 1), std::ref(workspaces[detail::idx(t)]));
   work(chunk_begin(0), chunk_begin(1), workspaces[0]);
-  for (int t = 1; t < threads; ++t) pool[static_cast<std::size_t>(t)].join();
+  for (int t = 1; t < threads; ++t) pool[detail::idx(t)].join();
   return Status::Ok;
 }
 

@@ -42,6 +42,7 @@
 #include <Eigen/QR>
 
 #include "grip/contact/contact_model.hpp"
+#include "grip/core/index.hpp"
 #include "grip/core/scalar_traits.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
@@ -112,15 +113,15 @@ struct EpsilonWorkspace {
     S offset;              ///< normal . x on the facet: the origin's distance to it when the origin is inside
   };
   /// Support points of W found so far: the vertices of the inner polytope Q.
-  std::array<Wrench<S>, static_cast<std::size_t>(MaxVertices)> vertices;
+  std::array<Wrench<S>, detail::idx(MaxVertices)> vertices;
   /// The facets of Q, a compact list (Epsilon::facets of them in use at the end).
-  std::array<Facet, static_cast<std::size_t>(MaxFacets)> facets;
+  std::array<Facet, detail::idx(MaxFacets)> facets;
   /// Scratch of one step: indices of the facets that see the added support point.
-  std::array<int, static_cast<std::size_t>(MaxFacets)> visible;
+  std::array<int, detail::idx(MaxFacets)> visible;
   /// Scratch of one step: the horizon ridges (five sorted vertex indices) that close the hole.
-  std::array<std::array<int, 5>, static_cast<std::size_t>(MaxFacets)> horizon;
+  std::array<std::array<int, 5>, detail::idx(MaxFacets)> horizon;
   /// Scratch of one step: per facet, whether it sees the added support point.
-  std::array<bool, static_cast<std::size_t>(MaxFacets)> is_visible;
+  std::array<bool, detail::idx(MaxFacets)> is_visible;
 };
 
 /// The outcome of ferrari_canny_epsilon().
@@ -148,7 +149,7 @@ namespace detail {
 inline bool ridge_in_facet(const std::array<int, 5>& r, const std::array<int, 6>& f) {
   int j = 0;
   for (int k = 0; k < 6 && j < 5; ++k)
-    if (f[static_cast<std::size_t>(k)] == r[static_cast<std::size_t>(j)]) ++j;
+    if (f[detail::idx(k)] == r[detail::idx(j)]) ++j;
   return j == 5;
 }
 
@@ -174,11 +175,11 @@ Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, 
       !(tolerance > S(0)))
     return out;
   const int n = grasp.size();
-  std::array<Wrench<S>, static_cast<std::size_t>(GraspT::capacity * P)> prim;
+  std::array<Wrench<S>, detail::idx(GraspT::capacity * P)> prim;
   S scale(0);
   for (int i = 0; i < n; ++i) {
-    contact_primitives<M, K>(grasp.contact(i), torque_scale, &prim[static_cast<std::size_t>(i * P)]);
-    for (int k = 0; k < P; ++k) scale = std::max(scale, prim[static_cast<std::size_t>(i * P + k)].norm());
+    contact_primitives<M, K>(grasp.contact(i), torque_scale, &prim[detail::idx(i * P)]);
+    for (int k = 0; k < P; ++k) scale = std::max(scale, prim[detail::idx(i * P + k)].norm());
   }
   if (!std::isfinite(scale)) return out;
   out.status = Status::Ok;
@@ -193,10 +194,10 @@ Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, 
     S h(0);
     if (norm == EpsilonNorm::L1) {
       for (int j = 0; j < n * P; ++j) {
-        const S v = u.dot(prim[static_cast<std::size_t>(j)]);
+        const S v = u.dot(prim[detail::idx(j)]);
         if (v > h) {
           h = v;
-          p = prim[static_cast<std::size_t>(j)];
+          p = prim[detail::idx(j)];
         }
       }
     } else {
@@ -204,7 +205,7 @@ Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, 
         S best(0);
         int arg = -1;
         for (int k = 0; k < P; ++k) {
-          const S v = u.dot(prim[static_cast<std::size_t>(i * P + k)]);
+          const S v = u.dot(prim[detail::idx(i * P + k)]);
           if (v > best) {
             best = v;
             arg = i * P + k;
@@ -212,7 +213,7 @@ Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, 
         }
         if (arg >= 0) {
           h += best;
-          p += prim[static_cast<std::size_t>(arg)];
+          p += prim[detail::idx(arg)];
         }
       }
     }
@@ -233,7 +234,7 @@ Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, 
     S dn(-1);
     for (int e = 0; e < 6; ++e) {
       Wrench<S> r = Wrench<S>::Unit(e);
-      for (int b = 0; b < k; ++b) r -= basis[static_cast<std::size_t>(b)].dot(r) * basis[static_cast<std::size_t>(b)];
+      for (int b = 0; b < k; ++b) r -= basis[detail::idx(b)].dot(r) * basis[detail::idx(b)];
       if (r.norm() > dn) {
         dn = r.norm();
         d = r;
@@ -250,7 +251,7 @@ Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, 
         out.direction = u;
       }
       Wrench<S> r = q - ws.vertices[0];
-      for (int b = 0; b < k; ++b) r -= basis[static_cast<std::size_t>(b)].dot(r) * basis[static_cast<std::size_t>(b)];
+      for (int b = 0; b < k; ++b) r -= basis[detail::idx(b)].dot(r) * basis[detail::idx(b)];
       if (r.norm() > best_res.norm()) {
         best_res = r;
         best_p = q;
@@ -265,22 +266,22 @@ Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, 
       out.vertices = nv;
       return out;
     }
-    basis[static_cast<std::size_t>(k)] = best_res / best_res.norm();
-    ws.vertices[static_cast<std::size_t>(nv++)] = best_p;
+    basis[detail::idx(k)] = best_res / best_res.norm();
+    ws.vertices[detail::idx(nv++)] = best_p;
   }
   Wrench<S> centre = Wrench<S>::Zero();
-  for (int k = 0; k < 7; ++k) centre += ws.vertices[static_cast<std::size_t>(k)];
+  for (int k = 0; k < 7; ++k) centre += ws.vertices[detail::idx(k)];
   centre /= S(7);
 
   // Plane through six vertices, oriented away from the centre. False if degenerate.
   auto make_facet = [&](const std::array<int, 6>& v, Facet& f) {
     Eigen::Matrix<S, 6, 5> e;
     for (int k = 1; k < 6; ++k)
-      e.col(k - 1) = ws.vertices[static_cast<std::size_t>(v[static_cast<std::size_t>(k)])] -
-                     ws.vertices[static_cast<std::size_t>(v[0])];
+      e.col(k - 1) = ws.vertices[detail::idx(v[detail::idx(k)])] -
+                     ws.vertices[detail::idx(v[0])];
     Eigen::HouseholderQR<Eigen::Matrix<S, 6, 5>> qr(e);
     Wrench<S> nrm = qr.householderQ() * Wrench<S>::Unit(5);
-    S off = nrm.dot(ws.vertices[static_cast<std::size_t>(v[0])]);
+    S off = nrm.dot(ws.vertices[detail::idx(v[0])]);
     const S c = nrm.dot(centre) - off;
     if (!(std::abs(c) > std::numeric_limits<S>::epsilon() * scale)) return false;
     if (c > S(0)) {
@@ -296,8 +297,8 @@ Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, 
   for (int skip = 0; skip < 7; ++skip) {
     std::array<int, 6> v{};
     for (int k = 0, j = 0; k < 7; ++k)
-      if (k != skip) v[static_cast<std::size_t>(j++)] = k;
-    if (!make_facet(v, ws.facets[static_cast<std::size_t>(nf)])) return out;  // cannot happen: simplex is full
+      if (k != skip) v[detail::idx(j++)] = k;
+    if (!make_facet(v, ws.facets[detail::idx(nf)])) return out;  // cannot happen: simplex is full
     ++nf;
   }
 
@@ -306,8 +307,8 @@ Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, 
   while (true) {
     int best = 0;
     for (int f = 1; f < nf; ++f)
-      if (ws.facets[static_cast<std::size_t>(f)].offset < ws.facets[static_cast<std::size_t>(best)].offset) best = f;
-    const Facet& fb = ws.facets[static_cast<std::size_t>(best)];
+      if (ws.facets[detail::idx(f)].offset < ws.facets[detail::idx(best)].offset) best = f;
+    const Facet& fb = ws.facets[detail::idx(best)];
     const S h = support(fb.normal, p);
     out.epsilon = std::max(S(0), fb.offset);
     if (h < out.upper) {
@@ -320,34 +321,34 @@ Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, 
     }
     if (nv >= Workspace::max_vertices) break;
     const int np = nv;
-    ws.vertices[static_cast<std::size_t>(nv++)] = p;
+    ws.vertices[detail::idx(nv++)] = p;
     // Facets that see p.
     int nvis = 0;
     for (int f = 0; f < nf; ++f) {
-      const Facet& ff = ws.facets[static_cast<std::size_t>(f)];
+      const Facet& ff = ws.facets[detail::idx(f)];
       const bool vis = ff.normal.dot(p) - ff.offset > tol_visible;
-      ws.is_visible[static_cast<std::size_t>(f)] = vis;
-      if (vis) ws.visible[static_cast<std::size_t>(nvis++)] = f;
+      ws.is_visible[detail::idx(f)] = vis;
+      if (vis) ws.visible[detail::idx(nvis++)] = f;
     }
     // Horizon: ridges of visible facets not shared with another visible facet.
     int nh = 0;
     bool full = false;
     for (int a = 0; a < nvis && !full; ++a) {
-      const Facet& fa = ws.facets[static_cast<std::size_t>(ws.visible[static_cast<std::size_t>(a)])];
+      const Facet& fa = ws.facets[detail::idx(ws.visible[detail::idx(a)])];
       for (int drop = 0; drop < 6; ++drop) {
         std::array<int, 5> r{};
         for (int k = 0, j = 0; k < 6; ++k)
-          if (k != drop) r[static_cast<std::size_t>(j++)] = fa.v[static_cast<std::size_t>(k)];
+          if (k != drop) r[detail::idx(j++)] = fa.v[detail::idx(k)];
         bool shared = false;
         for (int b = 0; b < nvis && !shared; ++b)
-          if (b != a && detail::ridge_in_facet(r, ws.facets[static_cast<std::size_t>(ws.visible[static_cast<std::size_t>(b)])].v))
+          if (b != a && detail::ridge_in_facet(r, ws.facets[detail::idx(ws.visible[detail::idx(b)])].v))
             shared = true;
         if (!shared) {
           if (nh >= Workspace::max_facets) {
             full = true;
             break;
           }
-          ws.horizon[static_cast<std::size_t>(nh++)] = r;
+          ws.horizon[detail::idx(nh++)] = r;
         }
       }
     }
@@ -355,22 +356,22 @@ Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, 
     // Remove the visible facets (compact the list), then add the cone from p to the horizon.
     int w = 0;
     for (int f = 0; f < nf; ++f)
-      if (!ws.is_visible[static_cast<std::size_t>(f)]) ws.facets[static_cast<std::size_t>(w++)] = ws.facets[static_cast<std::size_t>(f)];
+      if (!ws.is_visible[detail::idx(f)]) ws.facets[detail::idx(w++)] = ws.facets[detail::idx(f)];
     nf = w;
     for (int k = 0; k < nh; ++k) {
       std::array<int, 6> v{};
-      const std::array<int, 5>& r = ws.horizon[static_cast<std::size_t>(k)];
+      const std::array<int, 5>& r = ws.horizon[detail::idx(k)];
       int j = 0;
       bool placed = false;
       for (int m = 0; m < 5; ++m) {
-        if (!placed && np < r[static_cast<std::size_t>(m)]) {
-          v[static_cast<std::size_t>(j++)] = np;
+        if (!placed && np < r[detail::idx(m)]) {
+          v[detail::idx(j++)] = np;
           placed = true;
         }
-        v[static_cast<std::size_t>(j++)] = r[static_cast<std::size_t>(m)];
+        v[detail::idx(j++)] = r[detail::idx(m)];
       }
       if (!placed) v[5] = np;
-      if (make_facet(v, ws.facets[static_cast<std::size_t>(nf)])) ++nf;
+      if (make_facet(v, ws.facets[detail::idx(nf)])) ++nf;
     }
   }
   out.vertices = nv;

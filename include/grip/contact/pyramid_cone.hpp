@@ -7,6 +7,7 @@
 
 #include "grip/contact/cone_support.hpp"
 #include "grip/contact/contact.hpp"
+#include "grip/core/index.hpp"
 #include "grip/core/types.hpp"
 
 namespace grip {
@@ -132,9 +133,9 @@ class PyramidCone {
       const Scalar fn = normal_part(f);
       return fn > Scalar(0) ? Vector(fn * normal_) : Vector(Vector::Zero());
     }
-    std::array<Vector3<Scalar>, static_cast<std::size_t>(K)> e;
+    std::array<Vector3<Scalar>, detail::idx(K)> e;
     const Scalar scale = Scalar(1) / std::sqrt(Scalar(1) + big_r_ * big_r_);
-    for (std::size_t j = 0; j < static_cast<std::size_t>(K); ++j)
+    for (std::size_t j = 0; j < detail::idx(K); ++j)
       e[j] = scale * normal_ + (scale * big_r_) * (angle_cos(2 * static_cast<int>(j) + half_) * basis_.t1 +
                                                     angle_sin(2 * static_cast<int>(j) + half_) * basis_.t2);
     return detail::project_onto_edge_cone(f, e);
@@ -149,13 +150,13 @@ class PyramidCone {
  private:
   /// cos and sin of k pi / K for k = 0..2K (taken modulo 2K), computed once per program.
   struct AngleTable {
-    std::array<Scalar, 2 * static_cast<std::size_t>(K)> c{}, s{};
+    std::array<Scalar, 2 * detail::idx(K)> c{}, s{};
     AngleTable() {
       const long double pi = 3.14159265358979323846264338327950288L;
       for (int k = 0; k < 2 * K; ++k) {
         const long double a = static_cast<long double>(k) * pi / static_cast<long double>(K);
-        c[static_cast<std::size_t>(k)] = static_cast<Scalar>(std::cos(a));
-        s[static_cast<std::size_t>(k)] = static_cast<Scalar>(std::sin(a));
+        c[detail::idx(k)] = static_cast<Scalar>(std::cos(a));
+        s[detail::idx(k)] = static_cast<Scalar>(std::sin(a));
       }
     }
   };
@@ -163,8 +164,8 @@ class PyramidCone {
     static const AngleTable t;
     return t;
   }
-  static Scalar angle_cos(int k) { return table().c[static_cast<std::size_t>(k % (2 * K))]; }
-  static Scalar angle_sin(int k) { return table().s[static_cast<std::size_t>(k % (2 * K))]; }
+  static Scalar angle_cos(int k) { return table().c[detail::idx(k % (2 * K))]; }
+  static Scalar angle_sin(int k) { return table().s[detail::idx(k % (2 * K))]; }
 
   Scalar margin_of(Scalar fn, Scalar load) const { return detail::pull_corrected(r_ * fn - load, fn); }
   Scalar relative_of(Scalar fn, Scalar load, bool no_tangential) const {

@@ -42,6 +42,7 @@
 
 #include <Eigen/Geometry>
 
+#include "grip/core/index.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
 #include "grip/geometry/detail/narrow_phase.hpp"
@@ -157,7 +158,7 @@ struct MarkReach {
     const SphereNode<Scalar>& leaf = octree->tree().node(o);
     const Scalar h = octree->cell_half_edge(leaf.level);
     for (int j = j0; j <= j1; ++j) {
-      const auto sj = static_cast<std::size_t>(j);
+      const auto sj = detail::idx(j);
       bool& r = field->reach[sj];
       marked += r ? 0 : 1;
       r = true;
@@ -180,12 +181,12 @@ void emit_contacts(const Field& field, const PhalanxAxis<Scalar>& ax, SampleFiel
   std::array<int, PerPhalanx> members{};
   const int n = phalanx_contacts<PerPhalanx>(field, probe, ax, s, band, settings, found, members);
   for (int i = 0; i < n; ++i) {
-    const Penetration<Scalar>& p = found[static_cast<std::size_t>(i)];
-    HandContact<Scalar>& c = out.items[static_cast<std::size_t>(out.count++)];
+    const Penetration<Scalar>& p = found[detail::idx(i)];
+    HandContact<Scalar>& c = out.items[detail::idx(out.count++)];
     c.finger = phalanx_finger(k);
     c.phalanx = phalanx_kind(k);
     c.depth = p.depth;
-    c.samples = members[static_cast<std::size_t>(i)];
+    c.samples = members[detail::idx(i)];
     c.sample = p.sample;
     c.axis_parameter = p.t;
     c.point = pose * Vector3<Scalar>(ax.at(p.t) - p.phi * p.normal);
@@ -277,7 +278,7 @@ Status query_samples(const HandCollisionModel<Scalar, Samples>& hand, const Sphe
       octree, mark);
   out.radius = ax.radius;
   for (int j = 0; j < Samples; ++j) {
-    const auto sj = static_cast<std::size_t>(j);
+    const auto sj = detail::idx(j);
     Vector3<Scalar> n;
     const Vector3<Scalar> x = ax.at(Scalar(j) / Scalar(Samples - 1));
     out.distance[sj] = field.distance(x, n);
@@ -299,7 +300,7 @@ Status detect_contacts(const HandCollisionModel<Scalar, Samples>& hand, const Sp
     detail::reset_estimates(q, hand, k, to_object);
     const Scalar r = hand.capsule(k).radius;
     detail::descend_from_root(detail::SegmentQuery<Scalar>::make(q.x[0], q.x[Samples - 1], r, Samples), object, q);
-    HandContact<Scalar>& c = out.items[static_cast<std::size_t>(out.count)];
+    HandContact<Scalar>& c = out.items[detail::idx(out.count)];
     if (detail::combine_planes(q, r, object_pose, c)) {
       c.finger = phalanx_finger(k);
       c.phalanx = phalanx_kind(k);
@@ -325,10 +326,10 @@ Status detect_contacts_exhaustive(const HandCollisionModel<Scalar, Samples>& han
       const SphereNode<Scalar>& on = object.tree().node(o);
       for (int j = 0; j < Samples; ++j) {
         const Scalar reach = r + on.radius;
-        if ((q.x[static_cast<std::size_t>(j)] - on.center).squaredNorm() <= reach * reach) q(o, j, j);
+        if ((q.x[detail::idx(j)] - on.center).squaredNorm() <= reach * reach) q(o, j, j);
       }
     }
-    HandContact<Scalar>& c = out.items[static_cast<std::size_t>(out.count)];
+    HandContact<Scalar>& c = out.items[detail::idx(out.count)];
     if (detail::combine_planes(q, r, object_pose, c)) {
       c.finger = phalanx_finger(k);
       c.phalanx = phalanx_kind(k);

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "grip/contact/contact.hpp"
+#include "grip/core/index.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
 #include "grip/geometry/collision.hpp"
@@ -35,7 +36,7 @@ struct ContactParameters {
 
   /// K_i of a finger's phalanx.
   Scalar stiffness_of(Finger f, Phalanx p) const {
-    return stiffness[static_cast<std::size_t>(f)][static_cast<std::size_t>(p)];
+    return stiffness[detail::idx(f)][detail::idx(p)];
   }
 };
 

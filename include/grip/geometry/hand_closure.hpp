@@ -12,6 +12,7 @@
 
 #include <Eigen/Geometry>
 
+#include "grip/core/index.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
 #include "grip/geometry/collision.hpp"
@@ -62,7 +63,7 @@ Status close_hand_with(const HandDimensions<Scalar>& dims, const Eigen::Transfor
         trial(k) = a;
         return digit_depth(dims, wrist, trial, k, end, model, contacts, detect);
       };
-      const Scalar limit = dims.joint_upper_limit[static_cast<std::size_t>(k)];
+      const Scalar limit = dims.joint_upper_limit[detail::idx(k)];
       Scalar lo = angles(k);
       if (depth_at(lo) >= target_depth) continue;
       Scalar hi = lo;

@@ -17,6 +17,7 @@
 #include <array>
 #include <cmath>
 
+#include "grip/core/index.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
 #include "grip/hand/hand_kinematics.hpp"
@@ -68,22 +69,22 @@ class HandCollisionModel {
       if (!c.base.allFinite() || !c.tip.allFinite() || !std::isfinite(c.radius) || !(c.radius > Scalar(0)))
         return Status::InvalidInput;
     for (int k = 0; k < hand_phalanx_count; ++k) {
-      const PhalanxCapsule<Scalar>& c = posture.phalanges[static_cast<std::size_t>(k)];
-      capsules_[static_cast<std::size_t>(k)] = c;
-      auto& nodes = nodes_[static_cast<std::size_t>(k)];
+      const PhalanxCapsule<Scalar>& c = posture.phalanges[detail::idx(k)];
+      capsules_[detail::idx(k)] = c;
+      auto& nodes = nodes_[detail::idx(k)];
       for (int j = 0; j < Samples; ++j) {
         const Scalar t = Scalar(j) / Scalar(Samples - 1);
-        nodes[static_cast<std::size_t>(first_leaf + j)] = BoundingSphere<Scalar>{c.base + t * (c.tip - c.base), c.radius};
+        nodes[detail::idx(first_leaf + j)] = BoundingSphere<Scalar>{c.base + t * (c.tip - c.base), c.radius};
       }
       for (int i = first_leaf - 1; i >= 0; --i)
-        nodes[static_cast<std::size_t>(i)] =
-            enclose(nodes[static_cast<std::size_t>(2 * i + 1)], nodes[static_cast<std::size_t>(2 * i + 2)]);
+        nodes[detail::idx(i)] =
+            enclose(nodes[detail::idx(2 * i + 1)], nodes[detail::idx(2 * i + 2)]);
     }
     for (int f = 0; f < 5; ++f) {
       const int first = first_phalanx(f);
       BoundingSphere<Scalar> s = phalanx_node(first, 0);
       for (int k = first + 1; k < first + phalanges_of(f); ++k) s = enclose(s, phalanx_node(k, 0));
-      fingers_[static_cast<std::size_t>(f)] = s;
+      fingers_[detail::idx(f)] = s;
       hand_ = f == 0 ? s : enclose(hand_, s);
     }
     posed_ = true;
@@ -95,13 +96,13 @@ class HandCollisionModel {
   /// Sphere bounding the whole hand.
   const BoundingSphere<Scalar>& hand_sphere() const { return hand_; }
   /// Sphere bounding digit f (0 thumb .. 4 little).
-  const BoundingSphere<Scalar>& finger_sphere(int f) const { return fingers_[static_cast<std::size_t>(f)]; }
+  const BoundingSphere<Scalar>& finger_sphere(int f) const { return fingers_[detail::idx(f)]; }
   /// Node i (0 .. nodes_per_phalanx - 1) of phalanx k's tree (0 is its root).
   const BoundingSphere<Scalar>& phalanx_node(int k, int i) const {
-    return nodes_[static_cast<std::size_t>(k)][static_cast<std::size_t>(i)];
+    return nodes_[detail::idx(k)][detail::idx(i)];
   }
   /// The capsule of phalanx k as last posed.
-  const PhalanxCapsule<Scalar>& capsule(int k) const { return capsules_[static_cast<std::size_t>(k)]; }
+  const PhalanxCapsule<Scalar>& capsule(int k) const { return capsules_[detail::idx(k)]; }
 
   /// First phalanx index of digit f (0 thumb .. 4 little).
   static constexpr int first_phalanx(int f) { return f == 0 ? 0 : 2 + 3 * (f - 1); }
@@ -109,7 +110,7 @@ class HandCollisionModel {
   static constexpr int phalanges_of(int f) { return f == 0 ? 2 : 3; }
 
  private:
-  std::array<std::array<BoundingSphere<Scalar>, static_cast<std::size_t>(nodes_per_phalanx)>,
+  std::array<std::array<BoundingSphere<Scalar>, detail::idx(nodes_per_phalanx)>,
              hand_phalanx_count> nodes_{};
   std::array<PhalanxCapsule<Scalar>, hand_phalanx_count> capsules_{};
   std::array<BoundingSphere<Scalar>, 5> fingers_{};

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 
+#include "grip/core/index.hpp"
 #include "grip/core/types.hpp"
 #include "grip/hand/hand_model.hpp"
 #include "grip/hand/squeeze.hpp"
@@ -39,23 +40,23 @@ struct HandContacts {
   static_assert(PerPhalanx >= 1 && PerPhalanx <= 8, "1 to 8 contacts per phalanx");
   static constexpr int per_phalanx = PerPhalanx;                      ///< Most contacts of one phalanx.
   static constexpr int capacity = hand_phalanx_count * PerPhalanx;    ///< Most contacts of a frame.
-  std::array<HandContact<Scalar>, static_cast<std::size_t>(capacity)> items{};  ///< items[0 .. count).
+  std::array<HandContact<Scalar>, detail::idx(capacity)> items{};  ///< items[0 .. count).
   int count{0};                                                       ///< Number of contacts.
 
   /// Contact i, 0 <= i < count.
-  const HandContact<Scalar>& operator[](int i) const { return items[static_cast<std::size_t>(i)]; }
+  const HandContact<Scalar>& operator[](int i) const { return items[detail::idx(i)]; }
   /// The deepest contact of a finger's phalanx, or nullptr if it has none.
   const HandContact<Scalar>* find(Finger f, Phalanx p) const {
     for (int i = 0; i < count; ++i)
-      if (items[static_cast<std::size_t>(i)].finger == f && items[static_cast<std::size_t>(i)].phalanx == p)
-        return &items[static_cast<std::size_t>(i)];
+      if (items[detail::idx(i)].finger == f && items[detail::idx(i)].phalanx == p)
+        return &items[detail::idx(i)];
     return nullptr;
   }
   /// Number of contacts of a finger's phalanx.
   int count_of(Finger f, Phalanx p) const {
     int n = 0;
     for (int i = 0; i < count; ++i)
-      n += items[static_cast<std::size_t>(i)].finger == f && items[static_cast<std::size_t>(i)].phalanx == p ? 1 : 0;
+      n += items[detail::idx(i)].finger == f && items[detail::idx(i)].phalanx == p ? 1 : 0;
     return n;
   }
 };

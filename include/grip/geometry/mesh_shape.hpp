@@ -52,6 +52,7 @@
 #include <cmath>
 #include <limits>
 
+#include "grip/core/index.hpp"
 #include "grip/core/scalar_traits.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
@@ -151,15 +152,15 @@ class MeshShape {
   /// The mesh's axis-aligned bounding box: false (lo, hi untouched) unless built().
   bool bounding_box(Vector3<Scalar>& lo, Vector3<Scalar>& hi) const { return built() && mesh_->bounding_box(lo, hi); }
   /// Node i of the box hierarchy (0 is the root), 0 <= i < node_count().
-  const MeshBoxNode<Scalar>& node(int i) const { return nodes_[static_cast<std::size_t>(i)]; }
+  const MeshBoxNode<Scalar>& node(int i) const { return nodes_[detail::idx(i)]; }
   /// Far-field data of node i.
-  const MeshWindingNode<Scalar>& winding_node(int i) const { return wnodes_[static_cast<std::size_t>(i)]; }
+  const MeshWindingNode<Scalar>& winding_node(int i) const { return wnodes_[detail::idx(i)]; }
 
  private:
   using Block = detail::TriangleBlock<Scalar>;
   Scalar slot_solid_angle(const Vector3<Scalar>& p, int s) const {
     Vector3<Scalar> a = Vector3<Scalar>::Zero(), b = a, c = a;
-    blocks_[static_cast<std::size_t>(s / 4)].vertices(s % 4, a, b, c);
+    blocks_[detail::idx(s / 4)].vertices(s % 4, a, b, c);
     return triangle_solid_angle(p, a, b, c);
   }
   /// +max_magnitude and the direction of p for a point out of range; false if p is fine.

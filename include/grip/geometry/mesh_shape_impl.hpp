@@ -6,6 +6,7 @@
 
 #include <algorithm>
 
+#include "grip/core/index.hpp"
 #include "grip/geometry/mesh_shape.hpp"
 
 namespace grip {
@@ -16,12 +17,11 @@ Status MeshShape<Scalar, MaxVertices, MaxTriangles>::build(const Mesh& mesh) {
   node_count_ = 0;
   if (!mesh.finalized() || mesh.triangle_count() < 1) return Status::InvalidInput;
   const int nt = mesh.triangle_count();
-  auto at = [](int i) { return static_cast<std::size_t>(i); };
   auto vertex = [&mesh](int t, int k) -> const Vector3<Scalar>& {
-    return mesh.vertex(mesh.triangle(t)[static_cast<std::size_t>(k)]);
+    return mesh.vertex(mesh.triangle(t)[detail::idx(k)]);
   };
-  auto corner = [&mesh](int t, int k) { return mesh.vertex(mesh.triangle(t)[static_cast<std::size_t>(k)]).data(); };
-  for (int t = 0; t < nt; ++t) slot_id_[at(t)] = t;
+  auto corner = [&mesh](int t, int k) { return mesh.vertex(mesh.triangle(t)[detail::idx(k)]).data(); };
+  for (int t = 0; t < nt; ++t) slot_id_[detail::idx(t)] = t;
   // Breadth-first: node i covers slots [first, first + count) until it is split; its
   // children are appended, so every node's slots stay contiguous and children follow parents.
   // (Plain scalar loops: this runs O(T log T) times.)
@@ -30,13 +30,13 @@ Status MeshShape<Scalar, MaxVertices, MaxTriangles>::build(const Mesh& mesh) {
   node_count_ = 1;
   const Scalar big = std::numeric_limits<Scalar>::max();
   for (int i = 0; i < node_count_; ++i) {
-    MeshBoxNode<Scalar>& nd = nodes_[at(i)];
-    MeshWindingNode<Scalar>& wn = wnodes_[at(i)];
+    MeshBoxNode<Scalar>& nd = nodes_[detail::idx(i)];
+    MeshWindingNode<Scalar>& wn = wnodes_[detail::idx(i)];
     const int b = nd.first, e = nd.first + nd.count;
     Scalar lo[3] = {big, big, big}, hi[3] = {-big, -big, -big}, clo[3] = {big, big, big}, chi[3] = {-big, -big, -big};
     Scalar nsum[3] = {0, 0, 0}, wsum[3] = {0, 0, 0}, area = Scalar(0);
     for (int s = b; s < e; ++s) {
-      const int t = slot_id_[at(s)];
+      const int t = slot_id_[detail::idx(s)];
       const Scalar *p0 = corner(t, 0), *p1 = corner(t, 1), *p2 = corner(t, 2);
       const Scalar u[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
       const Scalar v[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
@@ -62,7 +62,7 @@ Status MeshShape<Scalar, MaxVertices, MaxTriangles>::build(const Mesh& mesh) {
     Scalar r2 = Scalar(0);
     for (int s = b; s < e; ++s)
       for (int k = 0; k < 3; ++k) {
-        const Scalar* p = corner(slot_id_[at(s)], k);
+        const Scalar* p = corner(slot_id_[detail::idx(s)], k);
         r2 = std::max(r2, (p[0] - cx) * (p[0] - cx) + (p[1] - cy) * (p[1] - cy) + (p[2] - cz) * (p[2] - cz));
       }
     wn.radius = std::sqrt(r2);
@@ -80,19 +80,19 @@ Status MeshShape<Scalar, MaxVertices, MaxTriangles>::build(const Mesh& mesh) {
              corner(y, 0)[axis] + corner(y, 1)[axis] + corner(y, 2)[axis];
     });
     const int left = node_count_;
-    nodes_[at(left)].first = b;
-    nodes_[at(left)].count = mid - b;
-    nodes_[at(left + 1)].first = mid;
-    nodes_[at(left + 1)].count = e - mid;
+    nodes_[detail::idx(left)].first = b;
+    nodes_[detail::idx(left)].count = mid - b;
+    nodes_[detail::idx(left + 1)].first = mid;
+    nodes_[detail::idx(left + 1)].count = e - mid;
     node_count_ += 2;
     nd.first = left;
     nd.count = 0;
   }
   for (int s = 0; s < nt; ++s) {
-    const int t = slot_id_[at(s)];
-    blocks_[at(s / 4)].set(s % 4, vertex(t, 0), vertex(t, 1), vertex(t, 2), t);
+    const int t = slot_id_[detail::idx(s)];
+    blocks_[detail::idx(s / 4)].set(s % 4, vertex(t, 0), vertex(t, 1), vertex(t, 2), t);
   }
-  if (nt % 4 != 0) blocks_[at(nt / 4)].pad(nt % 4);
+  if (nt % 4 != 0) blocks_[detail::idx(nt / 4)].pad(nt % 4);
   build_quads();
   Vector3<Scalar> lo = Vector3<Scalar>::Zero(), hi = lo;
   mesh.bounding_box(lo, hi);
@@ -108,18 +108,17 @@ void MeshShape<Scalar, MaxVertices, MaxTriangles>::build_quads() {
   // holds the boxes of its children, or of its grandchildren where a child is inner. Quads are
   // made in order, so this loop is the breadth-first queue.
   int* rep = slot_id_.data();
-  auto at = [](int i) { return static_cast<std::size_t>(i); };
   const Scalar inf = std::numeric_limits<Scalar>::infinity();
   rep[0] = 0;
   quad_count_ = 1;
   for (int q = 0; q < quad_count_; ++q) {
-    const MeshBoxNode<Scalar>& b = nodes_[at(rep[q])];
+    const MeshBoxNode<Scalar>& b = nodes_[detail::idx(rep[q])];
     int entries[4] = {rep[q], -1, -1, -1};
     int n = 1;
     if (b.count == 0) {
       n = 0;
       for (int c = b.first; c <= b.first + 1; ++c) {
-        const MeshBoxNode<Scalar>& cn = nodes_[at(c)];
+        const MeshBoxNode<Scalar>& cn = nodes_[detail::idx(c)];
         if (cn.count > 0) {
           entries[n++] = c;
         } else {
@@ -128,13 +127,13 @@ void MeshShape<Scalar, MaxVertices, MaxTriangles>::build_quads() {
         }
       }
     }
-    detail::MeshQuadNode<Scalar>& qn = quads_[at(q)];
+    detail::MeshQuadNode<Scalar>& qn = quads_[detail::idx(q)];
     for (int k = 0; k < 4; ++k) {
       qn.child[k] = 0;
       qn.count[k] = -1;
       for (int d = 0; d < 3; ++d) qn.lo[d][k] = qn.hi[d][k] = inf;  // empty: out of reach
       if (k >= n) continue;
-      const MeshBoxNode<Scalar>& e = nodes_[at(entries[k])];
+      const MeshBoxNode<Scalar>& e = nodes_[detail::idx(entries[k])];
       if (e.count == 0 && quad_count_ >= max_quads) continue;  // (never: quads < inner nodes)
       for (int d = 0; d < 3; ++d) {
         qn.lo[d][k] = e.lo(d);
@@ -181,14 +180,14 @@ int MeshShape<Scalar, MaxVertices, MaxTriangles>::nearest_slot(const Vector3<Sca
   for (;;) {
     if (en.count > 0) {
       Scalar d2[4];
-      blocks_[static_cast<std::size_t>(en.index)].distances(p, d2);
+      blocks_[detail::idx(en.index)].distances(p, d2);
       for (int l = 0; l < en.count; ++l)
         if (d2[l] < best2) {
           best2 = d2[l];
           slot = 4 * en.index + l;
         }
     } else {
-      const detail::MeshQuadNode<Scalar>& qn = quads_[static_cast<std::size_t>(en.index)];
+      const detail::MeshQuadNode<Scalar>& qn = quads_[detail::idx(en.index)];
       Scalar d2[4];
       qn.distances(px, py, pz, d2);
       int near[4];
@@ -228,7 +227,7 @@ Scalar MeshShape<Scalar, MaxVertices, MaxTriangles>::closest_point(const Vector3
   if (!built() || out_of_range(p, far, unused)) return ScalarTraits<Scalar>::max_magnitude;
   Scalar best2 = std::numeric_limits<Scalar>::infinity();
   const int slot = nearest_slot(p, best2, 0);
-  triangle = blocks_[static_cast<std::size_t>(slot / 4)].id[slot % 4];
+  triangle = blocks_[detail::idx(slot / 4)].id[slot % 4];
   const std::array<int, 3>& tri = mesh_->triangle(triangle);
   const Scalar d2 = closest_point_on_triangle(p, mesh_->vertex(tri[0]), mesh_->vertex(tri[1]), mesh_->vertex(tri[2]), q, feature);
   return std::sqrt(d2);
@@ -237,7 +236,7 @@ Scalar MeshShape<Scalar, MaxVertices, MaxTriangles>::closest_point(const Vector3
 template <class Scalar, int MaxVertices, int MaxTriangles>
 Scalar MeshShape<Scalar, MaxVertices, MaxTriangles>::signed_distance(const Vector3<Scalar>& p, int slot,
                                                                      Vector3<Scalar>& normal) const {
-  const int t = blocks_[static_cast<std::size_t>(slot / 4)].id[slot % 4];
+  const int t = blocks_[detail::idx(slot / 4)].id[slot % 4];
   const std::array<int, 3>& tri = mesh_->triangle(t);
   Vector3<Scalar> q;
   TriangleFeature f = TriangleFeature::Face;
@@ -247,7 +246,7 @@ Scalar MeshShape<Scalar, MaxVertices, MaxTriangles>::signed_distance(const Vecto
   // The pseudo-normal, unnormalised where only its sign matters.
   const int e = feature_edge(f), v = feature_vertex(f);
   const Vector3<Scalar> n = e >= 0   ? Vector3<Scalar>(mesh_->face_normal(t) + mesh_->face_normal(mesh_->neighbour(t, e)))
-                            : v >= 0 ? mesh_->vertex_normal(mesh_->triangle(t)[static_cast<std::size_t>(v)])
+                            : v >= 0 ? mesh_->vertex_normal(mesh_->triangle(t)[detail::idx(v)])
                                      : mesh_->face_normal(t);
   const Scalar sign = diff.dot(n) < Scalar(0) ? Scalar(-1) : Scalar(1);
   if (d > tiny_) normal = diff * (sign / d);
@@ -265,7 +264,7 @@ bool MeshShape<Scalar, MaxVertices, MaxTriangles>::distance_within(const Vector3
   int slot = -1;
   if (hint >= 0 && hint < mesh_->triangle_count()) {  // slots 0 .. T - 1 hold the triangles
     Scalar d2[4];
-    blocks_[static_cast<std::size_t>(hint / 4)].distances(p, d2);
+    blocks_[detail::idx(hint / 4)].distances(p, d2);
     if (d2[hint % 4] < best2) {
       best2 = d2[hint % 4];
       slot = hint;
@@ -283,7 +282,7 @@ Vector3<Scalar> MeshShape<Scalar, MaxVertices, MaxTriangles>::pseudo_normal(int 
   if (!built()) return Vector3<Scalar>::UnitZ();
   const int e = feature_edge(feature), v = feature_vertex(feature);
   if (e >= 0) return mesh_->edge_normal(t, e);
-  if (v >= 0) return mesh_->vertex_normal(mesh_->triangle(t)[static_cast<std::size_t>(v)]);
+  if (v >= 0) return mesh_->vertex_normal(mesh_->triangle(t)[detail::idx(v)]);
   return mesh_->face_normal(t);
 }
 
@@ -307,7 +306,7 @@ Scalar MeshShape<Scalar, MaxVertices, MaxTriangles>::winding_number(const Vector
   Scalar sum = Scalar(0), bound = Scalar(0);
   while (sp > 0) {
     const int i = stack[--sp];
-    const MeshWindingNode<Scalar>& wn = wnodes_[static_cast<std::size_t>(i)];
+    const MeshWindingNode<Scalar>& wn = wnodes_[detail::idx(i)];
     const Vector3<Scalar> r = wn.center - p;
     const Scalar d2 = r.squaredNorm();
     if (d2 > beta2 * wn.radius * wn.radius) {  // far: the dipole term
@@ -317,7 +316,7 @@ Scalar MeshShape<Scalar, MaxVertices, MaxTriangles>::winding_number(const Vector
       bound += Scalar(2) * wn.area * wn.radius / (gap * gap * gap);
       continue;
     }
-    const MeshBoxNode<Scalar>& nd = nodes_[static_cast<std::size_t>(i)];
+    const MeshBoxNode<Scalar>& nd = nodes_[detail::idx(i)];
     if (nd.count > 0) {
       for (int l = 0; l < nd.count; ++l) sum += slot_solid_angle(p, 4 * nd.first + l);
     } else if (sp + 2 <= stack_size) {

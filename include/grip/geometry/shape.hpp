@@ -12,6 +12,7 @@
 #include <array>
 #include <cmath>
 
+#include "grip/core/index.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
 
@@ -207,13 +208,13 @@ class Shape {
   /// Adds a primitive: InvalidInput (shape unchanged) if it fails validate() or the shape is full.
   Status add(const ShapePrimitive<Scalar>& p) {
     if (count_ >= MaxPrimitives || validate(p) != Status::Ok) return Status::InvalidInput;
-    prims_[static_cast<std::size_t>(count_++)] = p;
+    prims_[detail::idx(count_++)] = p;
     return Status::Ok;
   }
   /// Number of primitives.
   int size() const { return count_; }
   /// Primitive i, 0 <= i < size().
-  const ShapePrimitive<Scalar>& primitive(int i) const { return prims_[static_cast<std::size_t>(i)]; }
+  const ShapePrimitive<Scalar>& primitive(int i) const { return prims_[detail::idx(i)]; }
 
   /// The parts of the field (collision.hpp's multi-contact narrow phase): the primitives.
   static constexpr int max_parts = MaxPrimitives;
@@ -221,7 +222,7 @@ class Shape {
   int part_count() const { return count_; }
   /// Signed distance (m) of p from part i (primitive i, 0 <= i < size()), its outward normal.
   Scalar part_distance(int i, const Vector3<Scalar>& p, Vector3<Scalar>& normal) const {
-    return prims_[static_cast<std::size_t>(i)].distance(p, normal);
+    return prims_[detail::idx(i)].distance(p, normal);
   }
 
   /// Signed distance (m) of object-frame point p (min over primitives; +max_magnitude for an
@@ -231,7 +232,7 @@ class Shape {
     normal = Vector3<Scalar>::UnitZ();
     Vector3<Scalar> g = Vector3<Scalar>::UnitZ();
     for (int i = 0; i < count_; ++i) {
-      const Scalar d = prims_[static_cast<std::size_t>(i)].distance(p, g);
+      const Scalar d = prims_[detail::idx(i)].distance(p, g);
       if (d < best) {
         best = d;
         normal = g;
@@ -249,7 +250,7 @@ class Shape {
   bool bounding_box(Vector3<Scalar>& lo, Vector3<Scalar>& hi) const {
     if (count_ == 0) return false;
     for (int i = 0; i < count_; ++i) {
-      const ShapePrimitive<Scalar>& p = prims_[static_cast<std::size_t>(i)];
+      const ShapePrimitive<Scalar>& p = prims_[detail::idx(i)];
       const Vector3<Scalar> h = p.bounding_half_extents();
       if (i == 0) {
         lo = p.center - h;

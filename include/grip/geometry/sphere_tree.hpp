@@ -15,6 +15,7 @@
 #include <array>
 #include <cstdint>
 
+#include "grip/core/index.hpp"
 #include "grip/core/types.hpp"
 
 namespace grip {
@@ -64,12 +65,12 @@ class SphereTree {
   /// make its children non-contiguous (another node was appended since its last child).
   int add_child(int parent, const Vector3<Scalar>& center, Scalar radius) {
     if (size_ >= Capacity || parent < 0 || parent >= size_) return -1;
-    SphereNode<Scalar>& p = nodes_[static_cast<std::size_t>(parent)];
+    SphereNode<Scalar>& p = nodes_[detail::idx(parent)];
     if (p.child_count >= MaxChildren) return -1;
     if (p.child_count > 0 && p.first_child + p.child_count != size_) return -1;
     if (p.child_count == 0) p.first_child = size_;
     ++p.child_count;
-    SphereNode<Scalar>& n = nodes_[static_cast<std::size_t>(size_)];
+    SphereNode<Scalar>& n = nodes_[detail::idx(size_)];
     n = SphereNode<Scalar>{};
     n.center = center;
     n.radius = radius;
@@ -79,7 +80,7 @@ class SphereTree {
   }
 
   /// Node i, 0 <= i < size().
-  const SphereNode<Scalar>& node(int i) const { return nodes_[static_cast<std::size_t>(i)]; }
+  const SphereNode<Scalar>& node(int i) const { return nodes_[detail::idx(i)]; }
   /// True if node i has no children.
   bool is_leaf(int i) const { return node(i).child_count == 0; }
 
@@ -91,7 +92,7 @@ class SphereTree {
   }
 
  private:
-  std::array<SphereNode<Scalar>, static_cast<std::size_t>(Capacity)> nodes_{};
+  std::array<SphereNode<Scalar>, detail::idx(Capacity)> nodes_{};
   int size_{0};
 };
 

@@ -44,6 +44,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "grip/core/index.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
 #include "grip/geometry/shape.hpp"
@@ -96,7 +97,7 @@ class SphericalOctree {
     const Vector3<Scalar> c0 = (lo + hi) / Scalar(2);
     // Slightly larger than the bounding box so that surfaces never lie on the root's faces.
     half_edge_[0] = (hi - lo).maxCoeff() / Scalar(2) * (Scalar(1) + Scalar(1e-3));
-    for (int l = 1; l <= max_octree_depth; ++l) half_edge_[static_cast<std::size_t>(l)] = half_edge_[static_cast<std::size_t>(l - 1)] / Scalar(2);
+    for (int l = 1; l <= max_octree_depth; ++l) half_edge_[detail::idx(l)] = half_edge_[detail::idx(l - 1)] / Scalar(2);
     Vector3<Scalar> n;
     const Scalar phi0 = shape.distance(c0, n);
     if (!std::isfinite(phi0) || !n.allFinite()) return Status::InvalidInput;
@@ -108,9 +109,9 @@ class SphericalOctree {
     for (int i = 0; i < tree_.size(); ++i) {
       const SphereNode<Scalar>& cell = tree_.node(i);
       const int level = cell.level;
-      const Scalar phi = planes_[static_cast<std::size_t>(i)].distance;
+      const Scalar phi = planes_[detail::idx(i)].distance;
       if (level >= max_depth || phi < -cell.radius) continue;  // boundary leaf or interior leaf
-      const Scalar hc = half_edge_[static_cast<std::size_t>(level + 1)];
+      const Scalar hc = half_edge_[detail::idx(level + 1)];
       const Scalar rc = sqrt3 * hc;
       const Vector3<Scalar> parent_center = cell.center;
       for (int o = 0; o < 8; ++o) {
@@ -130,12 +131,12 @@ class SphericalOctree {
           overflow = true;
           continue;
         }
-        planes_[static_cast<std::size_t>(k)] = SurfacePlane<Scalar>{d, n};
-        kind_[static_cast<std::size_t>(k)] = d < -rc ? CellKind::Interior : CellKind::Boundary;
+        planes_[detail::idx(k)] = SurfacePlane<Scalar>{d, n};
+        kind_[detail::idx(k)] = d < -rc ? CellKind::Interior : CellKind::Boundary;
         if (level + 1 > depth_) depth_ = level + 1;
       }
       // The parent's sphere met the surface but no octant's does: nothing of the shape here.
-      if (!overflow && cell.child_count == 0) kind_[static_cast<std::size_t>(i)] = CellKind::Empty;
+      if (!overflow && cell.child_count == 0) kind_[detail::idx(i)] = CellKind::Empty;
       if (overflow) {
         tree_.clear();
         depth_ = 0;
@@ -148,11 +149,11 @@ class SphericalOctree {
   /// The sphere tree of cells (node spheres circumscribe their cubes).
   const Tree& tree() const { return tree_; }
   /// Surface model of cell i (meaningful for every cell; used at leaves).
-  const SurfacePlane<Scalar>& plane(int i) const { return planes_[static_cast<std::size_t>(i)]; }
+  const SurfacePlane<Scalar>& plane(int i) const { return planes_[detail::idx(i)]; }
   /// Half edge (m) of the cubes at `level` (0 = root), 0 <= level <= max_octree_depth.
-  Scalar cell_half_edge(int level) const { return half_edge_[static_cast<std::size_t>(level)]; }
+  Scalar cell_half_edge(int level) const { return half_edge_[detail::idx(level)]; }
   /// Kind of cell i.
-  CellKind kind(int i) const { return kind_[static_cast<std::size_t>(i)]; }
+  CellKind kind(int i) const { return kind_[detail::idx(i)]; }
   /// True if leaf i lies entirely inside the shape (an interior cell).
   bool is_interior(int i) const { return kind(i) == CellKind::Interior; }
   /// True if cell i is a leaf holding part of the shape (interior, or boundary at full depth).
@@ -177,7 +178,7 @@ class SphericalOctree {
     if (!(((p - tree_.node(0).center).cwiseAbs().maxCoeff()) <= half_edge_[0])) return -1;
     while (!tree_.is_leaf(i)) {
       const SphereNode<Scalar>& nd = tree_.node(i);
-      const Scalar h = half_edge_[static_cast<std::size_t>(nd.level + 1)];
+      const Scalar h = half_edge_[detail::idx(nd.level + 1)];
       int next = -1;
       for (int k = nd.first_child; k < nd.first_child + nd.child_count; ++k)
         if ((p - tree_.node(k).center).cwiseAbs().maxCoeff() <= h) {
@@ -192,8 +193,8 @@ class SphericalOctree {
 
  private:
   Tree tree_{};
-  std::array<SurfacePlane<Scalar>, static_cast<std::size_t>(Capacity)> planes_{};
-  std::array<CellKind, static_cast<std::size_t>(Capacity)> kind_{};
+  std::array<SurfacePlane<Scalar>, detail::idx(Capacity)> planes_{};
+  std::array<CellKind, detail::idx(Capacity)> kind_{};
   std::array<Scalar, max_octree_depth + 1> half_edge_{};
   int depth_{0};
   long needed_{0};

@@ -43,6 +43,7 @@
 #include <cstring>
 #include <limits>
 
+#include "grip/core/index.hpp"
 #include "grip/core/scalar_traits.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
@@ -56,7 +57,7 @@ namespace detail {
 /// Smallest power of two >= 2 n (at least 8): the size of a vertex hash table for n vertices.
 constexpr std::size_t weld_table_size(int n) {
   std::size_t s = 8;
-  while (s < 2 * static_cast<std::size_t>(n)) s *= 2;
+  while (s < 2 * detail::idx(n)) s *= 2;
   return s;
 }
 
@@ -112,7 +113,7 @@ class TriangleMesh {
   int add_source_vertex(const Vector3<Scalar>& p);
   /// Mesh vertex of source vertex k (0-based), or -1 if k is not numbered.
   int source_vertex(long k) const {
-    return k >= 0 && k < sources_ ? source_[static_cast<std::size_t>(k)] : -1;
+    return k >= 0 && k < sources_ ? source_[detail::idx(k)] : -1;
   }
   /// Number of source vertices numbered since clear().
   int source_vertex_count() const { return sources_; }
@@ -132,15 +133,15 @@ class TriangleMesh {
   /// Number of triangles.
   int triangle_count() const { return nt_; }
   /// Vertex i, 0 <= i < vertex_count().
-  const Vector3<Scalar>& vertex(int i) const { return verts_[static_cast<std::size_t>(i)]; }
+  const Vector3<Scalar>& vertex(int i) const { return verts_[detail::idx(i)]; }
   /// Vertex indices of triangle t, 0 <= t < triangle_count().
-  const std::array<int, 3>& triangle(int t) const { return tris_[static_cast<std::size_t>(t)]; }
+  const std::array<int, 3>& triangle(int t) const { return tris_[detail::idx(t)]; }
   /// Unit outward normal of triangle t (finalized meshes).
-  const Vector3<Scalar>& face_normal(int t) const { return face_n_[static_cast<std::size_t>(t)]; }
+  const Vector3<Scalar>& face_normal(int t) const { return face_n_[detail::idx(t)]; }
   /// Unit angle-weighted pseudo-normal of vertex v (finalized meshes; zero if v is unused).
-  const Vector3<Scalar>& vertex_normal(int v) const { return vert_n_[static_cast<std::size_t>(v)]; }
+  const Vector3<Scalar>& vertex_normal(int v) const { return vert_n_[detail::idx(v)]; }
   /// The triangle across edge e (0: ab, 1: bc, 2: ca) of triangle t (finalized meshes).
-  int neighbour(int t, int e) const { return nbr_[static_cast<std::size_t>(t)][static_cast<std::size_t>(e)]; }
+  int neighbour(int t, int e) const { return nbr_[detail::idx(t)][detail::idx(e)]; }
   /// Unit pseudo-normal of edge e of triangle t: the normalised sum of its two face normals.
   Vector3<Scalar> edge_normal(int t, int e) const {
     return (face_normal(t) + face_normal(neighbour(t, e))).normalized();
@@ -163,8 +164,8 @@ class TriangleMesh {
   MeshIssue check_edges(long& element);
   MeshIssue check_fans(long& element);
   MeshIssue check_components(long& element);
-  int target(int h) const { return tris_[static_cast<std::size_t>(h / 3)][static_cast<std::size_t>((h % 3 + 1) % 3)]; }
-  int origin(int h) const { return tris_[static_cast<std::size_t>(h / 3)][static_cast<std::size_t>(h % 3)]; }
+  int target(int h) const { return tris_[detail::idx(h / 3)][detail::idx((h % 3 + 1) % 3)]; }
+  int origin(int h) const { return tris_[detail::idx(h / 3)][detail::idx(h % 3)]; }
   int count_edges(int u, int v, int* first) const;
 
   static constexpr std::size_t table_size = detail::weld_table_size(MaxVertices);

@@ -6,16 +6,10 @@
 #include <initializer_list>
 #include <utility>
 
+#include "grip/core/index.hpp"
 #include "grip/geometry/triangle_mesh.hpp"
 
 namespace grip {
-
-namespace detail {
-/// std::size_t of a non-negative int index.
-constexpr std::size_t mesh_at(int i) { return static_cast<std::size_t>(i); }
-/// std::size_t of a non-negative long index.
-constexpr std::size_t mesh_at(long i) { return static_cast<std::size_t>(i); }
-}  // namespace detail
 
 template <class Scalar, int MaxVertices, int MaxTriangles>
 void TriangleMesh<Scalar, MaxVertices, MaxTriangles>::clear() {
@@ -40,11 +34,11 @@ int TriangleMesh<Scalar, MaxVertices, MaxTriangles>::add_vertex(const Vector3<Sc
   std::size_t i = static_cast<std::size_t>(h) & (table_size - 1);
   while (table_[i] != 0) {
     const int v = table_[i] - 1;
-    if (verts_[detail::mesh_at(v)] == key) return v;
+    if (verts_[detail::idx(v)] == key) return v;
     i = (i + 1) & (table_size - 1);
   }
   if (nv_ >= MaxVertices) return -1;
-  verts_[detail::mesh_at(nv_)] = key;
+  verts_[detail::idx(nv_)] = key;
   table_[i] = nv_ + 1;
   finalized_ = false;
   ++revision_;
@@ -56,14 +50,14 @@ int TriangleMesh<Scalar, MaxVertices, MaxTriangles>::add_source_vertex(const Vec
   if (sources_ >= MaxVertices) return -1;
   const int v = add_vertex(p);
   if (v < 0) return -1;
-  source_[detail::mesh_at(sources_++)] = v;
+  source_[detail::idx(sources_++)] = v;
   return v;
 }
 
 template <class Scalar, int MaxVertices, int MaxTriangles>
 int TriangleMesh<Scalar, MaxVertices, MaxTriangles>::add_triangle(int a, int b, int c) {
   if (nt_ >= MaxTriangles || a < 0 || b < 0 || c < 0 || a >= nv_ || b >= nv_ || c >= nv_) return -1;
-  tris_[detail::mesh_at(nt_)] = {a, b, c};
+  tris_[detail::idx(nt_)] = {a, b, c};
   finalized_ = false;
   ++revision_;
   return nt_++;
@@ -80,8 +74,8 @@ MeshReport TriangleMesh<Scalar, MaxVertices, MaxTriangles>::refuse(MeshIssue iss
 
 template <class Scalar, int MaxVertices, int MaxTriangles>
 int TriangleMesh<Scalar, MaxVertices, MaxTriangles>::count_edges(int u, int v, int* first) const {
-  const int* b = half_.data() + start_[detail::mesh_at(u)];
-  const int* e = half_.data() + start_[detail::mesh_at(u + 1)];
+  const int* b = half_.data() + start_[detail::idx(u)];
+  const int* e = half_.data() + start_[detail::idx(u + 1)];
   const int* lo = std::lower_bound(b, e, v, [this](int h, int x) { return target(h) < x; });
   const int* hi = std::upper_bound(lo, e, v, [this](int x, int h) { return x < target(h); });
   if (first != nullptr && lo != hi) *first = *lo;
@@ -94,13 +88,13 @@ MeshIssue TriangleMesh<Scalar, MaxVertices, MaxTriangles>::check_edges(long& ele
   // each vertex's list sorted by target: then u -> v is found by binary search.
   const int nh = 3 * nt_;
   std::fill(start_.begin(), start_.begin() + nv_ + 1, 0);
-  for (int h = 0; h < nh; ++h) ++start_[detail::mesh_at(origin(h) + 1)];
-  for (int v = 1; v <= nv_; ++v) start_[detail::mesh_at(v)] += start_[detail::mesh_at(v - 1)];
-  for (int h = 0; h < nh; ++h) half_[detail::mesh_at(start_[detail::mesh_at(origin(h))]++)] = h;
-  for (int v = nv_; v >= 1; --v) start_[detail::mesh_at(v)] = start_[detail::mesh_at(v - 1)];
+  for (int h = 0; h < nh; ++h) ++start_[detail::idx(origin(h) + 1)];
+  for (int v = 1; v <= nv_; ++v) start_[detail::idx(v)] += start_[detail::idx(v - 1)];
+  for (int h = 0; h < nh; ++h) half_[detail::idx(start_[detail::idx(origin(h))]++)] = h;
+  for (int v = nv_; v >= 1; --v) start_[detail::idx(v)] = start_[detail::idx(v - 1)];
   start_[0] = 0;
   for (int v = 0; v < nv_; ++v)
-    std::sort(half_.begin() + start_[detail::mesh_at(v)], half_.begin() + start_[detail::mesh_at(v + 1)],
+    std::sort(half_.begin() + start_[detail::idx(v)], half_.begin() + start_[detail::idx(v + 1)],
               [this](int a, int b) { return target(a) < target(b); });
   for (int h = 0; h < nh; ++h) {
     const int u = origin(h), v = target(h);
@@ -111,7 +105,7 @@ MeshIssue TriangleMesh<Scalar, MaxVertices, MaxTriangles>::check_edges(long& ele
     if (same + reverse == 1) return MeshIssue::NotClosed;
     if (same + reverse > 2) return MeshIssue::NonManifold;
     if (same == 2) return MeshIssue::InconsistentOrientation;
-    nbr_[detail::mesh_at(h / 3)][detail::mesh_at(h % 3)] = twin / 3;
+    nbr_[detail::idx(h / 3)][detail::idx(h % 3)] = twin / 3;
   }
   element = -1;
   return MeshIssue::None;
@@ -123,17 +117,17 @@ MeshIssue TriangleMesh<Scalar, MaxVertices, MaxTriangles>::check_fans(long& elem
   // its triangle has its twin v -> w in the neighbour, the next out-going half-edge. A
   // manifold vertex's walk meets all its triangles before returning.
   for (int v = 0; v < nv_; ++v) {
-    const int degree = start_[detail::mesh_at(v + 1)] - start_[detail::mesh_at(v)];
+    const int degree = start_[detail::idx(v + 1)] - start_[detail::idx(v)];
     if (degree == 0) continue;
-    const int h0 = half_[detail::mesh_at(start_[detail::mesh_at(v)])];
+    const int h0 = half_[detail::idx(start_[detail::idx(v)])];
     int h = h0, steps = 0;
     do {
       const int t = h / 3, ep = (h % 3 + 2) % 3;
-      const int w = tris_[detail::mesh_at(t)][detail::mesh_at(ep)];
-      const int nb = nbr_[detail::mesh_at(t)][detail::mesh_at(ep)];
+      const int w = tris_[detail::idx(t)][detail::idx(ep)];
+      const int nb = nbr_[detail::idx(t)][detail::idx(ep)];
       int next = -1;
       for (int k = 0; k < 3; ++k)
-        if (tris_[detail::mesh_at(nb)][detail::mesh_at(k)] == v && tris_[detail::mesh_at(nb)][detail::mesh_at((k + 1) % 3)] == w) next = 3 * nb + k;
+        if (tris_[detail::idx(nb)][detail::idx(k)] == v && tris_[detail::idx(nb)][detail::idx((k + 1) % 3)] == w) next = 3 * nb + k;
       if (next < 0) break;
       h = next;
       ++steps;
@@ -163,7 +157,7 @@ MeshIssue TriangleMesh<Scalar, MaxVertices, MaxTriangles>::check_components(long
     while (head < tail) {
       const int t = queue[head++];
       for (int e = 0; e < 3; ++e) {
-        const int nb = nbr_[detail::mesh_at(t)][detail::mesh_at(e)];
+        const int nb = nbr_[detail::idx(t)][detail::idx(e)];
         if (comp[nb] < 0) {
           comp[nb] = count;
           queue[tail++] = nb;
@@ -179,13 +173,13 @@ MeshIssue TriangleMesh<Scalar, MaxVertices, MaxTriangles>::check_components(long
   int first = 0;
   for (int k = 0; k < count; ++k) {
     while (comp[first] != k) ++first;
-    const Vector3<Scalar>& x = verts_[detail::mesh_at(tris_[detail::mesh_at(first)][0])];
+    const Vector3<Scalar>& x = verts_[detail::idx(tris_[detail::idx(first)][0])];
     Scalar vol = Scalar(0), angle = Scalar(0);
     for (int t = 0; t < nt_; ++t) {
-      const std::array<int, 3>& tri = tris_[detail::mesh_at(t)];
-      const Vector3<Scalar>& a = verts_[detail::mesh_at(tri[0])];
-      const Vector3<Scalar>& b = verts_[detail::mesh_at(tri[1])];
-      const Vector3<Scalar>& c = verts_[detail::mesh_at(tri[2])];
+      const std::array<int, 3>& tri = tris_[detail::idx(t)];
+      const Vector3<Scalar>& a = verts_[detail::idx(tri[0])];
+      const Vector3<Scalar>& b = verts_[detail::idx(tri[1])];
+      const Vector3<Scalar>& c = verts_[detail::idx(tri[2])];
       if (comp[t] == k) vol += (a - c0).dot((b - c0).cross(c - c0));
       else angle += triangle_solid_angle(x, a, b, c);
     }
@@ -209,11 +203,11 @@ MeshReport TriangleMesh<Scalar, MaxVertices, MaxTriangles>::finalize() {
   if (nt_ == 0) return refuse(MeshIssue::Empty, -1);
   const Scalar eps = Scalar(16) * std::numeric_limits<Scalar>::epsilon();
   for (int t = 0; t < nt_; ++t) {
-    const std::array<int, 3>& tri = tris_[detail::mesh_at(t)];
+    const std::array<int, 3>& tri = tris_[detail::idx(t)];
     if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0]) return refuse(MeshIssue::DegenerateTriangle, t);
-    const Vector3<Scalar>& a = verts_[detail::mesh_at(tri[0])];
-    const Vector3<Scalar>& b = verts_[detail::mesh_at(tri[1])];
-    const Vector3<Scalar>& c = verts_[detail::mesh_at(tri[2])];
+    const Vector3<Scalar>& a = verts_[detail::idx(tri[0])];
+    const Vector3<Scalar>& b = verts_[detail::idx(tri[1])];
+    const Vector3<Scalar>& c = verts_[detail::idx(tri[2])];
     // The same test as closest_point_on_triangle's: an accepted triangle always has a face;
     // and no squared length below the smallest normal number, so that their inverses are finite.
     const Vector3<Scalar> ab = b - a, ac = c - a;
@@ -237,14 +231,14 @@ MeshReport TriangleMesh<Scalar, MaxVertices, MaxTriangles>::finalize() {
   const Vector3<Scalar> c0 = (lo_ + hi_) / Scalar(2);
   Scalar six_volume = Scalar(0);
   for (int t = 0; t < nt_; ++t) {
-    const std::array<int, 3>& tri = tris_[detail::mesh_at(t)];
-    six_volume += (verts_[detail::mesh_at(tri[0])] - c0).dot((verts_[detail::mesh_at(tri[1])] - c0).cross(verts_[detail::mesh_at(tri[2])] - c0));
+    const std::array<int, 3>& tri = tris_[detail::idx(t)];
+    six_volume += (verts_[detail::idx(tri[0])] - c0).dot((verts_[detail::idx(tri[1])] - c0).cross(verts_[detail::idx(tri[2])] - c0));
   }
   if (!(six_volume != Scalar(0)) || !std::isfinite(six_volume)) return refuse(MeshIssue::FoldedSurface, -1);
   if (six_volume < Scalar(0)) {  // inward: turn every triangle (a, b, c) -> (a, c, b)
     for (int t = 0; t < nt_; ++t) {
-      std::swap(tris_[detail::mesh_at(t)][1], tris_[detail::mesh_at(t)][2]);
-      std::swap(nbr_[detail::mesh_at(t)][0], nbr_[detail::mesh_at(t)][2]);
+      std::swap(tris_[detail::idx(t)][1], tris_[detail::idx(t)][2]);
+      std::swap(nbr_[detail::idx(t)][0], nbr_[detail::idx(t)][2]);
     }
     six_volume = -six_volume;
     report_.flipped = true;
@@ -253,25 +247,25 @@ MeshReport TriangleMesh<Scalar, MaxVertices, MaxTriangles>::finalize() {
   // Face normals, then angle-weighted vertex pseudo-normals.
   std::fill(vert_n_.begin(), vert_n_.begin() + nv_, Vector3<Scalar>::Zero());
   for (int t = 0; t < nt_; ++t) {
-    const std::array<int, 3>& tri = tris_[detail::mesh_at(t)];
-    const Vector3<Scalar>* p[3] = {&verts_[detail::mesh_at(tri[0])], &verts_[detail::mesh_at(tri[1])], &verts_[detail::mesh_at(tri[2])]};
+    const std::array<int, 3>& tri = tris_[detail::idx(t)];
+    const Vector3<Scalar>* p[3] = {&verts_[detail::idx(tri[0])], &verts_[detail::idx(tri[1])], &verts_[detail::idx(tri[2])]};
     const Vector3<Scalar> n = (*p[1] - *p[0]).cross(*p[2] - *p[0]).normalized();
-    face_n_[detail::mesh_at(t)] = n;
+    face_n_[detail::idx(t)] = n;
     for (int k = 0; k < 3; ++k) {
       const Vector3<Scalar> u = *p[(k + 1) % 3] - *p[k], w = *p[(k + 2) % 3] - *p[k];
-      vert_n_[detail::mesh_at(tri[detail::mesh_at(k)])] += std::atan2(u.cross(w).norm(), u.dot(w)) * n;
+      vert_n_[detail::idx(tri[detail::idx(k)])] += std::atan2(u.cross(w).norm(), u.dot(w)) * n;
     }
   }
   const Scalar fold = Scalar(64) * std::numeric_limits<Scalar>::epsilon();
   for (int t = 0; t < nt_; ++t)
     for (int e = 0; e < 3; ++e)
-      if (!((face_n_[detail::mesh_at(t)] + face_n_[detail::mesh_at(neighbour(t, e))]).norm() > fold))
+      if (!((face_n_[detail::idx(t)] + face_n_[detail::idx(neighbour(t, e))]).norm() > fold))
         return refuse(MeshIssue::FoldedSurface, t);
   for (int v = 0; v < nv_; ++v) {
-    if (start_[detail::mesh_at(v + 1)] == start_[detail::mesh_at(v)]) continue;  // unused vertex: normal stays zero
-    Vector3<Scalar>& n = vert_n_[detail::mesh_at(v)];
+    if (start_[detail::idx(v + 1)] == start_[detail::idx(v)]) continue;  // unused vertex: normal stays zero
+    Vector3<Scalar>& n = vert_n_[detail::idx(v)];
     const Scalar len = n.norm();
-    if (!(len > fold)) return refuse(MeshIssue::FoldedSurface, half_[detail::mesh_at(start_[detail::mesh_at(v)])] / 3);
+    if (!(len > fold)) return refuse(MeshIssue::FoldedSurface, half_[detail::idx(start_[detail::idx(v)])] / 3);
     n /= len;
   }
   issue = check_components(element);

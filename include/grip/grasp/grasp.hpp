@@ -9,6 +9,7 @@
 
 #include "grip/contact/contact.hpp"
 #include "grip/contact/contact_model.hpp"
+#include "grip/core/index.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
 
@@ -80,7 +81,7 @@ class Grasp {
     const int n = count_;  // a local bound check the optimiser can see through (-Warray-bounds)
     if (n < 0 || n >= capacity) return Status::InvalidInput;
     if (validate(c) != Status::Ok) return Status::InvalidInput;
-    const auto k = static_cast<std::size_t>(n);
+    const auto k = detail::idx(n);
     store(k, c);
     is_set_[k] = true;
     count_ = n + 1;
@@ -93,7 +94,7 @@ class Grasp {
   Status set(int i, const ContactType& c) {
     if (i < 0 || i >= size() || i >= capacity) return Status::InvalidInput;  // size() <= capacity; the
     if (validate(c) != Status::Ok) return Status::InvalidInput;               // bound is for -Warray-bounds
-    const auto k = static_cast<std::size_t>(i);
+    const auto k = detail::idx(i);
     store(k, c);
     if (!is_set_[k]) {
       is_set_[k] = true;
@@ -116,10 +117,10 @@ class Grasp {
   /// True when every one of the size() contacts has been set (always, for Dynamic).
   bool complete() const { return set_count_ == count_; }
   /// Contact i, 0 <= i < size() (unchecked, like Eigen's operator()).
-  const ContactType& contact(int i) const { return contacts_[static_cast<std::size_t>(i)]; }
+  const ContactType& contact(int i) const { return contacts_[detail::idx(i)]; }
   /// 1 / contact(i).weight, kept when the contact is stored so that solvers multiply instead
   /// of dividing per contact and frame (0 <= i < size(), unchecked; 0 for a slot never set).
-  Scalar inverse_weight(int i) const { return inverse_weights_[static_cast<std::size_t>(i)]; }
+  Scalar inverse_weight(int i) const { return inverse_weights_[detail::idx(i)]; }
   /// The normals and friction coefficients of all contacts in one structure of arrays (see
   /// ConeTable), kept when a contact is stored: what a monitor reads to test many contacts at
   /// once with SIMD instructions, where contact(i) would be a strided gather.
@@ -186,10 +187,10 @@ class Grasp {
     cone_table_(r, 3) = c.friction;
   }
 
-  std::array<ContactType, static_cast<std::size_t>(capacity)> contacts_{};
-  std::array<Scalar, static_cast<std::size_t>(capacity)> inverse_weights_{};
+  std::array<ContactType, detail::idx(capacity)> contacts_{};
+  std::array<Scalar, detail::idx(capacity)> inverse_weights_{};
   ConeTable cone_table_{ConeTable::Zero()};
-  std::array<bool, static_cast<std::size_t>(capacity)> is_set_{};
+  std::array<bool, detail::idx(capacity)> is_set_{};
   int count_{N == Dynamic ? 0 : N};
   int set_count_{0};
 };

@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 
+#include "grip/core/index.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
 #include "grip/hand/hand_model.hpp"
@@ -54,18 +55,18 @@ Status forward_kinematics(const HandDimensions<Scalar>& dims,
   for (int f = 0; f < 5; ++f) {
     const int first = f == 0 ? 0 : 2 + 3 * (f - 1);
     const int count = f == 0 ? 2 : 3;
-    Vector3<Scalar> p = dims.base[static_cast<std::size_t>(f)];
+    Vector3<Scalar> p = dims.base[detail::idx(f)];
     Scalar sum = Scalar(0);
     for (int j = 0; j < count; ++j) {
       const int k = first + j;
       sum += angles(k);
       const Vector3<Scalar> dir =
-          Eigen::AngleAxis<Scalar>(sum, dims.flexion_axis[static_cast<std::size_t>(f)]) * dims.rest_direction[static_cast<std::size_t>(f)];
-      const Vector3<Scalar> q = p + dims.length[static_cast<std::size_t>(k)] * dir;
-      PhalanxCapsule<Scalar>& c = out.phalanges[static_cast<std::size_t>(k)];
+          Eigen::AngleAxis<Scalar>(sum, dims.flexion_axis[detail::idx(f)]) * dims.rest_direction[detail::idx(f)];
+      const Vector3<Scalar> q = p + dims.length[detail::idx(k)] * dir;
+      PhalanxCapsule<Scalar>& c = out.phalanges[detail::idx(k)];
       c.base = R * p + t;
       c.tip = R * q + t;
-      c.radius = dims.radius[static_cast<std::size_t>(k)];
+      c.radius = dims.radius[detail::idx(k)];
       c.finger = phalanx_finger(k);
       c.phalanx = phalanx_kind(k);
       p = q;

@@ -23,6 +23,7 @@
 
 #include <Eigen/Geometry>
 
+#include "grip/core/index.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
 #include "grip/hand/squeeze.hpp"
@@ -112,14 +113,14 @@ struct HandDimensions {
     const Scalar y_mcp[5] = {Scalar(0), Scalar(0.105), Scalar(0), Scalar(-0.10), Scalar(-0.20)};
     const Scalar r_finger[3] = {Scalar(0.045), Scalar(0.040), Scalar(0.036)};
     for (int f = 1; f < 5; ++f) {
-      d.base[static_cast<std::size_t>(f)] = Vector3<Scalar>(frac[static_cast<std::size_t>(f)][0] * L, y_mcp[f] * L, Scalar(0));
-      d.rest_direction[static_cast<std::size_t>(f)] = Vector3<Scalar>::UnitX();
-      d.flexion_axis[static_cast<std::size_t>(f)] = Vector3<Scalar>::UnitY();
+      d.base[detail::idx(f)] = Vector3<Scalar>(frac[detail::idx(f)][0] * L, y_mcp[f] * L, Scalar(0));
+      d.rest_direction[detail::idx(f)] = Vector3<Scalar>::UnitX();
+      d.flexion_axis[detail::idx(f)] = Vector3<Scalar>::UnitY();
       for (int p = 0; p < 3; ++p) {
         const int k = phalanx_index(static_cast<Finger>(f), static_cast<Phalanx>(p));
-        d.length[static_cast<std::size_t>(k)] = frac[static_cast<std::size_t>(f)][static_cast<std::size_t>(1 + p)] * L;
-        d.radius[static_cast<std::size_t>(k)] = r_finger[p] * L;
-        d.joint_upper_limit[static_cast<std::size_t>(k)] = (p == 1 ? Scalar(110) : Scalar(90)) * deg;
+        d.length[detail::idx(k)] = frac[detail::idx(f)][detail::idx(1 + p)] * L;
+        d.radius[detail::idx(k)] = r_finger[p] * L;
+        d.joint_upper_limit[detail::idx(k)] = (p == 1 ? Scalar(110) : Scalar(90)) * deg;
       }
     }
     const Scalar beta = Scalar(25) * deg;
@@ -144,17 +145,17 @@ Status validate(const HandDimensions<Scalar>& d) {
   const Scalar tol = Scalar(1e-3);
   if (!std::isfinite(d.hand_length) || !(d.hand_length > Scalar(0))) return Status::InvalidInput;
   for (int k = 0; k < hand_phalanx_count; ++k) {
-    if (!std::isfinite(d.length[static_cast<std::size_t>(k)]) || !(d.length[static_cast<std::size_t>(k)] > Scalar(0))) return Status::InvalidInput;
-    if (!std::isfinite(d.radius[static_cast<std::size_t>(k)]) || !(d.radius[static_cast<std::size_t>(k)] > Scalar(0))) return Status::InvalidInput;
-    if (!std::isfinite(d.joint_upper_limit[static_cast<std::size_t>(k)])) return Status::InvalidInput;
+    if (!std::isfinite(d.length[detail::idx(k)]) || !(d.length[detail::idx(k)] > Scalar(0))) return Status::InvalidInput;
+    if (!std::isfinite(d.radius[detail::idx(k)]) || !(d.radius[detail::idx(k)] > Scalar(0))) return Status::InvalidInput;
+    if (!std::isfinite(d.joint_upper_limit[detail::idx(k)])) return Status::InvalidInput;
   }
   if (!d.thumb_cmc.allFinite()) return Status::InvalidInput;
   for (int f = 0; f < 5; ++f) {
-    if (!d.base[static_cast<std::size_t>(f)].allFinite() || !d.rest_direction[static_cast<std::size_t>(f)].allFinite() || !d.flexion_axis[static_cast<std::size_t>(f)].allFinite())
+    if (!d.base[detail::idx(f)].allFinite() || !d.rest_direction[detail::idx(f)].allFinite() || !d.flexion_axis[detail::idx(f)].allFinite())
       return Status::InvalidInput;
-    if (!(std::abs(d.rest_direction[static_cast<std::size_t>(f)].norm() - Scalar(1)) <= tol) ||
-        !(std::abs(d.flexion_axis[static_cast<std::size_t>(f)].norm() - Scalar(1)) <= tol) ||
-        !(std::abs(d.rest_direction[static_cast<std::size_t>(f)].dot(d.flexion_axis[static_cast<std::size_t>(f)])) <= tol))
+    if (!(std::abs(d.rest_direction[detail::idx(f)].norm() - Scalar(1)) <= tol) ||
+        !(std::abs(d.flexion_axis[detail::idx(f)].norm() - Scalar(1)) <= tol) ||
+        !(std::abs(d.rest_direction[detail::idx(f)].dot(d.flexion_axis[detail::idx(f)])) <= tol))
       return Status::InvalidInput;
   }
   return Status::Ok;

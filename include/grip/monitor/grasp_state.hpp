@@ -7,6 +7,7 @@
 
 #include "grip/contact/cone_support.hpp"
 #include "grip/contact/contact_mode.hpp"
+#include "grip/core/index.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
 
@@ -34,7 +35,7 @@ struct GraspModes {
   static constexpr int capacity = GraspT::capacity;  ///< most contacts reported
 
   /// Per-contact modes; entries [0, size()) are meaningful.
-  std::array<ContactMode, static_cast<std::size_t>(capacity)> modes{};
+  std::array<ContactMode, detail::idx(capacity)> modes{};
   int count{0};             ///< number of contacts reported (the grasp's size())
   int sticking_count{0};    ///< contacts in ContactMode::Sticking
   int sliding_count{0};     ///< contacts in ContactMode::Sliding
@@ -47,7 +48,7 @@ struct GraspModes {
   /// Number of contacts reported.
   int size() const { return count; }
   /// The mode of contact i (0 <= i < size(), unchecked).
-  ContactMode mode(int i) const { return modes[static_cast<std::size_t>(i)]; }
+  ContactMode mode(int i) const { return modes[detail::idx(i)]; }
   /// True if contact i slides.
   bool is_sliding(int i) const { return mode(i) == ContactMode::Sliding; }
   /// True if contact i separates.
@@ -70,13 +71,13 @@ struct GraspState : GraspModes<GraspT> {
   using Scalar = typename GraspT::ScalarType;
 
   /// Per-contact states; entries [0, size()) are meaningful.
-  std::array<ContactState<Scalar>, static_cast<std::size_t>(GraspT::capacity)> contacts{};
+  std::array<ContactState<Scalar>, detail::idx(GraspT::capacity)> contacts{};
   /// Smallest margin over the contacts (N); cone_margin_floor() when there are none.
   Scalar min_margin{cone_margin_floor<Scalar>()};
   int min_margin_index{-1};  ///< the contact with min_margin, -1 when there are none
 
   /// The state of contact i (0 <= i < size(), unchecked).
-  const ContactState<Scalar>& contact(int i) const { return contacts[static_cast<std::size_t>(i)]; }
+  const ContactState<Scalar>& contact(int i) const { return contacts[detail::idx(i)]; }
 };
 
 }  // namespace grip

@@ -8,6 +8,7 @@
 #include <cstddef>
 
 #include "grip/contact/exact_cone.hpp"
+#include "grip/core/index.hpp"
 #include "grip/grasp/grasp.hpp"
 #include "grip/monitor/grasp_state.hpp"
 #include "grip/monitor/stability_monitor.hpp"
@@ -83,7 +84,7 @@ struct StickingGrasp {
   using GraspType = Grasp<Dynamic, typename GraspT::ModelType, typename GraspT::ScalarType, GraspT::capacity>;
   GraspType grasp;  ///< the sticking contacts, in their original order
   /// original_index[k] is the index in the original grasp of grasp.contact(k); -1 past size().
-  std::array<int, static_cast<std::size_t>(GraspT::capacity)> original_index{};
+  std::array<int, detail::idx(GraspT::capacity)> original_index{};
   Status status{Status::InvalidInput};  ///< Ok, or InvalidInput (state not Ok or of another size)
 
   /// True when status == Status::Ok.
@@ -96,7 +97,7 @@ struct StickingGrasp {
     constexpr int d = GraspT::dim;
     if (!ok() || sub.size() != grasp.unknowns()) return;
     for (int k = 0; k < grasp.size(); ++k) {
-      const int i = original_index[static_cast<std::size_t>(k)];
+      const int i = original_index[detail::idx(k)];
       if ((i + 1) * d > full.size()) return;
       full.template segment<d>(i * d) = sub.template segment<d>(k * d);
     }
@@ -118,7 +119,7 @@ StickingGrasp<GraspT> sticking_grasp(const GraspT& grasp, const GraspModes<Grasp
   for (int i = 0; i < grasp.size(); ++i) {
     if (!state.is_sticking(i)) continue;
     if (out.grasp.add(grasp.contact(i)) != Status::Ok) return StickingGrasp<GraspT>{};
-    out.original_index[static_cast<std::size_t>(k++)] = i;
+    out.original_index[detail::idx(k++)] = i;
   }
   out.status = Status::Ok;
   return out;

@@ -7,11 +7,12 @@
 #include <cstddef>
 #include <type_traits>
 
-#include "grip/contact/exact_cone.hpp"
-#include "grip/core/scalar_traits.hpp"
-#include "grip/core/status.hpp"
 #include "grip/contact/coulomb_cone.hpp"
 #include "grip/contact/coulomb_kernel.hpp"
+#include "grip/contact/exact_cone.hpp"
+#include "grip/core/index.hpp"
+#include "grip/core/scalar_traits.hpp"
+#include "grip/core/status.hpp"
 #include "grip/grasp/grasp.hpp"
 #include "grip/monitor/grasp_state.hpp"
 
@@ -82,7 +83,7 @@ class StabilityMonitor {
     for (int i = 0; i < grasp.size(); ++i) {
       const Cone cone = Cone::from_contact(grasp.contact(i));
       const typename Cone::Vector x = forces.template segment<GraspT::dim>(i * GraspT::dim);
-      ContactState<Scalar>& cs = out.contacts[static_cast<std::size_t>(i)];
+      ContactState<Scalar>& cs = out.contacts[detail::idx(i)];
       const ConeMeasure<Scalar> m = cone.measure(x);
       cs.normal_force = m.normal_force;
       cs.tangential_force = m.tangential_force;
@@ -90,7 +91,7 @@ class StabilityMonitor {
       cs.margin = m.margin;
       cs.relative_margin = m.relative_margin;
       cs.mode = mode_of(!(m.normal_force > Scalar(0)), m.margin < -slack(m.normal_force));
-      out.modes[static_cast<std::size_t>(i)] = cs.mode;
+      out.modes[detail::idx(i)] = cs.mode;
       ++counts[static_cast<int>(cs.mode)];
       if (i == 0 || cs.margin < out.min_margin) {
         out.min_margin = cs.margin;
@@ -150,7 +151,7 @@ class StabilityMonitor {
       const Scalar fn = cone.normal_part(x);
       const bool separating = !(fn > Scalar(0));
       const bool sliding = cone.slips(x, slack(fn));
-      out.modes[static_cast<std::size_t>(i)] = mode_of(separating, sliding);
+      out.modes[detail::idx(i)] = mode_of(separating, sliding);
       separating_count += int(separating);
       sliding_count += int(sliding & !separating);
     }

@@ -6,12 +6,13 @@
 #include <algorithm>
 #include <cstddef>
 
+#include "grip/core/index.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
 #include "grip/dynamics/rigid_body.hpp"
+#include "grip/geometry/collision.hpp"
 #include "grip/hand/hand_kinematics.hpp"
 #include "grip/hand/hand_model.hpp"
-#include "grip/geometry/collision.hpp"
 #include "grip/pipeline/scene.hpp"
 
 namespace grip {
@@ -49,7 +50,7 @@ ClosedHand<Scalar> close_hand_in_scene(const Scene& scene, const HandDimensions<
     scene.hand_contacts(posture, object, contacts);
     Scalar d = Scalar(-1);
     for (int i = 0; i < contacts.count; ++i) {
-      const HandContact<Scalar>& c = contacts.items[static_cast<std::size_t>(i)];
+      const HandContact<Scalar>& c = contacts.items[detail::idx(i)];
       const int k = phalanx_index(c.finger, c.phalanx);
       if (k >= first && k <= last) d = std::max(d, c.depth);
     }
@@ -60,7 +61,7 @@ ClosedHand<Scalar> close_hand_in_scene(const Scene& scene, const HandDimensions<
     const int first = f == 0 ? 0 : 2 + 3 * (f - 1);
     const int last = f == 0 ? 1 : first + 2;
     for (int k = first; k <= last; ++k) {
-      const Scalar limit = dims.joint_upper_limit[static_cast<std::size_t>(k)];
+      const Scalar limit = dims.joint_upper_limit[detail::idx(k)];
       if (deepest(k, last) >= target_depth) continue;  // already blocked: keep it straight
       Scalar lo = Scalar(0), hi = Scalar(0);
       bool blocked = false;

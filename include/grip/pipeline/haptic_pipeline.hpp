@@ -14,6 +14,7 @@
 
 #include "grip/contact/contact.hpp"
 #include "grip/contact/contact_model.hpp"
+#include "grip/core/index.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
 #include "grip/dynamics/external_wrench.hpp"
@@ -158,7 +159,7 @@ class HapticPipeline {
 
   /// The contact share d of phalanx k: Table 1 for fingers, thumb_contribution for the thumb.
   Scalar share(int k) const {
-    if (k < 2) return settings_.thumb_contribution[static_cast<std::size_t>(k)];
+    if (k < 2) return settings_.thumb_contribution[detail::idx(k)];
     return settings_.contribution(phalanx_finger(k), phalanx_kind(k));
   }
 
@@ -168,17 +169,17 @@ class HapticPipeline {
   void build_grasp(const std::array<bool, max_contacts>& keep) {
     grasp_.clear();
     for (int i = 0; i < hand_.count; ++i) {
-      if (!keep[static_cast<std::size_t>(i)]) continue;
-      const HandContact<Scalar>& h = hand_.items[static_cast<std::size_t>(i)];
+      if (!keep[detail::idx(i)]) continue;
+      const HandContact<Scalar>& h = hand_.items[detail::idx(i)];
       Contact<Scalar> c;
       c.position = h.point - object_.position;
       c.normal = h.normal;
       c.friction = settings_.friction;
       const int k = phalanx_index(h.finger, h.phalanx);
       if (k < 0 || k >= hand_phalanx_count) continue;  // not a phalanx of the model
-      c.squeeze = squeeze(share(k), settings_.stiffness[static_cast<std::size_t>(k)], h.depth);
+      c.squeeze = squeeze(share(k), settings_.stiffness[detail::idx(k)], h.depth);
       if (settings_.weight_by_squeeze) c.weight = Scalar(1) / std::max(c.squeeze, settings_.weight_floor);
-      if (grasp_.add(c) == Status::Ok) index_[static_cast<std::size_t>(grasp_.size() - 1)] = i;
+      if (grasp_.add(c) == Status::Ok) index_[detail::idx(grasp_.size() - 1)] = i;
     }
   }
 
@@ -224,7 +225,7 @@ void HapticPipeline<Scalar, Scene, Solver>::find_contacts(HapticFrame<Scalar>& f
   scene_.hand_contacts(posture_, object_, hand_);
   scene_.obstacle_contacts(object_, obstacles_);
   for (int i = 0; i < obstacles_.count; ++i) {
-    PenaltyContact<Scalar>& c = obstacles_.items[static_cast<std::size_t>(i)];
+    PenaltyContact<Scalar>& c = obstacles_.items[detail::idx(i)];
     c.depth_rate = -c.normal.dot(object_.point_velocity(object_.position + c.point));
   }
   frame.contacts = hand_.count;
@@ -249,7 +250,7 @@ bool HapticPipeline<Scalar, Scene, Solver>::object_wrench(const WristState<Scala
 template <class Scalar, class Scene, class Solver>
 void HapticPipeline<Scalar, Scene, Solver>::solve_forces(HapticFrame<Scalar>& frame) {
   std::array<bool, max_contacts> keep{};
-  for (int i = 0; i < hand_.count; ++i) keep[static_cast<std::size_t>(i)] = true;
+  for (int i = 0; i < hand_.count; ++i) keep[detail::idx(i)] = true;
   forces_.stable = false;
   const int rounds = std::max(0, settings_.max_resolves);
   for (int round = 0; round <= rounds; ++round) {
@@ -271,7 +272,7 @@ void HapticPipeline<Scalar, Scene, Solver>::solve_forces(HapticFrame<Scalar>& fr
       forces_.stable = sol.status == Status::Ok && state.stable;
       const Resolution<GraspType> res = resolve(grasp_, sol.forces, state, forces_.w_ext);
       for (int j = 0; j < grasp_.size(); ++j) {
-        const auto i = static_cast<std::size_t>(index_[static_cast<std::size_t>(j)]);
+        const auto i = detail::idx(index_[detail::idx(j)]);
         forces_.transmitted[i] = res.status == Status::Ok ? Vector3<Scalar>(res.transmitted.template segment<3>(3 * j))
                                                           : Vector3<Scalar>::Zero();
         forces_.sliding[i] = state.is_sliding(j);
@@ -279,7 +280,7 @@ void HapticPipeline<Scalar, Scene, Solver>::solve_forces(HapticFrame<Scalar>& fr
       return;
     }
     for (int j = 0; j < grasp_.size(); ++j)  // drop the separating contacts and solve again with the rest
-      if (state.is_separating(j)) keep[static_cast<std::size_t>(index_[static_cast<std::size_t>(j)])] = false;
+      if (state.is_separating(j)) keep[detail::idx(index_[detail::idx(j)])] = false;
   }
 }
 
@@ -300,8 +301,8 @@ template <class Scalar, class Scene, class Solver>
 void HapticPipeline<Scalar, Scene, Solver>::move_object(const WristState<Scalar>& wrist, HapticFrame<Scalar>& frame) {
   Wrench<Scalar> transmitted = Wrench<Scalar>::Zero();
   for (int i = 0; i < hand_.count; ++i) {
-    const Vector3<Scalar>& f = forces_.transmitted[static_cast<std::size_t>(i)];
-    const Vector3<Scalar> p = hand_.items[static_cast<std::size_t>(i)].point - object_.position;
+    const Vector3<Scalar>& f = forces_.transmitted[detail::idx(i)];
+    const Vector3<Scalar> p = hand_.items[detail::idx(i)].point - object_.position;
     transmitted.template head<3>() += f;
     transmitted.template tail<3>() += p.cross(f);
   }
@@ -321,22 +322,22 @@ void HapticPipeline<Scalar, Scene, Solver>::phalanx_feedback(const WristState<Sc
                                                              HapticFrame<Scalar>& frame) {
   const Matrix3<Scalar> rw = wrist.pose.linear();
   for (int i = 0; i < hand_.count; ++i) {
-    const HandContact<Scalar>& hc = hand_.items[static_cast<std::size_t>(i)];
+    const HandContact<Scalar>& hc = hand_.items[detail::idx(i)];
     const int k = phalanx_index(hc.finger, hc.phalanx);
     if (k < 0 || k >= hand_phalanx_count) continue;
-    PhalanxFeedback<Scalar>& fb = frame.phalanges[static_cast<std::size_t>(k)];
-    fb.force -= forces_.transmitted[static_cast<std::size_t>(i)];
+    PhalanxFeedback<Scalar>& fb = frame.phalanges[detail::idx(k)];
+    fb.force -= forces_.transmitted[detail::idx(i)];
     fb.in_contact = true;
-    fb.sliding = fb.sliding || forces_.sliding[static_cast<std::size_t>(i)];
+    fb.sliding = fb.sliding || forces_.sliding[detail::idx(i)];
   }
   for (int k = 0; k < hand_phalanx_count; ++k) {
-    PhalanxFeedback<Scalar>& fb = frame.phalanges[static_cast<std::size_t>(k)];
-    const PhalanxCapsule<Scalar>& c = posture_.phalanges[static_cast<std::size_t>(k)];
+    PhalanxFeedback<Scalar>& fb = frame.phalanges[detail::idx(k)];
+    const PhalanxCapsule<Scalar>& c = posture_.phalanges[detail::idx(k)];
     const Vector3<Scalar> d = (c.tip - c.base).normalized();
-    const Vector3<Scalar> e = rw * settings_.hand.flexion_axis[static_cast<std::size_t>(phalanx_finger(k))];
+    const Vector3<Scalar> e = rw * settings_.hand.flexion_axis[detail::idx(phalanx_finger(k))];
     fb.actuation_direction = d.cross(e).normalized();
     fb.actuated = fb.force.dot(fb.actuation_direction);
-    const Scalar limit = settings_.device_limit[static_cast<std::size_t>(k)];
+    const Scalar limit = settings_.device_limit[detail::idx(k)];
     fb.command = std::min(limit, std::max(Scalar(0), fb.actuated));
     fb.clamped = fb.in_contact && fb.command != fb.actuated;
     if (fb.clamped) ++frame.clamped;

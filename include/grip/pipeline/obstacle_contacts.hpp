@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 
+#include "grip/core/index.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
 #include "grip/dynamics/penalty_contact.hpp"
@@ -38,7 +39,7 @@ struct SurfacePoints {
   /// Appends a point: InvalidInput (unchanged) if it is not finite or the set is full.
   Status add(const Vector3<Scalar>& body_point) {
     if (count >= MaxPoints || !body_point.allFinite()) return Status::InvalidInput;
-    items[static_cast<std::size_t>(count++)] = body_point;
+    items[detail::idx(count++)] = body_point;
     return Status::Ok;
   }
 };
@@ -52,7 +53,7 @@ struct Obstacles {
   /// Adds an obstacle: InvalidInput (unchanged) if it is empty or there is no room.
   Status add(const Shape<Scalar>& shape) {
     if (count >= MaxObstacles || shape.size() == 0) return Status::InvalidInput;
-    shapes[static_cast<std::size_t>(count++)] = shape;
+    shapes[detail::idx(count++)] = shape;
     return Status::Ok;
   }
   /// Adds the axis-aligned box [lower, upper] (m, world): InvalidInput if it is empty,
@@ -77,14 +78,14 @@ struct Obstacles {
     if (count == 0) return 0;
     const Matrix3<Scalar> rot = object.rotation();
     for (int i = 0; i < points.count; ++i) {
-      const Vector3<Scalar> r = rot * points.items[static_cast<std::size_t>(i)];
+      const Vector3<Scalar> r = rot * points.items[detail::idx(i)];
       const Vector3<Scalar> p = object.position + r;
       for (int o = 0; o < count; ++o) {
         Vector3<Scalar> n;
-        const Scalar d = shapes[static_cast<std::size_t>(o)].distance(p, n);
+        const Scalar d = shapes[detail::idx(o)].distance(p, n);
         if (!(d < Scalar(0))) continue;
         if (out.count >= max_obstacle_contacts) return out.count;
-        PenaltyContact<Scalar>& c = out.items[static_cast<std::size_t>(out.count++)];
+        PenaltyContact<Scalar>& c = out.items[detail::idx(out.count++)];
         c.point = r;
         c.normal = n;
         c.depth = -d;

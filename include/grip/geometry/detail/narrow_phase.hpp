@@ -21,6 +21,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "grip/core/index.hpp"
 #include "grip/core/scalar_traits.hpp"
 #include "grip/core/types.hpp"
 #include "grip/geometry/hand_contact.hpp"
@@ -131,7 +132,7 @@ void evaluate_samples(Probe& probe, const PhalanxAxis<Scalar>& ax, Scalar band, 
   const Scalar skip = band + (ax.b - ax.a).norm() / Scalar(Samples - 1);
   bool far = false;  // the previous sample is at least a spacing beyond the band
   for (int j = 0; j < Samples; ++j) {
-    const auto sj = static_cast<std::size_t>(j);
+    const auto sj = detail::idx(j);
     if (!s.reach[sj]) {
       far = false;
       continue;
@@ -169,7 +170,7 @@ Penetration<Scalar> refine(Probe& probe, const PhalanxAxis<Scalar>& ax, const Sa
   struct End {
     Scalar t, phi, slope;
   };
-  const auto sj = static_cast<std::size_t>(j);
+  const auto sj = detail::idx(j);
   const Scalar h = Scalar(1) / Scalar(Samples - 1);
   Penetration<Scalar> best{ax.radius - s.phi[sj], Scalar(j) * h, s.phi[sj], s.normal[sj], j, false};
   const Vector3<Scalar> d = ax.b - ax.a;
@@ -185,7 +186,7 @@ Penetration<Scalar> refine(Probe& probe, const PhalanxAxis<Scalar>& ax, const Sa
     if (!probe.within(ax.at(t), limit, phi, n)) phi = probe.exact(ax.at(t), n);
     return phi;
   };
-  const auto sk = static_cast<std::size_t>(k);
+  const auto sk = detail::idx(k);
   Vector3<Scalar> nk = s.normal[sk];
   Scalar phik = s.phi[sk];
   if (!s.reach[sk]) {  // farther than the band: not evaluated yet
@@ -243,7 +244,7 @@ int part_candidates(const Field& field, const PhalanxAxis<Scalar>& ax, int j, st
       Vector3<Scalar> no;
       buried = o != i && field.part_distance(o, q, no) < -slack;
     }
-    if (!buried) cand[static_cast<std::size_t>(nc++)] = sample_penetration(ax, j, samples, phi, n);
+    if (!buried) cand[detail::idx(nc++)] = sample_penetration(ax, j, samples, phi, n);
   }
   return nc;
 }
@@ -268,66 +269,66 @@ int phalanx_contacts(const Field& field, Probe& probe, const PhalanxAxis<Scalar>
   std::array<int, Samples> minima;
   int nm = 0;
   for (int j = 0; j < Samples; ++j) {
-    const auto sj = static_cast<std::size_t>(j);
+    const auto sj = detail::idx(j);
     if (!s.reach[sj]) continue;
     const Scalar phi = s.phi[sj];
     const bool left = j == 0 || !s.reach[sj - 1] || phi < s.phi[sj - 1];
     const bool right = j == Samples - 1 || !s.reach[sj + 1] || phi <= s.phi[sj + 1];
-    if (left && right && phi < band) minima[static_cast<std::size_t>(nm++)] = j;
+    if (left && right && phi < band) minima[detail::idx(nm++)] = j;
     if constexpr (parts > 1) {
       nc = part_candidates<parts, Samples>(field, ax, j, cand, nc);
     } else {
-      if (phi < ax.radius) cand[static_cast<std::size_t>(nc++)] = sample_penetration(ax, j, Samples, phi, s.normal[sj]);
+      if (phi < ax.radius) cand[detail::idx(nc++)] = sample_penetration(ax, j, Samples, phi, s.normal[sj]);
     }
   }
   if (K == 1)
     for (int i = 1; i < nm; ++i) {  // insertion sort by distance (at most Samples)
-      const int j = minima[static_cast<std::size_t>(i)];
+      const int j = minima[detail::idx(i)];
       int m = i;
-      for (; m > 0 && s.phi[static_cast<std::size_t>(minima[static_cast<std::size_t>(m - 1)])] > s.phi[static_cast<std::size_t>(j)]; --m)
-        minima[static_cast<std::size_t>(m)] = minima[static_cast<std::size_t>(m - 1)];
-      minima[static_cast<std::size_t>(m)] = j;
+      for (; m > 0 && s.phi[detail::idx(minima[detail::idx(m - 1)])] > s.phi[detail::idx(j)]; --m)
+        minima[detail::idx(m)] = minima[detail::idx(m - 1)];
+      minima[detail::idx(m)] = j;
     }
   const Scalar spacing = (ax.b - ax.a).norm() / Scalar(Samples - 1);
   Scalar deepest = ax.radius;  // the least distance refined so far (a contact needs less than r)
   for (int m = 0; m < nm; ++m) {
-    const int j = minima[static_cast<std::size_t>(m)];
-    if (K == 1 && !(s.phi[static_cast<std::size_t>(j)] - spacing < deepest)) continue;
+    const int j = minima[detail::idx(m)];
+    if (K == 1 && !(s.phi[detail::idx(j)] - spacing < deepest)) continue;
     const Penetration<Scalar> p = refine(probe, ax, s, j, band, settings);
-    if (p.depth > Scalar(0)) cand[static_cast<std::size_t>(nc++)] = p;
+    if (p.depth > Scalar(0)) cand[detail::idx(nc++)] = p;
     deepest = std::min(deepest, p.phi);
   }
   // Deepest first (insertion sort: at most 2 Samples candidates); a refined point before the
   // sample it was refined from when both are equally deep.
   for (int i = 1; i < nc; ++i) {
-    const Penetration<Scalar> p = cand[static_cast<std::size_t>(i)];
+    const Penetration<Scalar> p = cand[detail::idx(i)];
     int k = i;
     for (; k > 0; --k) {
-      const Penetration<Scalar>& q = cand[static_cast<std::size_t>(k - 1)];
+      const Penetration<Scalar>& q = cand[detail::idx(k - 1)];
       if (q.depth > p.depth || (q.depth == p.depth && (!q.is_sample || p.is_sample))) break;
-      cand[static_cast<std::size_t>(k)] = q;
+      cand[detail::idx(k)] = q;
     }
-    cand[static_cast<std::size_t>(k)] = p;
+    cand[detail::idx(k)] = p;
   }
   const Scalar cos_join = K > 1 ? std::cos(settings.cluster_angle) : Scalar(1);
   int count = 0;
   for (int i = 0; i < nc; ++i) {
-    const Penetration<Scalar>& p = cand[static_cast<std::size_t>(i)];
+    const Penetration<Scalar>& p = cand[detail::idx(i)];
     int nearest = -1;
     Scalar best = Scalar(-2);
     for (int c = 0; c < count; ++c) {
-      const Scalar dot = p.normal.dot(out[static_cast<std::size_t>(c)].normal);
+      const Scalar dot = p.normal.dot(out[detail::idx(c)].normal);
       if (dot > best) {
         best = dot;
         nearest = c;
       }
     }
     if (nearest < 0 || (best < cos_join && count < K)) {
-      out[static_cast<std::size_t>(count)] = p;
-      members[static_cast<std::size_t>(count)] = p.is_sample ? 1 : 0;
+      out[detail::idx(count)] = p;
+      members[detail::idx(count)] = p.is_sample ? 1 : 0;
       ++count;
     } else if (p.is_sample) {
-      ++members[static_cast<std::size_t>(nearest)];
+      ++members[detail::idx(nearest)];
     }
   }
   return count;

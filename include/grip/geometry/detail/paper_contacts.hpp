@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 
+#include "grip/core/index.hpp"
 #include "grip/core/types.hpp"
 #include "grip/geometry/hand_collision_model.hpp"
 #include "grip/geometry/hand_contact.hpp"
@@ -26,7 +27,7 @@ struct PlaneEstimates {
   bool operator()(int o, int j0, int j1) {
     const SurfacePlane<Scalar>& pl = oct->plane(o);
     for (int j = j0; j <= j1; ++j) {
-      const auto sj = static_cast<std::size_t>(j);
+      const auto sj = detail::idx(j);
       const Scalar d = pl.distance + pl.normal.dot(x[sj] - oct->tree().node(o).center);
       if (leaf[sj] < 0 || d > phi[sj]) {
         phi[sj] = d;
@@ -45,7 +46,7 @@ bool combine_planes(const PlaneEstimates<Scalar, Samples, Capacity>& q, Scalar r
   int count = 0, deepest = -1;
   Vector3<Scalar> nsum = Vector3<Scalar>::Zero(), psum = Vector3<Scalar>::Zero();
   for (int j = 0; j < Samples; ++j) {
-    const auto sj = static_cast<std::size_t>(j);
+    const auto sj = detail::idx(j);
     if (q.leaf[sj] < 0) continue;
     const Scalar p = radius - q.phi[sj];
     if (!(p > Scalar(0))) continue;
@@ -63,7 +64,7 @@ bool combine_planes(const PlaneEstimates<Scalar, Samples, Capacity>& q, Scalar r
   const Scalar nn = nsum.norm();
   const Vector3<Scalar> n_out = nn > Scalar(1e-3) * wsum
                                     ? Vector3<Scalar>(nsum / nn)
-                                    : q.oct->plane(q.leaf[static_cast<std::size_t>(deepest)]).normal;
+                                    : q.oct->plane(q.leaf[detail::idx(deepest)]).normal;
   out.depth = depth;
   out.samples = count;
   out.sample = deepest;
@@ -78,7 +79,7 @@ template <class Scalar, int Samples, int Capacity>
 void reset_estimates(PlaneEstimates<Scalar, Samples, Capacity>& q, const HandCollisionModel<Scalar, Samples>& hand,
                      int k, const Eigen::Transform<Scalar, 3, Eigen::Isometry>& to_object) {
   for (int j = 0; j < Samples; ++j)
-    q.x[static_cast<std::size_t>(j)] = to_object * hand.phalanx_node(k, Samples - 1 + j).center;
+    q.x[detail::idx(j)] = to_object * hand.phalanx_node(k, Samples - 1 + j).center;
   q.leaf.fill(-1);
 }
 
