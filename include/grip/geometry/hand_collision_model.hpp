@@ -95,14 +95,22 @@ class HandCollisionModel {
   bool posed() const { return posed_; }
   /// Sphere bounding the whole hand.
   const BoundingSphere<Scalar>& hand_sphere() const { return hand_; }
-  /// Sphere bounding digit f (0 thumb .. 4 little).
-  const BoundingSphere<Scalar>& finger_sphere(int f) const { return fingers_[detail::idx(f)]; }
-  /// Node i (0 .. nodes_per_phalanx - 1) of phalanx k's tree (0 is its root).
+  /// Sphere bounding digit f (0 thumb .. 4 little; GRIP_ASSERT).
+  const BoundingSphere<Scalar>& finger_sphere(int f) const {
+    GRIP_ASSERT(f < 5);
+    return fingers_[detail::idx(f)];
+  }
+  /// Node i (0 .. nodes_per_phalanx - 1) of phalanx k's tree (0 is its root); k in
+  /// [0, hand_phalanx_count) (GRIP_ASSERT, as i).
   const BoundingSphere<Scalar>& phalanx_node(int k, int i) const {
+    GRIP_ASSERT(k < hand_phalanx_count && i < nodes_per_phalanx);
     return nodes_[detail::idx(k)][detail::idx(i)];
   }
-  /// The capsule of phalanx k as last posed.
-  const PhalanxCapsule<Scalar>& capsule(int k) const { return capsules_[detail::idx(k)]; }
+  /// The capsule of phalanx k (0 <= k < hand_phalanx_count, GRIP_ASSERT) as last posed.
+  const PhalanxCapsule<Scalar>& capsule(int k) const {
+    GRIP_ASSERT(k < hand_phalanx_count);
+    return capsules_[detail::idx(k)];
+  }
 
   /// First phalanx index of digit f (0 thumb .. 4 little).
   static constexpr int first_phalanx(int f) { return f == 0 ? 0 : 2 + 3 * (f - 1); }

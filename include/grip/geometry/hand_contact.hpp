@@ -43,8 +43,11 @@ struct HandContacts {
   std::array<HandContact<Scalar>, detail::idx(capacity)> items{};  ///< items[0 .. count).
   int count{0};                                                       ///< Number of contacts.
 
-  /// Contact i, 0 <= i < count.
-  const HandContact<Scalar>& operator[](int i) const { return items[detail::idx(i)]; }
+  /// Contact i. Precondition (GRIP_ASSERT): 0 <= i < count.
+  const HandContact<Scalar>& operator[](int i) const {
+    GRIP_ASSERT(i < count);
+    return items[detail::idx(i)];
+  }
   /// The deepest contact of a finger's phalanx, or nullptr if it has none.
   const HandContact<Scalar>* find(Finger f, Phalanx p) const {
     for (int i = 0; i < count; ++i)

@@ -151,10 +151,16 @@ class MeshShape {
 
   /// The mesh's axis-aligned bounding box: false (lo, hi untouched) unless built().
   bool bounding_box(Vector3<Scalar>& lo, Vector3<Scalar>& hi) const { return built() && mesh_->bounding_box(lo, hi); }
-  /// Node i of the box hierarchy (0 is the root), 0 <= i < node_count().
-  const MeshBoxNode<Scalar>& node(int i) const { return nodes_[detail::idx(i)]; }
-  /// Far-field data of node i.
-  const MeshWindingNode<Scalar>& winding_node(int i) const { return wnodes_[detail::idx(i)]; }
+  /// Node i of the box hierarchy (0 is the root). Precondition (GRIP_ASSERT): 0 <= i < node_count().
+  const MeshBoxNode<Scalar>& node(int i) const {
+    GRIP_ASSERT(i < node_count_);
+    return nodes_[detail::idx(i)];
+  }
+  /// Far-field data of node i. Precondition (GRIP_ASSERT): 0 <= i < node_count().
+  const MeshWindingNode<Scalar>& winding_node(int i) const {
+    GRIP_ASSERT(i < node_count_);
+    return wnodes_[detail::idx(i)];
+  }
 
  private:
   using Block = detail::TriangleBlock<Scalar>;

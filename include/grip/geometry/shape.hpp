@@ -213,8 +213,11 @@ class Shape {
   }
   /// Number of primitives.
   int size() const { return count_; }
-  /// Primitive i, 0 <= i < size().
-  const ShapePrimitive<Scalar>& primitive(int i) const { return prims_[detail::idx(i)]; }
+  /// Primitive i. Precondition (GRIP_ASSERT): 0 <= i < size().
+  const ShapePrimitive<Scalar>& primitive(int i) const {
+    GRIP_ASSERT(i < count_);
+    return prims_[detail::idx(i)];
+  }
 
   /// The parts of the field (collision.hpp's multi-contact narrow phase): the primitives.
   static constexpr int max_parts = MaxPrimitives;
@@ -222,6 +225,7 @@ class Shape {
   int part_count() const { return count_; }
   /// Signed distance (m) of p from part i (primitive i, 0 <= i < size()), its outward normal.
   Scalar part_distance(int i, const Vector3<Scalar>& p, Vector3<Scalar>& normal) const {
+    GRIP_ASSERT(i < count_);
     return prims_[detail::idx(i)].distance(p, normal);
   }
 

@@ -79,8 +79,11 @@ class SphereTree {
     return size_++;
   }
 
-  /// Node i, 0 <= i < size().
-  const SphereNode<Scalar>& node(int i) const { return nodes_[detail::idx(i)]; }
+  /// Node i. Precondition (GRIP_ASSERT): 0 <= i < size().
+  const SphereNode<Scalar>& node(int i) const {
+    GRIP_ASSERT(i < size_);
+    return nodes_[detail::idx(i)];
+  }
   /// True if node i has no children.
   bool is_leaf(int i) const { return node(i).child_count == 0; }
 

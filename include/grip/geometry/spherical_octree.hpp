@@ -148,12 +148,23 @@ class SphericalOctree {
 
   /// The sphere tree of cells (node spheres circumscribe their cubes).
   const Tree& tree() const { return tree_; }
-  /// Surface model of cell i (meaningful for every cell; used at leaves).
-  const SurfacePlane<Scalar>& plane(int i) const { return planes_[detail::idx(i)]; }
-  /// Half edge (m) of the cubes at `level` (0 = root), 0 <= level <= max_octree_depth.
-  Scalar cell_half_edge(int level) const { return half_edge_[detail::idx(level)]; }
-  /// Kind of cell i.
-  CellKind kind(int i) const { return kind_[detail::idx(i)]; }
+  /// Surface model of cell i (meaningful for every cell; used at leaves). Precondition
+  /// (GRIP_ASSERT): 0 <= i < tree().size().
+  const SurfacePlane<Scalar>& plane(int i) const {
+    GRIP_ASSERT(i < tree_.size());
+    return planes_[detail::idx(i)];
+  }
+  /// Half edge (m) of the cubes at `level` (0 = root). Precondition (GRIP_ASSERT):
+  /// 0 <= level <= max_octree_depth.
+  Scalar cell_half_edge(int level) const {
+    GRIP_ASSERT(level <= max_octree_depth);
+    return half_edge_[detail::idx(level)];
+  }
+  /// Kind of cell i. Precondition (GRIP_ASSERT): 0 <= i < tree().size().
+  CellKind kind(int i) const {
+    GRIP_ASSERT(i < tree_.size());
+    return kind_[detail::idx(i)];
+  }
   /// True if leaf i lies entirely inside the shape (an interior cell).
   bool is_interior(int i) const { return kind(i) == CellKind::Interior; }
   /// True if cell i is a leaf holding part of the shape (interior, or boundary at full depth).

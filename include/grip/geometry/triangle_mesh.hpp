@@ -132,16 +132,34 @@ class TriangleMesh {
   int vertex_count() const { return nv_; }
   /// Number of triangles.
   int triangle_count() const { return nt_; }
+  // The accessors below check their preconditions with GRIP_ASSERT (core/assert.hpp).
   /// Vertex i, 0 <= i < vertex_count().
-  const Vector3<Scalar>& vertex(int i) const { return verts_[detail::idx(i)]; }
+  const Vector3<Scalar>& vertex(int i) const {
+    GRIP_ASSERT(i < nv_);
+    return verts_[detail::idx(i)];
+  }
   /// Vertex indices of triangle t, 0 <= t < triangle_count().
-  const std::array<int, 3>& triangle(int t) const { return tris_[detail::idx(t)]; }
-  /// Unit outward normal of triangle t (finalized meshes).
-  const Vector3<Scalar>& face_normal(int t) const { return face_n_[detail::idx(t)]; }
-  /// Unit angle-weighted pseudo-normal of vertex v (finalized meshes; zero if v is unused).
-  const Vector3<Scalar>& vertex_normal(int v) const { return vert_n_[detail::idx(v)]; }
-  /// The triangle across edge e (0: ab, 1: bc, 2: ca) of triangle t (finalized meshes).
-  int neighbour(int t, int e) const { return nbr_[detail::idx(t)][detail::idx(e)]; }
+  const std::array<int, 3>& triangle(int t) const {
+    GRIP_ASSERT(t < nt_);
+    return tris_[detail::idx(t)];
+  }
+  /// Unit outward normal of triangle t, 0 <= t < triangle_count() (finalized meshes).
+  const Vector3<Scalar>& face_normal(int t) const {
+    GRIP_ASSERT(t < nt_);
+    return face_n_[detail::idx(t)];
+  }
+  /// Unit angle-weighted pseudo-normal of vertex v, 0 <= v < vertex_count() (finalized meshes;
+  /// zero if v is unused).
+  const Vector3<Scalar>& vertex_normal(int v) const {
+    GRIP_ASSERT(v < nv_);
+    return vert_n_[detail::idx(v)];
+  }
+  /// The triangle across edge e (0: ab, 1: bc, 2: ca) of triangle t, 0 <= t < triangle_count()
+  /// (finalized meshes).
+  int neighbour(int t, int e) const {
+    GRIP_ASSERT(t < nt_ && e < 3);
+    return nbr_[detail::idx(t)][detail::idx(e)];
+  }
   /// Unit pseudo-normal of edge e of triangle t: the normalised sum of its two face normals.
   Vector3<Scalar> edge_normal(int t, int e) const {
     return (face_normal(t) + face_normal(neighbour(t, e))).normalized();

@@ -116,11 +116,18 @@ class Grasp {
   int unknowns() const { return count_ * dim; }
   /// True when every one of the size() contacts has been set (always, for Dynamic).
   bool complete() const { return set_count_ == count_; }
-  /// Contact i, 0 <= i < size() (unchecked, like Eigen's operator()).
-  const ContactType& contact(int i) const { return contacts_[detail::idx(i)]; }
+  /// Contact i. Precondition (GRIP_ASSERT, as Eigen's operator() has eigen_assert): 0 <= i < size().
+  const ContactType& contact(int i) const {
+    GRIP_ASSERT(i < count_);
+    return contacts_[detail::idx(i)];
+  }
   /// 1 / contact(i).weight, kept when the contact is stored so that solvers multiply instead
-  /// of dividing per contact and frame (0 <= i < size(), unchecked; 0 for a slot never set).
-  Scalar inverse_weight(int i) const { return inverse_weights_[detail::idx(i)]; }
+  /// of dividing per contact and frame (0 for a slot never set). Precondition (GRIP_ASSERT):
+  /// 0 <= i < size().
+  Scalar inverse_weight(int i) const {
+    GRIP_ASSERT(i < count_);
+    return inverse_weights_[detail::idx(i)];
+  }
   /// The normals and friction coefficients of all contacts in one structure of arrays (see
   /// ConeTable), kept when a contact is stored: what a monitor reads to test many contacts at
   /// once with SIMD instructions, where contact(i) would be a strided gather.

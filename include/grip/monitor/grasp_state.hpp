@@ -47,8 +47,11 @@ struct GraspModes {
 
   /// Number of contacts reported.
   int size() const { return count; }
-  /// The mode of contact i (0 <= i < size(), unchecked).
-  ContactMode mode(int i) const { return modes[detail::idx(i)]; }
+  /// The mode of contact i. Precondition (GRIP_ASSERT): 0 <= i < size().
+  ContactMode mode(int i) const {
+    GRIP_ASSERT(i < count);
+    return modes[detail::idx(i)];
+  }
   /// True if contact i slides.
   bool is_sliding(int i) const { return mode(i) == ContactMode::Sliding; }
   /// True if contact i separates.
@@ -76,8 +79,11 @@ struct GraspState : GraspModes<GraspT> {
   Scalar min_margin{cone_margin_floor<Scalar>()};
   int min_margin_index{-1};  ///< the contact with min_margin, -1 when there are none
 
-  /// The state of contact i (0 <= i < size(), unchecked).
-  const ContactState<Scalar>& contact(int i) const { return contacts[detail::idx(i)]; }
+  /// The state of contact i. Precondition (GRIP_ASSERT): 0 <= i < size().
+  const ContactState<Scalar>& contact(int i) const {
+    GRIP_ASSERT(i < this->count);
+    return contacts[detail::idx(i)];
+  }
 };
 
 }  // namespace grip
