@@ -135,7 +135,7 @@ TEST_CASE_TEMPLATE("epsilon L1 equals a brute-force facet enumeration, L-inf bra
     std::vector<Eigen::Matrix<double, 6, 1>> pts{Eigen::Matrix<double, 6, 1>::Zero()};
     for (int i = 0; i < 3; ++i) {
       Wrench<S> w[4];
-      contact_primitives<HardFinger, 4>(g.contact(i), S(rho), w);
+      detail::contact_primitives<HardFinger, 4>(g.contact(i), S(rho), w);
       for (const auto& x : w) pts.push_back(x.template cast<double>());
     }
     const double expect = brute_force_epsilon(pts);

@@ -1,4 +1,4 @@
-// core/types.hpp: skew(), stable_norm() and the size helpers against hand-worked values;
+// core/types.hpp: skew(), detail::stable_norm() and the size helpers against hand-worked values;
 // core/version.hpp: its spellings agree.
 #include <doctest/doctest.h>
 
@@ -27,22 +27,22 @@ TEST_CASE_TEMPLATE("stable_norm: 3-4-5 at every scale, where a sum of squares un
   Wrench<S> tiny = Wrench<S>::Zero();
   tiny(1) = S(300) * dmin;
   tiny(4) = S(400) * dmin;
-  CHECK(std::fabs(stable_norm(tiny) - S(500) * dmin) <= S(2) * dmin);
+  CHECK(std::fabs(detail::stable_norm(tiny) - S(500) * dmin) <= S(2) * dmin);
   // Normal but tiny: the squares underflow into the denormals and lose their digits.
   const S small = std::sqrt(L::min()) / S(1024);
   const Vector3<S> v2(S(3) * small, S(0), S(4) * small);
-  CHECK(std::fabs(stable_norm(v2) / (S(5) * small) - S(1)) <= S(4) * L::epsilon());
+  CHECK(std::fabs(detail::stable_norm(v2) / (S(5) * small) - S(1)) <= S(4) * L::epsilon());
   // Huge: the squares overflow.
   const S huge = std::sqrt(L::max());
   const Vector3<S> v3(S(3) * huge, S(4) * huge, S(0));
-  CHECK(std::fabs(stable_norm(v3) / (S(5) * huge) - S(1)) <= S(4) * L::epsilon());
+  CHECK(std::fabs(detail::stable_norm(v3) / (S(5) * huge) - S(1)) <= S(4) * L::epsilon());
   // Ordinary values take the plain path and give the plain answer, bit for bit.
   const Vector3<S> v4(S(3), S(-4), S(12));
-  CHECK(stable_norm(v4) == S(13));
-  CHECK(stable_norm(Vector3<S>::Zero().eval()) == S(0));
+  CHECK(detail::stable_norm(v4) == S(13));
+  CHECK(detail::stable_norm(Vector3<S>::Zero().eval()) == S(0));
   // Not finite stays not finite.
-  CHECK(std::isnan(stable_norm(Vector3<S>(S(1), L::quiet_NaN(), S(0)))));
-  CHECK(std::isinf(stable_norm(Vector3<S>(S(1), L::infinity(), S(0)))));
+  CHECK(std::isnan(detail::stable_norm(Vector3<S>(S(1), L::quiet_NaN(), S(0)))));
+  CHECK(std::isinf(detail::stable_norm(Vector3<S>(S(1), L::infinity(), S(0)))));
 }
 
 

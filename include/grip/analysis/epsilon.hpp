@@ -7,7 +7,7 @@
 /// Definitions (Ferrari & Canny, "Planning optimal grasps", ICRA 1992; Roa & Suarez 2015
 /// section 4.3 "Q_LRW"). Each contact's exact cone is replaced by K primitive forces of unit
 /// normal component on its surface (the inscribed pyramid): d_ik = a_i + mu_i (cos th_k t1 +
-/// sin th_k t2), th_k = 2 pi k / K, with (t1, t2) the tangent basis of tangent_basis(). A
+/// sin th_k t2), th_k = 2 pi k / K, with (t1, t2) the tangent basis of detail::tangent_basis(). A
 /// soft finger adds the two torsion primitives (a_i, +-mu_t,i); a frictionless point has
 /// the single primitive a_i. The primitive wrenches are
 ///     w_ik = [d_ik ; (r_i x d_ik + m_ik a_i) / rho]
@@ -41,6 +41,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/QR>
 
+#include "grip/analysis/detail/epsilon_primitives.hpp"
 #include "grip/contact/contact_model.hpp"
 #include "grip/core/index.hpp"
 #include "grip/core/scalar_traits.hpp"
@@ -55,49 +56,6 @@ enum class EpsilonNorm {
   L1,         ///< sum of normal forces <= 1: W = conv(all primitive wrenches, 0).
   LInfinity,  ///< every normal force <= 1: W = Minkowski sum of per-contact hulls.
 };
-
-/// A fixed orthonormal tangent basis (t1, t2) of the plane normal to unit a: t1 = a x e / |a x e|
-/// with e the x axis, or the y axis when |a_x| > 0.9; t2 = a x t1.
-template <class S>
-void tangent_basis(const Vector3<S>& a, Vector3<S>& t1, Vector3<S>& t2) {
-  const Vector3<S> e = std::abs(a.x()) > S(0.9) ? Vector3<S>::UnitY() : Vector3<S>::UnitX();
-  t1 = a.cross(e).normalized();
-  t2 = a.cross(t1);
-}
-
-/// Number of primitive wrenches per contact for K pyramid sides: K (hard), K + 2 (soft), 1.
-template <class Model, int K>
-constexpr int primitives_per_contact() {
-  return Model::dim == 1 ? 1 : (Model::dim == 4 ? K + 2 : K);
-}
-
-/// Writes the primitive wrenches of contact c (see the file comment) into out[0..count).
-template <class Model, int K, class S>
-int contact_primitives(const Contact<S>& c, S rho, Wrench<S>* out) {
-  const Vector3<S> a = c.normal;
-  auto put = [&](int j, const Vector3<S>& d, S m) {
-    out[j].template head<3>() = d;
-    out[j].template tail<3>() = (c.position.cross(d) + m * a) / rho;
-  };
-  if constexpr (Model::dim == 1) {
-    put(0, a, S(0));
-    return 1;
-  } else {
-    Vector3<S> t1, t2;
-    tangent_basis(a, t1, t2);
-    const S two_pi = S(6.283185307179586476925L);
-    for (int k = 0; k < K; ++k) {
-      const S th = two_pi * S(k) / S(K);
-      put(k, a + c.friction * (std::cos(th) * t1 + std::sin(th) * t2), S(0));
-    }
-    if constexpr (Model::dim == 4) {
-      put(K, a, c.torsional_friction);
-      put(K + 1, a, -c.torsional_friction);
-      return K + 2;
-    }
-    return K;
-  }
-}
 
 /// Storage of the expanding-polytope search: at most MaxVertices support points and
 /// MaxFacets facets. Default ~2.0 MB (1.9 MiB) for double: keep one per thread (static or heap in
@@ -143,18 +101,6 @@ struct Epsilon {
   Status status{Status::InvalidInput};  ///< Ok, IterationLimit or InvalidInput (see above).
 };
 
-namespace detail {
-
-// True if sorted ridge r (5) is a subset of sorted facet vertices f (6).
-inline bool ridge_in_facet(const std::array<int, 5>& r, const std::array<int, 6>& f) {
-  int j = 0;
-  for (int k = 0; k < 6 && j < 5; ++k)
-    if (f[detail::idx(k)] == r[detail::idx(j)]) ++j;
-  return j == 5;
-}
-
-}  // namespace detail
-
 /// Ferrari-Canny epsilon of `grasp` with K-sided linearised cones, the given norm and
 /// torque scale rho (m), using `ws` for storage. No heap. Cost: each step one support query
 /// (O(n K)) and one pass over the current facets.
@@ -169,7 +115,7 @@ Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, 
   using S = typename GraspT::ScalarType;
   using M = typename GraspT::ModelType;
   using Facet = typename Workspace::Facet;
-  constexpr int P = primitives_per_contact<M, K>();
+  constexpr int P = detail::primitives_per_contact<M, K>();
   Epsilon<S> out;
   if (!grasp.complete() || !std::isfinite(torque_scale) || !(torque_scale > S(0)) || !std::isfinite(tolerance) ||
       !(tolerance > S(0)))
@@ -178,7 +124,7 @@ Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, 
   std::array<Wrench<S>, detail::idx(GraspT::capacity * P)> prim;
   S scale(0);
   for (int i = 0; i < n; ++i) {
-    contact_primitives<M, K>(grasp.contact(i), torque_scale, &prim[detail::idx(i * P)]);
+    detail::contact_primitives<M, K>(grasp.contact(i), torque_scale, &prim[detail::idx(i * P)]);
     for (int k = 0; k < P; ++k) scale = std::max(scale, prim[detail::idx(i * P + k)].norm());
   }
   if (!std::isfinite(scale)) return out;

@@ -49,8 +49,11 @@ Matrix3<Scalar> skew(const Vector3<Scalar>& r) {
   return m;
 }
 
-/// The Euclidean norm of v without the underflow of a plain sum of squares: entries near the
-/// scalar's smallest normal value (valid inputs, e.g. a denormal squeeze) square to zero, so
+namespace detail {
+
+/// The Euclidean norm of v without the underflow of a plain sum of squares (internal: the
+/// solvers' residual; may change). Entries near the scalar's smallest normal value (valid
+/// inputs, e.g. a denormal squeeze) square to zero, so
 /// v.norm() can report 0 for a vector of length 1e-43. The sum of squares is used when it is
 /// safely above the underflow range (each entry it loses weighs below eps of it) and finite;
 /// otherwise the entries scaled by the largest magnitude (NaN stays NaN, infinity infinity).
@@ -73,5 +76,7 @@ typename Derived::RealScalar stable_norm(const Eigen::MatrixBase<Derived>& v) {
   }
   return scale * std::sqrt(sum);
 }
+
+}  // namespace detail
 
 }  // namespace grip

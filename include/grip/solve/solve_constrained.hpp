@@ -154,7 +154,7 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
 
   if (grasp.size() == 0) {  // nothing can push: feasible only for w_ext = 0
     fill_invalid(sol, m);
-    sol.residual = stable_norm(w_ext);
+    sol.residual = detail::stable_norm(w_ext);
     if (sol.residual == S(0)) {
       sol.status = Status::Ok;
     } else {

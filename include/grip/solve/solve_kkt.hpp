@@ -106,7 +106,7 @@ Solution<GraspT> solve_kkt(const GraspT& grasp, const Wrench<typename GraspT::Sc
   sol.forces = b.head(n);
   sol.multipliers = b.tail(6);
   sol.multipliers.template tail<3>() /= length;  // undo the column scaling of lambda_M
-  sol.residual = stable_norm(grasp.wrench(sol.forces) + w_ext);
+  sol.residual = detail::stable_norm(grasp.wrench(sol.forces) + w_ext);
   sol.status = Status::Ok;
   return sol;
 }
