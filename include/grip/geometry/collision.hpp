@@ -300,12 +300,7 @@ Status detect_contacts(const HandCollisionModel<Scalar, Samples>& hand, const Sp
     detail::reset_estimates(q, hand, k, to_object);
     const Scalar r = hand.capsule(k).radius;
     detail::descend_from_root(detail::SegmentQuery<Scalar>::make(q.x[0], q.x[Samples - 1], r, Samples), object, q);
-    HandContact<Scalar>& c = out.items[detail::idx(out.count)];
-    if (detail::combine_planes(q, r, object_pose, c)) {
-      c.finger = phalanx_finger(k);
-      c.phalanx = phalanx_kind(k);
-      ++out.count;
-    }
+    detail::append_combined(q, r, object_pose, k, out);
   });
   return Status::Ok;
 }
@@ -329,12 +324,7 @@ Status detect_contacts_exhaustive(const HandCollisionModel<Scalar, Samples>& han
         if ((q.x[detail::idx(j)] - on.center).squaredNorm() <= reach * reach) q(o, j, j);
       }
     }
-    HandContact<Scalar>& c = out.items[detail::idx(out.count)];
-    if (detail::combine_planes(q, r, object_pose, c)) {
-      c.finger = phalanx_finger(k);
-      c.phalanx = phalanx_kind(k);
-      ++out.count;
-    }
+    detail::append_combined(q, r, object_pose, k, out);
   }
   return Status::Ok;
 }

@@ -123,13 +123,27 @@ struct ShapePrimitive {
   }
 };
 
+namespace detail {
+
+/// The part the makers below share: a primitive of `kind` placed at `center`, turned by
+/// `rotation`, its sizes zero for the maker to set.
+template <class Scalar>
+ShapePrimitive<Scalar> placed_primitive(PrimitiveKind kind, const Vector3<Scalar>& center,
+                                        const Matrix3<Scalar>& rotation = Matrix3<Scalar>::Identity()) {
+  ShapePrimitive<Scalar> s;
+  s.kind = kind;
+  s.center = center;
+  s.rotation = rotation;
+  return s;
+}
+
+}  // namespace detail
+
 /// A sphere of `radius` (m) at `center`.
 template <class Scalar>
 ShapePrimitive<Scalar> make_sphere(Scalar radius, const Vector3<Scalar>& center = Vector3<Scalar>::Zero()) {
-  ShapePrimitive<Scalar> s;
-  s.kind = PrimitiveKind::Sphere;
+  ShapePrimitive<Scalar> s = detail::placed_primitive(PrimitiveKind::Sphere, center);
   s.radius = radius;
-  s.center = center;
   return s;
 }
 
@@ -138,11 +152,8 @@ template <class Scalar>
 ShapePrimitive<Scalar> make_box(const Vector3<Scalar>& half_extents,
                                 const Vector3<Scalar>& center = Vector3<Scalar>::Zero(),
                                 const Matrix3<Scalar>& rotation = Matrix3<Scalar>::Identity()) {
-  ShapePrimitive<Scalar> s;
-  s.kind = PrimitiveKind::Box;
+  ShapePrimitive<Scalar> s = detail::placed_primitive(PrimitiveKind::Box, center, rotation);
   s.half_extents = half_extents;
-  s.center = center;
-  s.rotation = rotation;
   return s;
 }
 
@@ -152,12 +163,9 @@ template <class Scalar>
 ShapePrimitive<Scalar> make_cylinder(Scalar radius, Scalar half_length,
                                      const Vector3<Scalar>& center = Vector3<Scalar>::Zero(),
                                      const Matrix3<Scalar>& rotation = Matrix3<Scalar>::Identity()) {
-  ShapePrimitive<Scalar> s;
-  s.kind = PrimitiveKind::Cylinder;
+  ShapePrimitive<Scalar> s = detail::placed_primitive(PrimitiveKind::Cylinder, center, rotation);
   s.radius = radius;
   s.half_length = half_length;
-  s.center = center;
-  s.rotation = rotation;
   return s;
 }
 

@@ -83,5 +83,18 @@ void reset_estimates(PlaneEstimates<Scalar, Samples, Capacity>& q, const HandCol
   q.leaf.fill(-1);
 }
 
+/// Paper mode: appends phalanx k's contact, when combine_planes() finds one, to `out` (which
+/// has room: a phalanx gives at most one contact, out.count < out.capacity).
+template <class Scalar, int Samples, int Capacity>
+void append_combined(const PlaneEstimates<Scalar, Samples, Capacity>& q, Scalar radius,
+                     const Eigen::Transform<Scalar, 3, Eigen::Isometry>& pose, int k, HandContacts<Scalar>& out) {
+  GRIP_ASSERT(out.count < HandContacts<Scalar>::capacity);
+  HandContact<Scalar>& c = out.items[detail::idx(out.count)];
+  if (!combine_planes(q, radius, pose, c)) return;
+  c.finger = phalanx_finger(k);
+  c.phalanx = phalanx_kind(k);
+  ++out.count;
+}
+
 }  // namespace detail
 }  // namespace grip
