@@ -79,9 +79,14 @@ struct HeldCube {
   HapticPipeline<S, Scene> pipeline() const { return HapticPipeline<S, Scene>(settings, scene, object); }
 };
 
-template <class S>
-S force_tol() {  // N: solver round-off on forces of tens of newtons
-  return std::is_same<S, float>::value ? S(2e-3) : S(1e-9);
+// The tolerance of a frame's forces, from round-off (support/tolerance.hpp): k = 1 unit of
+// u * grasp_condition * force scale, the first-order error of a backward-stable solve with its
+// constant taken as 1; observed at most 0.03 of it in both scalar types and both scenes (float:
+// about 1.4e-4 N on the held cylinder's 0.4 kg, where a fixed 2e-3 N stood before). A moment's
+// tolerance is the force tolerance times the object's reach (the largest |r_i|).
+template <class S, class P>
+double force_tol(const P& p, const grip::HapticFrame<S>& f) {
+  return grip_test::frame_force_tolerance(p, f, 1);
 }
 
 }  // namespace
@@ -96,14 +101,15 @@ TEST_CASE_TEMPLATE("a cube grasped (Fig. 3): each phalanx feels what an independ
   REQUIRE(f.separating == 0);
   CHECK(f.sliding == 0);
   // Statics: the hand feels +m g in all, moments balanced about the centre of mass.
-  CHECK((grip_test::total_feedback(f) - Vector3<S>(S(0), S(0), S(-cube_mass * 9.81))).norm() <= force_tol<S>());
-  CHECK(grip_test::finger_moment(f, p).norm() <= force_tol<S>() * S(0.1));
+  CHECK(double((grip_test::total_feedback(f) - Vector3<S>(S(0), S(0), S(-cube_mass * 9.81))).norm()) <=
+        force_tol(p, f));
+  CHECK(double(grip_test::finger_moment(f, p).norm()) <= force_tol(p, f) * grip_test::contact_reach(p));
   // Per phalanx, against solve_kkt on the same contacts.
   const auto feel = grip_test::independent_feedback<S>(p, h.settings);
   int felt = 0;
   for (int k = 0; k < hand_phalanx_count; ++k) {
     const auto sk = static_cast<std::size_t>(k);
-    CHECK((f.phalanges[sk].force - feel[sk]).norm() <= S(10) * force_tol<S>());
+    CHECK(double((f.phalanges[sk].force - feel[sk]).norm()) <= force_tol(p, f));
     felt += f.phalanges[sk].in_contact ? 1 : 0;
   }
   CHECK(felt == f.contacts);
@@ -130,7 +136,7 @@ TEST_CASE_TEMPLATE("a cube lifted, held still, then released: m (a - g), then fr
     w.pose.translation() += w.linear_velocity * S(1e-3);
     REQUIRE(p.step(w, h.closed, f) == Status::Ok);
     REQUIRE(f.held);
-    CHECK(std::abs(-grip_test::total_feedback(f).z() - S(cube_mass * (3 + 9.81))) <= S(10) * force_tol<S>());
+    CHECK(double(std::abs(-grip_test::total_feedback(f).z() - S(cube_mass * (3 + 9.81)))) <= force_tol(p, f));
   }
   const Vector3<S> lifted = p.object().position;
   CHECK(lifted.z() > h.object.position.z() + S(0.014));  // 3 * 0.1^2 / 2 = 15 mm up, with the hand
@@ -141,7 +147,8 @@ TEST_CASE_TEMPLATE("a cube lifted, held still, then released: m (a - g), then fr
     REQUIRE(p.step(w, h.closed, f) == Status::Ok);
     REQUIRE(f.held);
   }
-  CHECK((grip_test::total_feedback(f) - Vector3<S>(S(0), S(0), S(-cube_mass * 9.81))).norm() <= force_tol<S>());
+  CHECK(double((grip_test::total_feedback(f) - Vector3<S>(S(0), S(0), S(-cube_mass * 9.81))).norm()) <=
+        force_tol(p, f));
   // Release: open the hand, move it aside; the cube falls with g.
   const JointAngles<S> open = JointAngles<S>::Zero();
   REQUIRE(p.step(w, open, f) == Status::Ok);
@@ -183,11 +190,12 @@ TEST_CASE_TEMPLATE("several contacts per phalanx in the loop: statics hold, forc
   HapticFrame<S> f;
   REQUIRE(p.step(h.wrist, h.closed, f) == Status::Ok);
   REQUIRE(f.held);
-  CHECK((grip_test::total_feedback(f) - Vector3<S>(S(0), S(0), S(-cube_mass * 9.81))).norm() <= force_tol<S>());
+  CHECK(double((grip_test::total_feedback(f) - Vector3<S>(S(0), S(0), S(-cube_mass * 9.81))).norm()) <=
+        force_tol(p, f));
   const auto feel = grip_test::independent_feedback<S>(p, h.settings);
   for (int k = 0; k < hand_phalanx_count; ++k)
-    CHECK((f.phalanges[static_cast<std::size_t>(k)].force - feel[static_cast<std::size_t>(k)]).norm() <=
-          S(10) * force_tol<S>());
+    CHECK(double((f.phalanges[static_cast<std::size_t>(k)].force - feel[static_cast<std::size_t>(k)]).norm()) <=
+          force_tol(p, f));
   int several = 0;
   for (int k = 0; k < hand_phalanx_count; ++k)
     several += p.hand_contacts().count_of(phalanx_finger(k), phalanx_kind(k)) > 1 ? 1 : 0;
@@ -289,12 +297,12 @@ TEST_CASE_TEMPLATE("a mesh object in the loop: held, lifted and released, each p
   REQUIRE(f.held);
   REQUIRE(f.separating == 0);
   const S weight = S(0.2 * 9.81);
-  CHECK((grip_test::total_feedback(f) - Vector3<S>(S(0), S(0), -weight)).norm() <= force_tol<S>());
-  CHECK(grip_test::finger_moment(f, p).norm() <= force_tol<S>() * S(0.1));
+  CHECK(double((grip_test::total_feedback(f) - Vector3<S>(S(0), S(0), -weight)).norm()) <= force_tol(p, f));
+  CHECK(double(grip_test::finger_moment(f, p).norm()) <= force_tol(p, f) * grip_test::contact_reach(p));
   const auto feel = grip_test::independent_feedback<S>(p, settings);
   for (int k = 0; k < hand_phalanx_count; ++k)
-    CHECK((f.phalanges[static_cast<std::size_t>(k)].force - feel[static_cast<std::size_t>(k)]).norm() <=
-          S(10) * force_tol<S>());
+    CHECK(double((f.phalanges[static_cast<std::size_t>(k)].force - feel[static_cast<std::size_t>(k)]).norm()) <=
+          force_tol(p, f));
   for (int i = 0; i < p.hand_contacts().count; ++i) {  // on the mesh's surface
     const Vector3<S> local = p.hand_contacts()[i].point - p.object().position;
     CHECK(std::abs(b.shape.distance(local)) <= S(1e-5));
@@ -306,7 +314,7 @@ TEST_CASE_TEMPLATE("a mesh object in the loop: held, lifted and released, each p
     wrist.pose.translation() += wrist.linear_velocity * S(1e-3);
     REQUIRE(p.step(wrist, closed.angles, f) == Status::Ok);
     REQUIRE(f.held);
-    CHECK(std::abs(-grip_test::total_feedback(f).z() - S(0.2) * S(2 + 9.81)) <= S(10) * force_tol<S>());
+    CHECK(double(std::abs(-grip_test::total_feedback(f).z() - S(0.2) * S(2 + 9.81))) <= force_tol(p, f));
   }
   const JointAngles<S> open = JointAngles<S>::Zero();
   wrist.linear_acceleration.setZero();

@@ -12,6 +12,8 @@
 #include <grip/pipeline/haptic_pipeline.hpp>
 #include <grip/solve/solve_kkt.hpp>
 
+#include "support/tolerance.hpp"
+
 namespace grip_test {
 
 template <class S>
@@ -59,6 +61,27 @@ struct HeldCylinder {
     return grip::HapticPipeline<S, grip::CylinderScene<S>, Solver>(settings, scene, object);
   }
 };
+
+/// The round-off tolerance (support/tolerance.hpp) of a held frame's forces, in newtons: k
+/// rounding errors of the scalar type, times the condition of the pipeline's last grasp
+/// (grasp_condition), times the frame's force scale, |w_ext| plus the sum of |f_i| over the
+/// phalanges. A moment's tolerance is this times the object's size (the largest |r_i|).
+template <class S, class P>
+double frame_force_tolerance(const P& pipeline, const grip::HapticFrame<S>& f, double k) {
+  double scale = static_cast<double>(f.external.total().template head<3>().norm());
+  for (const auto& ph : f.phalanges) scale += static_cast<double>(ph.force.norm());
+  return roundoff<S>(k, grasp_condition(pipeline.grasp()), scale);
+}
+
+/// The largest distance (m) from the object's centre of mass to one of the pipeline's contacts.
+template <class P>
+double contact_reach(const P& pipeline) {
+  double reach = 0;
+  const auto& contacts = pipeline.hand_contacts();
+  for (int i = 0; i < contacts.count; ++i)
+    reach = std::max(reach, static_cast<double>((contacts[i].point - pipeline.object().position).norm()));
+  return reach;
+}
 
 /// Sum over phalanges of the feedback forces (N, world).
 template <class S>
