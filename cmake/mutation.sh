@@ -22,7 +22,7 @@ radius|include/grip/contact/coulomb_cone.hpp|return CoulombCone{c.normal, c.fric
 projection|include/grip/solve/detail/constrained_passes.hpp|  return keep * v + sb * a + bb * ftv;|  return v + S(0) * (keep * v + sb * a + bb * ftv);|solve/solve_constrained\.
 tail|include/grip/contact/coulomb_kernel.hpp|x + 3 * b, n - b|x + 3 * b, n - b - (n - b > 1 ? 1 : 0)|contact/coulomb_kernel|core/simd
 jacobian|include/grip/solve/projection_jacobian.hpp|  j.noalias() += beta * (Matrix3<Scalar>::Identity() - a * a.transpose() - e * e.transpose());|  j.noalias() += beta * (Matrix3<Scalar>::Identity() - a * a.transpose());|solve/projection_jacobian|contact/coulomb_cone
-pipeline|include/grip/pipeline/haptic_pipeline.hpp|        const auto i = static_cast<std::size_t>(index_[static_cast<std::size_t>(j)]);|        const auto i = static_cast<std::size_t>(index_[static_cast<std::size_t>(j < 2 && grasp_.size() > 1 ? 1 - j : j)]);|pipeline/haptic_pipeline
+pipeline|include/grip/pipeline/haptic_pipeline.hpp|        const auto i = detail::idx(index_[detail::idx(j)]);|        const auto i = detail::idx(index_[detail::idx(j < 2 && grasp_.size() > 1 ? 1 - j : j)]);|pipeline/haptic_pipeline
 EOF
 )
 
