@@ -88,12 +88,16 @@ inline AssertHandler set_assert_handler(AssertHandler handler) noexcept {
 #undef GRIP_ASSERT
 
 #if defined(GRIP_DISABLE_ASSERTS)
+/// 1 where GRIP_ASSERT checks its condition, 0 where it is compiled out (here: GRIP_DISABLE_ASSERTS).
 #define GRIP_ASSERTS_ENABLED 0
 #elif defined(GRIP_ENABLE_ASSERTS)
+/// 1 where GRIP_ASSERT checks its condition, 0 where it is compiled out (here: GRIP_ENABLE_ASSERTS).
 #define GRIP_ASSERTS_ENABLED 1
 #elif defined(NDEBUG)
+/// 1 where GRIP_ASSERT checks its condition, 0 where it is compiled out (here: NDEBUG).
 #define GRIP_ASSERTS_ENABLED 0
 #else
+/// 1 where GRIP_ASSERT checks its condition, 0 where it is compiled out (here: the default, on).
 #define GRIP_ASSERTS_ENABLED 1
 #endif
 
