@@ -177,16 +177,19 @@ void solvers_and_monitor(std::mt19937& rng, int n, bool lengths) {
       got.head<3>() = rs2.multipliers.template head<3>().template cast<double>() / sf;
       got.tail<3>() = rs2.multipliers.template tail<3>().template cast<double>() / sm;
       check_close(got, lambda, grip_test::roundoff<S>(16, kappa, 1));
-      // The constrained optimum, when there is one (double: in float its stopping test,
-      // |G x + w| against tol (|w| + |x|), mixes N and N m, and a grasp 1000 times smaller
-      // stops with moments unbalanced; see the header's Ok rule).
-      if (std::is_same<S, double>::value && con.status == Status::Ok) {
+      // The constrained optimum, when there is one; in float only where the unit of length
+      // stays: its stopping test, |G x + w| against tol (|w| + |x|), mixes N and N m, and a
+      // grasp 1000 times smaller stops with moments unbalanced (see the header's Ok rule).
+      if ((std::is_same<S, double>::value || ch.length == 1.0) && con.status == Status::Ok) {
         const auto con2 = solve_constrained(h, v);
         CHECK(con2.status == Status::Ok);
         if (con2.status == Status::Ok) {
-          // Not round-off: both answers stop at the duality-gap tolerance (1e-10 of F2), which
-          // leaves the forces within about its square root, 1e-5.
-          check_close(con2.forces.template cast<double>() / fs, apply_forces<GraspT>(con.forces, ch) / fs, 1e-5);
+          // Not round-off: both answers stop at the duality-gap tolerance (1e-10 of F2 in
+          // double, 1e-5 in float), which leaves the forces within about its square root;
+          // observed at most 0.02 of it.
+          const double gap = double(ConstrainedSettings<S>{}.gap_tolerance);
+          check_close(con2.forces.template cast<double>() / fs, apply_forces<GraspT>(con.forces, ch) / fs,
+                      std::sqrt(gap));
           ++constrained;
         }
       }
@@ -210,7 +213,7 @@ void solvers_and_monitor(std::mt19937& rng, int n, bool lengths) {
     }
   }
   CHECK(checked >= 12 * 6);
-  if (std::is_same<S, double>::value) CHECK(constrained >= 12);  // the cone-constrained optimum compared in enough cases
+  CHECK(constrained >= 12);  // the cone-constrained optimum compared in enough cases
 }
 
 TEST_CASE_TEMPLATE("invariance: solvers and monitor, hard fingers and frictionless points", S, double, float) {

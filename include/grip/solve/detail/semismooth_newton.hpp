@@ -172,8 +172,12 @@ class SemismoothNewton {
   }
 
   /// Feasible after all: the least-residual solve is a penalty approximation of this problem,
-  /// so -y/delta (p_lambda_) estimates the multipliers; continue from it if the dual is higher.
+  /// so -y/delta (p_lambda_) estimates the multipliers; continue from it if the dual is higher
+  /// there. Only where every projection input is in range: a small delta makes the estimate
+  /// large, and the passes project an input beyond max_magnitude to zero, so that their dual
+  /// there is not q (it can exceed the optimum, and Newton would stay on it).
   void restart_from_phase1() {
+    if (!inputs_in_range(p_lambda_)) return;
     ConstrainedPass<S> alt = passes_.pass(w_ext_, p_lambda_, xt_, &trial_h_);
     if (alt.dual > cur_.dual && std::isfinite(alt.dual)) {
       lambda_ = p_lambda_;
@@ -182,6 +186,16 @@ class SemismoothNewton {
       cur_ = alt;
       stall_ = 0;
     }
+  }
+
+  /// True when every projection input t_i + w_i^-1 G_i^T lambda is within max_magnitude.
+  bool inputs_in_range(const Wrench<S>& lambda) const {
+    using M = typename GraspT::ModelType;
+    for (int i = 0; i < grasp_.size(); ++i) {
+      const auto& c = grasp_.contact(i);
+      if (!cone_input_valid(M::target(c) + grasp_.inverse_weight(i) * M::wrench_transpose(c, lambda))) return false;
+    }
+    return true;
   }
 
   /// Phase 1: the least-residual forces; true (the verdict and its forces, multipliers and
