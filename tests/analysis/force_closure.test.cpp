@@ -211,6 +211,19 @@ TEST_CASE_TEMPLATE("largest resistible wrench along a direction, by hand", S, do
   // Bad input.
   CHECK(max_resistible_wrench(g, Wrench<S>(Wrench<S>::Zero()), S(1)).status == Status::InvalidInput);
   CHECK(max_resistible_wrench(g, d, S(-1)).status == Status::InvalidInput);
+  // Settings that cannot be used, refused alike by both analyses (valid_settings).
+  for (const S tol : {S(0), S(-1), std::numeric_limits<S>::infinity(), std::numeric_limits<S>::quiet_NaN()}) {
+    ConicAnalysisSettings<S> bad;
+    bad.tolerance = tol;
+    CHECK_FALSE(valid_settings(bad));
+    CHECK(max_resistible_wrench(g, d, S(4), bad).status == Status::InvalidInput);
+    CHECK(force_closure(g, bad).status == Status::InvalidInput);
+  }
+  ConicAnalysisSettings<S> no_steps;
+  no_steps.max_newton_steps = 0;
+  CHECK(max_resistible_wrench(g, d, S(4), no_steps).status == Status::InvalidInput);
+  CHECK(force_closure(g, no_steps).status == Status::InvalidInput);
+  CHECK(valid_settings(ConicAnalysisSettings<S>{}));
   Grasp<3, HardFinger, S> empty;
   CHECK(force_closure(empty).status == Status::InvalidInput);
 }

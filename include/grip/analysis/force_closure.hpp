@@ -44,6 +44,13 @@ struct ConicAnalysisSettings {
   int max_newton_steps{400};
 };
 
+/// True when `settings` can be used: tolerance finite and > 0, max_newton_steps >= 1 (else the
+/// analyses answer InvalidInput).
+template <class Scalar>
+bool valid_settings(const ConicAnalysisSettings<Scalar>& settings) {
+  return settings.tolerance > Scalar(0) && std::isfinite(settings.tolerance) && settings.max_newton_steps >= 1;
+}
+
 /// The outcome of force_closure().
 ///
 /// Ok: decided (closure true/false with the numbers below). IterationLimit: the Newton
@@ -83,8 +90,7 @@ ForceClosure<GraspT> force_closure(const GraspT& grasp,
   ForceClosure<GraspT> out;
   out.internal_force.setZero(grasp.unknowns());
   const int n = grasp.size();
-  if (!grasp.complete() || n == 0 || !(settings.tolerance > S(0)) || !std::isfinite(settings.tolerance) ||
-      settings.max_newton_steps < 1)
+  if (!grasp.complete() || n == 0 || !valid_settings(settings))
     return out;
   const S rho = detail::internal_torque_scale(grasp);
   const Wrench<S> dsc = detail::row_scaling(rho);

@@ -54,7 +54,7 @@ ResistibleWrench<GraspT> max_resistible_wrench(const GraspT& grasp,
   out.forces.setZero(grasp.unknowns());
   const int n = grasp.size();
   if (!grasp.complete() || n == 0 || validate(direction) != Status::Ok || !(direction.norm() > S(0)) ||
-      !detail::in_range(budget) || !(budget > S(0)) || !(settings.tolerance > S(0)) || settings.max_newton_steps < 1)
+      !detail::in_range(budget) || !(budget > S(0)) || !valid_settings(settings))
     return out;
   const S rho = detail::internal_torque_scale(grasp);
   const Wrench<S> dsc = detail::row_scaling(rho);
