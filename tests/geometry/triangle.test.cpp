@@ -10,6 +10,7 @@
 
 #include "geometry/mesh_test_support.hpp"
 #include "support/constants.hpp"
+#include "support/tolerance.hpp"
 
 namespace triangle_test {
 
@@ -75,8 +76,12 @@ TEST_CASE_TEMPLATE("closest point on a triangle: hand-derived cases for every fe
     Vector3<S> q = Vector3<S>::Zero();
     TriangleFeature f = TriangleFeature::Face;
     const S d2 = closest_point_on_triangle(k.p, a, b, c, q, f);
-    CHECK(std::abs(d2 - k.d2) <= S(1e-6));
-    CHECK((q - k.q).norm() <= S(1e-6));
+    // The data are exact in both types (multiples of 1/4, |p| < 2.5): q = a + v ab + w ac and
+    // |p - q|^2 take a few roundings each, on coordinates up to 2.5 and d2 up to 4.25. k = 8
+    // roundings of the largest value, scale 4.25 for d2 and 2.5 for q.
+    const double tol_d2 = grip_test::roundoff<S>(8, 1, 4.25), tol_q = grip_test::roundoff<S>(8, 1, 2.5);
+    CHECK(double(std::abs(d2 - k.d2)) <= tol_d2);
+    CHECK(double((q - k.q).norm()) <= tol_q);
     CHECK(f == k.f);
   }
   CHECK(feature_edge(TriangleFeature::EdgeBC) == 1);
@@ -89,7 +94,6 @@ TEST_CASE_TEMPLATE("closest point on a triangle: points in every feature's norma
   // p = q0 + t dir with dir in the normal cone of the feature holding q0: then q0 is the
   // closest point (the cone is exactly that feature's Voronoi region).
   std::mt19937 g(11);
-  const double tol = grip_test::tol_of<S>(1e-12, 2e-5);
   int checked[7] = {0, 0, 0, 0, 0, 0, 0};
   for (int trial = 0; trial < 300; ++trial) {
     V3 v[3];
@@ -125,9 +129,21 @@ TEST_CASE_TEMPLATE("closest point on a triangle: points in every feature's norma
     Vector3<S> q = Vector3<S>::Zero();
     TriangleFeature f = TriangleFeature::Face;
     const S d2 = closest_point_on_triangle(cv<S>(p), cv<S>(v[0]), cv<S>(v[1]), cv<S>(v[2]), q, f);
-    const double scale = 1 + p.squaredNorm();
-    CHECK(std::abs(double(d2) - (p - q0).squaredNorm()) <= tol * scale);
-    CHECK((q.template cast<double>() - q0).norm() <= std::sqrt(tol * scale) * 10);
+    // Tolerances from round-off (support/tolerance.hpp), M the largest |coordinate vector|.
+    // d2: rounding p and the vertices to S moves |p - q| (at most 2 M) by up to 2 u M, so d2 by
+    // 8 u M^2; |p - q|^2 itself takes 5 roundings of up to 4 M^2 (20 u M^2); the reference
+    // p = q0 + t dir is rounded in double: k = 32 u M^2 in all. d2 is of first order only in
+    // the part of q's error along p - q; the solve's error in q lies in the feature, across it.
+    // q: the barycentric numerators va, vb, vc are differences of products of dot products,
+    // of size L^2 R^2 (L the longest edge, R the farthest vertex from p), whose exact values
+    // are n . (bp x cp) and the like (Binet-Cauchy), divided by |n|^2, n = ab x ac: the
+    // condition (L R / |n|)^2 (1 plus it, for the input rounding), k = 8 roundings of M.
+    double M = p.norm(), L = 0, R = 0;
+    for (int e = 0; e < 3; ++e)
+      M = std::max(M, v[e].norm()), L = std::max(L, (v[(e + 1) % 3] - v[e]).norm()), R = std::max(R, (p - v[e]).norm());
+    const double cond = 1 + L * L * R * R / n.squaredNorm();
+    CHECK(std::abs(double(d2) - (p - q0).squaredNorm()) <= grip_test::roundoff<S>(32, 1, M * M));
+    CHECK((q.template cast<double>() - q0).norm() <= grip_test::roundoff<S>(8, cond, M));
     CHECK(f == expect);
     ++checked[kind];
   }
@@ -136,7 +152,6 @@ TEST_CASE_TEMPLATE("closest point on a triangle: points in every feature's norma
 
 TEST_CASE_TEMPLATE("closest point on a triangle against a brute-force barycentric search", S, double, float) {
   std::mt19937 g(12);
-  const double tol = grip_test::tol_of<S>(1e-9, 2e-5);
   int regions[7] = {0, 0, 0, 0, 0, 0, 0};
   for (int trial = 0; trial < 120; ++trial) {
     V3 v[3];
@@ -147,8 +162,15 @@ TEST_CASE_TEMPLATE("closest point on a triangle against a brute-force barycentri
     TriangleFeature f = TriangleFeature::Face;
     const S d2 = closest_point_on_triangle(cv<S>(p), cv<S>(v[0]), cv<S>(v[1]), cv<S>(v[2]), q, f);
     const double brute = brute_distance2(p, v[0], v[1], v[2]);
-    CHECK(std::abs(double(d2) - brute) <= tol * (1 + brute));
-    CHECK(std::abs((p - q.template cast<double>()).squaredNorm() - double(d2)) <= tol * (1 + brute));
+    // The d2 tolerance of the normal-cone test, k = 32 u M^2: the search is in double, its grid
+    // reaches each feature exactly (clamped to the edges) and refines to steps below 1e-12,
+    // whose error is of second order there (1e-24 M^2). |p - q|^2 recomputed from q: the same
+    // input rounding and squared norm.
+    double M = p.norm();
+    for (const V3& x : v) M = std::max(M, x.norm());
+    const double tol = grip_test::roundoff<S>(32, 1, M * M);
+    CHECK(std::abs(double(d2) - brute) <= tol);
+    CHECK(std::abs((p - q.template cast<double>()).squaredNorm() - double(d2)) <= tol);
     ++regions[static_cast<int>(f)];
   }
   for (int k = 0; k < 7; ++k) CHECK(regions[k] > 0);  // random points reach every region
@@ -159,17 +181,20 @@ TEST_CASE_TEMPLATE("closest point on degenerate triangles: finite, the nearest s
   Vector3<S> q = Vector3<S>::Zero();
   TriangleFeature f = TriangleFeature::Face;
   // Collinear: the "triangle" is segment [0, 1] on x.
+  // Exact data but 0.3, which p and the expected q round alike: t = 0.3 / 1, q = t ab and
+  // |p - q|^2 = 4 take a few roundings of up to 4 (q: of 1). k = 4 (support/tolerance.hpp).
+  const double tol_d2 = grip_test::roundoff<S>(4, 1, 4), tol_q = grip_test::roundoff<S>(4, 1, 1);
   S d2 = closest_point_on_triangle(Vector3<S>(S(0.3), S(2), S(0)), a, b, mid, q, f);
-  CHECK(d2 == doctest::Approx(4.0));
-  CHECK((q - Vector3<S>(S(0.3), S(0), S(0))).norm() <= S(1e-6));
+  CHECK(std::abs(double(d2) - 4.0) <= tol_d2);
+  CHECK(double((q - Vector3<S>(S(0.3), S(0), S(0))).norm()) <= tol_q);
   CHECK(f != TriangleFeature::Face);
   // All three vertices equal.
   d2 = closest_point_on_triangle(Vector3<S>(S(1), S(2), S(2)), a, a, a, q, f);
-  CHECK(d2 == doctest::Approx(9.0));
+  CHECK(std::abs(double(d2) - 9.0) <= grip_test::roundoff<S>(4, 1, 9));
   CHECK(q == a);
   // Two equal vertices: a segment.
   d2 = closest_point_on_triangle(Vector3<S>(S(2), S(1), S(0)), a, b, b, q, f);
-  CHECK(d2 == doctest::Approx(2.0));
+  CHECK(std::abs(double(d2) - 2.0) <= tol_d2);
   CHECK(q == b);
   // A needle of zero area to rounding far from the query point: finite.
   const Vector3<S> far_a(S(1000), S(1000), S(1000));
@@ -181,12 +206,15 @@ TEST_CASE_TEMPLATE("closest point on degenerate triangles: finite, the nearest s
 
 TEST_CASE_TEMPLATE("solid angles: octant pi/2, and a closed mesh sums to 4 pi inside and 0 outside", S, double, float) {
   const Vector3<S> o = Vector3<S>::Zero(), x = Vector3<S>::UnitX(), y = Vector3<S>::UnitY(), z = Vector3<S>::UnitZ();
-  const S tol = S(grip_test::tol_of<S>(1e-12, 1e-5));
+  // The data are exact small integers; the angle, of size up to 2 pi, is 2 atan2(num, den) with
+  // num and den a few roundings from exact (sqrt(3) on the tetrahedron), and is compared with
+  // pi rounded to S: k = 4 roundings of 2 pi (support/tolerance.hpp).
+  const S tol = S(grip_test::roundoff<S>(4, 1, 2 * pi));
   // Seen from the origin, the octant triangle covers 1/8 of the sphere; the origin is behind it.
   CHECK(std::abs(triangle_solid_angle(o, x, y, z) - S(pi / 2)) <= tol);
   CHECK(std::abs(triangle_solid_angle(o, x, z, y) + S(pi / 2)) <= tol);
   // A point in the triangle's plane outside it sees nothing; a vertex gives 0, not NaN.
-  CHECK(std::abs(triangle_solid_angle(Vector3<S>(S(2), S(0), S(-1)), x, y, Vector3<S>(S(1), S(1), S(-1)))) <= S(4) * tol);
+  CHECK(std::abs(triangle_solid_angle(Vector3<S>(S(2), S(0), S(-1)), x, y, Vector3<S>(S(1), S(1), S(-1)))) <= tol);
   CHECK(triangle_solid_angle(x, x, y, z) == S(0));
   // The regular tetrahedron seen from its centre: pi per face.
   const grip_mesh_test::Soup tet = [] {
@@ -198,7 +226,7 @@ TEST_CASE_TEMPLATE("solid angles: octant pi/2, and a closed mesh sums to 4 pi in
   for (const auto& t : tet.t) {
     const S w = triangle_solid_angle(o, cv<S>(tet.v[static_cast<std::size_t>(t[0])]), cv<S>(tet.v[static_cast<std::size_t>(t[1])]),
                                      cv<S>(tet.v[static_cast<std::size_t>(t[2])]));
-    CHECK(std::abs(w - S(pi)) <= S(4) * tol);
+    CHECK(std::abs(w - S(pi)) <= tol);
   }
   // A closed icosphere (outward): 4 pi at random inside points, 0 outside.
   const grip_mesh_test::Soup sph = grip_mesh_test::icosphere(2);
@@ -210,7 +238,12 @@ TEST_CASE_TEMPLATE("solid angles: octant pi/2, and a closed mesh sums to 4 pi in
     for (const auto& t : sph.t)
       sum += triangle_solid_angle(cv<S>(p), cv<S>(sph.v[static_cast<std::size_t>(t[0])]), cv<S>(sph.v[static_cast<std::size_t>(t[1])]),
                                   cv<S>(sph.v[static_cast<std::size_t>(t[2])]));
-    CHECK(std::abs(sum - (k % 2 == 0 ? S(4 * pi) : S(0))) <= S(grip_test::tol_of<S>(1e-10, 1e-3)));
+    // The rounded vertices still close the mesh, so the exact sum stays 4 pi or 0. Each of the
+    // n terms is within a few u of its value (num's and den's errors are u |x||y||z|, den about
+    // 4 |x||y||z| or more), and the running sum adds up to (n - 1) u 4 pi: k = 2 per term of
+    // 2 pi, scale n 2 pi.
+    const double n_tri = double(sph.t.size());
+    CHECK(double(std::abs(sum - (k % 2 == 0 ? S(4 * pi) : S(0)))) <= grip_test::roundoff<S>(2, 1, n_tri * 2 * pi));
   }
 }
 
