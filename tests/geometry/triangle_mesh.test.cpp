@@ -11,7 +11,7 @@
 #include <grip/geometry/triangle_mesh.hpp>
 
 #include "geometry/mesh_test_support.hpp"
-#include "support/constants.hpp"
+#include "support/tolerance.hpp"
 
 template class grip::TriangleMesh<double, 16, 32>;
 template class grip::TriangleMesh<float, 16, 32>;
@@ -35,6 +35,17 @@ template <class S>
 SmallMesh<S>& small_mesh() {
   static SmallMesh<S> m;
   return m;
+}
+
+/// The tolerance of the volume of a closed mesh of `triangles` triangles whose vertices lie within
+/// `r` of its bounding box's centre, from round-off (support/tolerance.hpp). finalize() sums
+/// (a - c0) . ((b - c0) x (c - c0)) / 6 over the triangles: each term is at most r^3 / 6 and
+/// takes 5 roundings of that size (the differences, the cross and dot products), the running
+/// sum one more; rounding the data to S moves the exact volume by 3 u of itself at most, less
+/// than the rest. k = 8, scale triangles r^3 / 6, condition 1.
+template <class S>
+double volume_tol(int triangles, double r) {
+  return grip_test::roundoff<S>(8, 1, triangles * r * r * r / 6);
 }
 }  // namespace
 
@@ -93,12 +104,17 @@ TEST_CASE_TEMPLATE("mesh of a box: normals, pseudo-normals, neighbours and volum
   CHECK(r.components == 1);
   CHECK_FALSE(r.flipped);
   CHECK(m.finalized());
-  CHECK(std::abs(m.volume() - S(8 * h.prod())) <= S(grip_test::tol_of<S>(1e-15, 1e-9)));
+  CHECK(std::abs(double(m.volume()) - 8 * h.prod()) <= volume_tol<S>(12, h.norm()));
   Vector3<S> lo = Vector3<S>::Zero(), hi = lo;
   REQUIRE(m.bounding_box(lo, hi));
   CHECK((hi - h.cast<S>()).norm() == S(0));
   CHECK((lo + h.cast<S>()).norm() == S(0));
-  const S tol = S(grip_test::tol_of<S>(1e-12, 1e-5));
+  // Unit normals from round-off (support/tolerance.hpp), scale 1: a face normal is a cross
+  // product of edges normalised (2 roundings in the product, the norm's and the division's:
+  // k = 4); an edge's is the same sum of two unit normals normalised on both sides; a corner's
+  // sums three faces weighted by angles of pi / 2 from atan2 (a few u each, relative),
+  // normalised, against 1 / sqrt(3) rounded in S: k = 8.
+  const S tol = S(grip_test::roundoff<S>(4, 1, 1)), tol_corner = S(grip_test::roundoff<S>(8, 1, 1));
   for (int t = 0; t < 12; ++t) {
     const Vector3<S>& n = m.face_normal(t);
     // Axis-aligned and outward: along the axis where the three vertices agree, with their sign.
@@ -126,7 +142,7 @@ TEST_CASE_TEMPLATE("mesh of a box: normals, pseudo-normals, neighbours and volum
   // A corner meets three faces at right angles: the pseudo-normal is (+-1, +-1, +-1) / sqrt(3).
   for (int v = 0; v < 8; ++v) {
     const Vector3<S> expect = m.vertex(v).cwiseSign() / std::sqrt(S(3));
-    CHECK((m.vertex_normal(v) - expect).norm() <= tol);
+    CHECK((m.vertex_normal(v) - expect).norm() <= tol_corner);
   }
 }
 
@@ -143,7 +159,7 @@ TEST_CASE_TEMPLATE("finalize turns an inward mesh outward and says so", S, doubl
   CHECK(m.report().vertices == 8);
   CHECK(m.report().triangles == 12);
   CHECK(m.report().components == 1);
-  CHECK(m.volume() == doctest::Approx(8 * 0.02 * 0.03 * 0.04).epsilon(1e-5).scale(0));
+  CHECK(std::abs(double(m.volume()) - 8 * 0.02 * 0.03 * 0.04) <= volume_tol<S>(12, V3(0.02, 0.03, 0.04).norm()));
   for (int t = 0; t < 12; ++t) {  // outward again: the normal points away from the centre
     const Vector3<S> c = (m.vertex(m.triangle(t)[0]) + m.vertex(m.triangle(t)[1]) + m.vertex(m.triangle(t)[2])) / S(3);
     CHECK(m.face_normal(t).dot(c) > S(0));
@@ -227,14 +243,15 @@ TEST_CASE_TEMPLATE("finalize accepts a cavity, separate components and unused ve
   REQUIRE(r.ok());
   CHECK(r.components == 2);
   CHECK_FALSE(r.flipped);
-  CHECK(m.volume() == doctest::Approx(0.001 - 0.000064).epsilon(1e-5).scale(0));
+  const double hollow_tol = volume_tol<S>(24, V3(0.05, 0.05, 0.05).norm());  // about the centre
+  CHECK(std::abs(double(m.volume()) - (0.001 - 0.000064)) <= hollow_tol);
   // The same, all turned inward: flipped as a whole, the cavity stays a cavity.
   Soup inverted;
   append(inverted, hollow, true);
   r = load(inverted, m);
   REQUIRE(r.ok());
   CHECK(r.flipped);
-  CHECK(m.volume() == doctest::Approx(0.001 - 0.000064).epsilon(1e-5).scale(0));
+  CHECK(std::abs(double(m.volume()) - (0.001 - 0.000064)) <= hollow_tol);
   // Two separate boxes and an unused vertex far away (outside the bounding box).
   Soup two = box_soup(V3(0.01, 0.01, 0.01));
   append(two, box_soup(V3(0.01, 0.01, 0.01), V3(0.05, 0, 0)));
@@ -245,8 +262,10 @@ TEST_CASE_TEMPLATE("finalize accepts a cavity, separate components and unused ve
   CHECK(r.vertices == 17);
   Vector3<S> lo = Vector3<S>::Zero(), hi = lo;
   REQUIRE(m.bounding_box(lo, hi));
-  CHECK(hi.x() == doctest::Approx(0.06).scale(0));
-  CHECK(hi.y() == doctest::Approx(0.01).scale(0));
+  // The corner 0.05 + 0.01 is summed in double and rounded to S: k = 2 roundings of it
+  // (support/tolerance.hpp).
+  CHECK(std::abs(double(hi.x()) - 0.06) <= grip_test::roundoff<S>(2, 1, 0.06));
+  CHECK(std::abs(double(hi.y()) - 0.01) <= grip_test::roundoff<S>(2, 1, 0.01));
   CHECK(m.vertex_normal(16) == Vector3<S>::Zero());
 }
 
