@@ -17,10 +17,20 @@
 //                      instance is solved twice more and least3_* take the least of its three
 //                      times (the instance's own cost: the single-solve worst is set by the
 //                      machine's interruptions, tens of microseconds on the 2-core VM)
+//   Deadline/n         ConstrainedSettings::max_passes: 64 grasps the fast path does not
+//                      answer, mu 0.3 to 1, loads of 0.5 to 200 N in random directions (many
+//                      slip), solved with no deadline and with max_passes = 1, 4 and 32 in
+//                      one loop; counters: passes per solve (mean, worst), microseconds per
+//                      solve, ns_per_pass = the slope between deadlines 1 and 4,
+//                      fixed_ns = what a solve costs besides its passes (fast path, set-up),
+//                      least3_worst_us_32 = the slowest instance at max_passes = 32 (least of
+//                      three solves) against bound_us_32 = fixed_ns + 32 ns_per_pass
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -234,6 +244,76 @@ void Distribution(benchmark::State& state) {
   state.counters["median_over_range"] = med / at(tr, 0.5);
 }
 
+// A grasp the fast path does not answer, with a load of 0.5 to 200 N (log-uniform) in a
+// random direction and moments of a few centimetres times it: many slip.
+template <int N>
+Instance<N> make_hard_instance(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u01(0, 1);
+  std::normal_distribution<double> n01(0, 1);
+  for (;;) {
+    Instance<N> in;
+    for (int i = 0; i < N; ++i)
+      (void)in.grasp.set(i, on_sphere(std::acos(1 - 2 * u01(rng)), 6.283185307179586 * u01(rng), 0.3 + 0.7 * u01(rng), 0.3));
+    const double size = 0.5 * std::pow(400.0, u01(rng));
+    for (int k = 0; k < 6; ++k) in.w_ext(k) = (k < 3 ? 1.0 : 0.03) * n01(rng);
+    in.w_ext.template head<3>() *= size / in.w_ext.template head<3>().norm();
+    in.w_ext.template tail<3>() *= size;
+    if (!grip::solve_constrained(in.grasp, in.w_ext).fast_path) return in;
+  }
+}
+
+template <int N>
+void Deadline(benchmark::State& state) {
+  static std::vector<Instance<N>> p;
+  if (p.empty()) {
+    std::mt19937 rng(4000 + N);
+    for (int k = 0; k < 64; ++k) p.push_back(make_hard_instance<N>(rng));
+  }
+  using clock = std::chrono::steady_clock;
+  // No deadline, then 1, 4 and 32 passes; the slope between 1 and 4 (which every instance
+  // reaches) is the cost of a pass with its share of 6x6 solves.
+  const int deadline[4] = {std::numeric_limits<int>::max(), 1, 4, 32};
+  grip::ConstrainedSettings<double> st[4];
+  for (int v = 0; v < 4; ++v) st[v].max_passes = deadline[v];
+  double t[4] = {0, 0, 0, 0};
+  long passes[4] = {0, 0, 0, 0};
+  int worst_passes = 0;
+  for (auto _ : state) {
+    for (int v = 0; v < 4; ++v) {
+      const auto t0 = clock::now();
+      for (const auto& in : p) {
+        const auto s = grip::solve_constrained(in.grasp, in.w_ext, st[v]);
+        benchmark::DoNotOptimize(s.forces.data());
+        passes[v] += s.passes;
+        if (v == 0) worst_passes = std::max(worst_passes, s.passes);
+      }
+      t[v] += std::chrono::duration<double, std::nano>(clock::now() - t0).count();
+    }
+  }
+  const double solves = double(state.iterations()) * double(p.size());
+  const double per_pass = (t[2] - t[1]) / double(passes[2] - passes[1]);
+  const double fixed = (t[1] - per_pass * double(passes[1])) / solves;
+  // The slowest instance at max_passes = 32, each timed as the least of three solves.
+  double worst32 = 0;
+  for (const auto& in : p) {
+    double least = 1e300;
+    for (int rep = 0; rep < 3; ++rep) {
+      const auto a = clock::now();
+      benchmark::DoNotOptimize(grip::solve_constrained(in.grasp, in.w_ext, st[3]).forces.data());
+      least = std::min(least, std::chrono::duration<double, std::micro>(clock::now() - a).count());
+    }
+    worst32 = std::max(worst32, least);
+  }
+  state.counters["passes"] = double(passes[0]) / solves;
+  state.counters["worst_passes"] = worst_passes;
+  state.counters["us_none"] = t[0] / solves * 1e-3;
+  state.counters["us_32"] = t[3] / solves * 1e-3;
+  state.counters["ns_per_pass"] = per_pass;
+  state.counters["fixed_ns"] = fixed;
+  state.counters["least3_worst_us_32"] = worst32;
+  state.counters["bound_us_32"] = (fixed + 32 * per_pass) * 1e-3;
+}
+
 #define GRIP_BENCH_N(N)                                              \
   BENCHMARK_TEMPLATE(Constrained, N);                                \
   BENCHMARK_TEMPLATE(RangeSpace, N, true);                           \
@@ -241,7 +321,8 @@ void Distribution(benchmark::State& state) {
   BENCHMARK_TEMPLATE(FastPath, N);                                   \
   BENCHMARK_TEMPLATE(RangeSpace, N, false);                          \
   BENCHMARK_TEMPLATE(FastPathRatio, N);                              \
-  BENCHMARK_TEMPLATE(Distribution, N)->Iterations(1)->Unit(benchmark::kMillisecond)
+  BENCHMARK_TEMPLATE(Distribution, N)->Iterations(1)->Unit(benchmark::kMillisecond); \
+  BENCHMARK_TEMPLATE(Deadline, N)->Unit(benchmark::kMillisecond)
 
 GRIP_BENCH_N(3);
 GRIP_BENCH_N(5);

@@ -5,6 +5,7 @@
 /// reason for its default. The per-scalar defaults come from ScalarTraits.
 
 #include <cmath>
+#include <limits>
 
 #include "grip/core/scalar_traits.hpp"
 
@@ -41,6 +42,14 @@ struct ConstrainedSettings {
   int max_iterations{60};
   /// Bound on step halvings per line search (each one more O(n) pass).
   int max_line_search{30};
+  /// Deadline: bound on the O(n) passes over the contacts after the fast path, counting the
+  /// Newton iteration's and the least-residual problem's alike (ConstrainedSolution::passes).
+  /// When it is reached the solver stops and answers IterationLimit with the least-residual
+  /// iterate it has met (forces in their cones), or Infeasible if a certificate was already
+  /// found. The worst-case time of a solve is then about the fast path plus max_passes times
+  /// (one pass + one 6x6 solve): docs/solvers.md gives both per contact count. Default: the
+  /// largest int, no deadline (the iteration bounds govern).
+  int max_passes{std::numeric_limits<int>::max()};
 
   // The Newton iteration.
 
@@ -118,7 +127,7 @@ template <class Scalar>
 bool valid_settings(const ConstrainedSettings<Scalar>& s) {
   const auto pos = [](Scalar v) { return std::isfinite(v) && v > Scalar(0); };
   return pos(s.tolerance) && pos(s.gap_tolerance) && pos(s.regularisation) && pos(s.certificate_tolerance) &&
-         pos(s.least_residual_weight) && s.max_iterations >= 1 && s.max_line_search >= 1 && pos(s.armijo) &&
+         pos(s.least_residual_weight) && s.max_iterations >= 1 && s.max_line_search >= 1 && s.max_passes >= 1 && pos(s.armijo) &&
          s.armijo < Scalar(1) && pos(s.jacobi_floor) && s.stall_limit >= 1 && s.infeasible_grace >= 0 &&
          pos(s.infeasibility_bar) && s.certificate_attempts >= 1 && pos(s.certificate_retry_factor) &&
          s.certificate_retry_factor <= Scalar(1) && pos(s.certificate_guard) &&

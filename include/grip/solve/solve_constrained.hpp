@@ -44,6 +44,9 @@ struct ConstrainedSolution : Solution<GraspT> {
   Scalar dual_objective{0};
   /// True when the unconstrained optimum was inside every cone (f_n > 0) and was returned at once.
   bool fast_path{false};
+  /// O(n) passes over the contacts after the fast path (0 on it): the Newton iteration's and
+  /// the least-residual problem's projections, the unit of ConstrainedSettings::max_passes.
+  int passes{0};
 };
 
 /// The exact optimum of min 1/2 sum_i w_i |x_i - t_i|^2 s.t. G x + w_ext = 0, x_i in K_i
@@ -51,7 +54,9 @@ struct ConstrainedSolution : Solution<GraspT> {
 /// any model, float or double). No heap, no exceptions; at most settings.max_iterations
 /// Newton iterations of O(n) each, each with at most settings.max_line_search O(n) passes, plus
 /// (only when infeasibility is suspected) as many again for the least-residual problem;
-/// `iterations` counts both.
+/// `iterations` counts both, `passes` the passes, and settings.max_passes bounds them (the
+/// deadline of a real-time caller: the solve then costs at most about the fast path plus
+/// max_passes times one pass and one 6x6 solve).
 ///
 /// Fast path, always tried first: solve_range_space's unconstrained optimum; if every force is
 /// in its cone with f_n > 0 it is the answer (status Ok, iterations 0, fast_path true).
@@ -78,8 +83,9 @@ struct ConstrainedSolution : Solution<GraspT> {
 ///   certificate misses the tolerance, the direction of the diverging Newton multipliers is
 ///   tried as a second certificate, and a certificate found on a stall is used only if Newton
 ///   has not converged within 12 more iterations (infeasible_grace).
-/// - IterationLimit: the bound was reached (or the line search stalled) before the tolerance;
-///   `forces` = x(lambda) of the last iterate (in the cones), `residual` what is left.
+/// - IterationLimit: an iteration bound or the deadline (max_passes) was reached, or the line
+///   search stalled, before the tolerance; `forces` = x(lambda) of the iterate with the least
+///   residual met (in the cones), `multipliers` its lambda, `residual` what is left.
 /// - InvalidInput: incomplete grasp, bad w_ext, bad settings or a non-finite warm start: zeros.
 /// A grasp matrix of rank < 6 is not an error here: the answer is Ok if the wrench can still be
 /// balanced inside the cones, Infeasible (with a certificate) otherwise.

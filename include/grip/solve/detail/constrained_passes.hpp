@@ -37,6 +37,15 @@ namespace detail {
 /// rounding of the passes' sums, a few eps per term after Jacobi scaling.
 constexpr int constrained_roundoff = 16;
 
+/// The pass budget of one solve (ConstrainedSettings::max_passes): each pass over the
+/// contacts is counted in `used`, and none is started once `used` reaches `limit`.
+struct PassBudget {
+  int limit;    ///< passes allowed
+  int used{0};  ///< passes made
+  /// True while another pass may be started.
+  bool left() const { return used < limit; }
+};
+
 /// The cone's own projection, except a Coulomb cone with mu = 0 (the ray {f_n a, f_n >= 0}):
 /// there CoulombCone::project keeps f = f_n a with f_n < 0 (reported to the cone's owner), so
 /// the ray's projection max(f.a, 0) a is used.

@@ -29,17 +29,26 @@ namespace detail {
 /// maximiser l = G x + w_ext. For ANY l, x_i(l) is a projection, so G_i^T l + delta w_i (x_i - t_i)
 /// lies in K_i^* exactly: l/|l| is an infeasibility certificate up to delta w_i |x_i - t_i| / |l|.
 /// Writes the forces into x, the multipliers into lambda, and returns the iterations used (at
-/// most settings.max_iterations).
+/// most settings.max_iterations). Each pass is counted in `budget`; none is started once it is
+/// spent (then the best point met so far is the answer; with no pass left at the start,
+/// lambda = 0, f2 = 0 and x unchanged).
 template <class Passes>
 int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& w_ext, typename Passes::Scalar delta,
-                   const ConstrainedSettings<typename Passes::Scalar>& settings, typename Passes::Forces& x,
-                   Wrench<typename Passes::Scalar>& lambda, typename Passes::Scalar& f2) {
+                   const ConstrainedSettings<typename Passes::Scalar>& settings, PassBudget& budget,
+                   typename Passes::Forces& x, Wrench<typename Passes::Scalar>& lambda,
+                   typename Passes::Scalar& f2) {
   using S = typename Passes::Scalar;
   const S eps = std::numeric_limits<S>::epsilon();
+  lambda.setZero();
+  f2 = S(0);
+  if (!budget.left()) return 0;
+  const auto pass = [&](const Wrench<S>& v, typename Passes::Forces& forces, GramAccumulator<S>* h) {
+    ++budget.used;
+    return passes.pass(w_ext, v, forces, h);
+  };
   typename Passes::Forces xt = passes.make_forces();
   // The Hessian sums at the current point and at the line-search point, from their passes.
   GramAccumulator<S> cur_h, trial_h;
-  lambda.setZero();
   // Continuation: delta starts at delta_max (a well-scaled problem) and drops `drop`-fold (100)
   // each time the current problem is solved, down to the requested delta (warm-started each time).
   S dl = delta;
@@ -49,7 +58,7 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
   const auto phi = [&](const ConstrainedPass<S>& p, const Wrench<S>& l) {
     return -S(0.5) * l.squaredNorm() + l.dot(p.residual) + dl * p.f2;
   };
-  ConstrainedPass<S> cur = passes.pass(w_ext, Wrench<S>(-lambda / dl), x, &cur_h);
+  ConstrainedPass<S> cur = pass(Wrench<S>(-lambda / dl), x, &cur_h);
   S cur_phi = phi(cur, lambda);
   // The forces returned are the best point met by the requested problem's objective
   // |r|^2/2 + delta F2: at the last, tiny delta, x(l) is so sensitive to l that the last
@@ -67,9 +76,9 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
   keep();
   // The next stage of the continuation, from the current l: false when this one was the last.
   const auto next_stage = [&]() {
-    if (!(dl > delta)) return false;
+    if (!(dl > delta) || !budget.left()) return false;
     dl = dl / drop < delta ? delta : dl / drop;
-    cur = passes.pass(w_ext, Wrench<S>(-lambda / dl), x, &cur_h);
+    cur = pass(Wrench<S>(-lambda / dl), x, &cur_h);
     cur_phi = phi(cur, lambda);
     keep();
     return true;
@@ -99,9 +108,9 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
     Wrench<S> lt;
     ConstrainedPass<S> trial;
     S trial_phi = cur_phi;
-    for (int ls = 0; ls < settings.max_line_search; ++ls, alpha *= S(0.5)) {
+    for (int ls = 0; ls < settings.max_line_search && budget.left(); ++ls, alpha *= S(0.5)) {
       lt = lambda + alpha * dir;
-      trial = passes.pass(w_ext, Wrench<S>(-lt / dl), xt, &trial_h);
+      trial = pass(Wrench<S>(-lt / dl), xt, &trial_h);
       trial_phi = phi(trial, lt);
       const S slack =
           S(constrained_roundoff) * eps * (std::abs(cur_phi) + std::abs(trial_phi) + lt.squaredNorm());

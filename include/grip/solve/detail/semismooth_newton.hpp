@@ -74,15 +74,35 @@ class SemismoothNewton {
   SemismoothNewton(const GraspT& grasp, const Wrench<S>& w_ext, const ConstrainedSettings<S>& settings,
                    ConstrainedSolution<GraspT>& sol, const Wrench<S>& lambda, const Wrench<S>& gram_diagonal)
       : grasp_(grasp), w_ext_(w_ext), settings_(settings), sol_(sol), m_(grasp.unknowns()), lambda_(lambda),
-        passes_(grasp), x_(passes_.make_forces()), xt_(passes_.make_forces()), p_x_(passes_.make_forces()),
-        grace_(settings.infeasible_grace) {
+        passes_(grasp), x_(passes_.make_forces()), xt_(passes_.make_forces()), best_x_(passes_.make_forces()),
+        p_x_(passes_.make_forces()), budget_{settings.max_passes}, grace_(settings.infeasible_grace) {
     // Jacobi scaling D of the Levenberg-Marquardt term: the unconstrained Gram diagonal, floored.
     jacobi_ = gram_diagonal;
     const S jmax = jacobi_.maxCoeff();
     for (int k = 0; k < 6; ++k)
       jacobi_(k) = jacobi_(k) > settings_.jacobi_floor * jmax ? jacobi_(k) : settings_.jacobi_floor * jmax;
     dinv_ = jacobi_.cwiseSqrt().cwiseInverse();
-    cur_ = passes_.pass(w_ext_, lambda_, x_, &cur_h_);
+    cur_ = pass(lambda_, x_, &cur_h_);
+    keep_best();
+  }
+
+  /// One pass at multipliers l (forces into x, the Hessian sums into h if given), counted in
+  /// the budget. Callers check budget_.left() first (the constructor's pass is always allowed:
+  /// max_passes >= 1).
+  ConstrainedPass<S> pass(const Wrench<S>& l, Forces& x, GramAccumulator<S>* h) {
+    ++budget_.used;
+    return passes_.pass(w_ext_, l, x, h);
+  }
+
+  /// Keeps the iterate if its residual is the least met so far: the answer under IterationLimit.
+  void keep_best() {
+    const S rn = cur_.residual.norm();
+    if (rn < best_rn_) {
+      best_rn_ = rn;
+      best_lambda_ = lambda_;
+      best_x_ = x_;
+      best_ = cur_;
+    }
   }
 
   /// The iteration until convergence, the bound, the end of ascent or an infeasibility verdict;
@@ -102,7 +122,15 @@ class SemismoothNewton {
     }
     if (status_ == Status::IterationLimit) {
       if (pending_ || (!phase1_done_ && decide_infeasible())) apply_infeasible();
+      else restore_best();
     }
+  }
+
+  /// Under IterationLimit: the least-residual iterate met becomes the answer.
+  void restore_best() {
+    lambda_ = best_lambda_;
+    x_ = best_x_;
+    cur_ = best_;
   }
 
   /// One Newton step from lambda_ (residual norm `rn`): the direction from
@@ -126,9 +154,9 @@ class SemismoothNewton {
     int cuts = 0;
     if (slope > S(0) && dir.allFinite()) {
       S alpha = S(1);
-      for (; cuts < settings_.max_line_search; ++cuts, alpha *= S(0.5)) {
+      for (; cuts < settings_.max_line_search && budget_.left(); ++cuts, alpha *= S(0.5)) {
         lt = lambda_ + alpha * dir;
-        trial = passes_.pass(w_ext_, lt, xt_, &trial_h_);
+        trial = pass(lt, xt_, &trial_h_);
         const S slack =
             S(constrained_roundoff) * eps() * (std::abs(trial.dual) + std::abs(cur_.dual) + std::abs(cur_.f2));
         if (trial.dual >= cur_.dual + settings_.armijo * alpha * slope - slack) {
@@ -138,7 +166,9 @@ class SemismoothNewton {
       }
     }
     if (!accepted) {
-      if (rn <= settings_.tolerance * cur_.scale) status_ = Status::Ok;
+      // No step left at round-off, unless the deadline cut the line search short.
+      const bool deadline = !budget_.left() && cuts < settings_.max_line_search;
+      if (!deadline && rn <= settings_.tolerance * cur_.scale) status_ = Status::Ok;
       return false;
     }
     // Levenberg-Marquardt: /10 after a full step, *4 (up to 1) after a cut one.
@@ -148,6 +178,7 @@ class SemismoothNewton {
     x_ = xt_;
     cur_h_ = trial_h_;
     cur_ = trial;
+    keep_best();
     return true;
   }
 
@@ -177,14 +208,15 @@ class SemismoothNewton {
   /// large, and the passes project an input beyond max_magnitude to zero, so that their dual
   /// there is not q (it can exceed the optimum, and Newton would stay on it).
   void restart_from_phase1() {
-    if (!inputs_in_range(p_lambda_)) return;
-    ConstrainedPass<S> alt = passes_.pass(w_ext_, p_lambda_, xt_, &trial_h_);
+    if (!inputs_in_range(p_lambda_) || !budget_.left()) return;
+    ConstrainedPass<S> alt = pass(p_lambda_, xt_, &trial_h_);
     if (alt.dual > cur_.dual && std::isfinite(alt.dual)) {
       lambda_ = p_lambda_;
       x_ = xt_;
       cur_h_ = trial_h_;
       cur_ = alt;
       stall_ = 0;
+      keep_best();
     }
   }
 
@@ -202,8 +234,9 @@ class SemismoothNewton {
   /// certificate kept in p_*) if the direction of its multipliers, or in float that of the
   /// diverging Newton multipliers, checks out as an infeasibility certificate.
   bool decide_infeasible() {
-    Wrench<S> y;
+    Wrench<S> y = Wrench<S>::Zero();
     S f2 = S(0);
+    const int passes_before = budget_.used;
     S delta = settings_.least_residual_weight * jacobi_.maxCoeff();
     // y is (to delta) the least residual: a feasible problem leaves only round-off there,
     // below settings.infeasibility_bar tolerance |w_ext|.
@@ -214,12 +247,12 @@ class SemismoothNewton {
     // (settings.certificate_attempts) when the first certificate misses the tolerance.
     const int tries = settings_.certificate_attempts;
     phase1_iterations_ = 0;
-    // The tries share one budget of settings.max_iterations iterations.
-    ConstrainedSettings<S> budget = settings_;
-    for (int k = 0; k < tries && !ok && phase1_iterations_ < settings_.max_iterations;
+    // The tries share one budget of settings.max_iterations iterations (and the solve's passes).
+    ConstrainedSettings<S> phase1 = settings_;
+    for (int k = 0; k < tries && !ok && phase1_iterations_ < settings_.max_iterations && budget_.left();
          ++k, delta *= settings_.certificate_retry_factor) {
-      budget.max_iterations = settings_.max_iterations - phase1_iterations_;
-      phase1_iterations_ += least_residual(passes_, w_ext_, delta, budget, p_x_, y, f2);
+      phase1.max_iterations = settings_.max_iterations - phase1_iterations_;
+      phase1_iterations_ += least_residual(passes_, w_ext_, delta, phase1, budget_, p_x_, y, f2);
       p_lambda_ = -y / delta;  // the penalty estimate of the multipliers (x(p_lambda_) = p_x_)
       const S rn = y.norm();
       if (rn > bar) {
@@ -231,8 +264,11 @@ class SemismoothNewton {
     // Second candidate (settings.multiplier_certificate, float by default): the direction
     // -lambda of the diverging Newton multipliers. x_i(lambda) is a projection, so -G_i^T lambda
     // lies in K_i^* up to w_i |x_i - t_i| / |lambda|: a certificate when |lambda| has grown large.
+    // Neither candidate without a least-residual solve (the deadline left no pass for it):
+    // an Infeasible answer carries its forces.
+    const bool solved = budget_.used > passes_before;
     const S ln = lambda_.norm();
-    if (settings_.multiplier_certificate && !ok && ln > S(0) && lambda_.allFinite()) {
+    if (settings_.multiplier_certificate && solved && !ok && ln > S(0) && lambda_.allFinite()) {
       p_cert_ = -lambda_ / ln;
       ok = is_infeasibility_certificate(grasp_, w_ext_, p_cert_, settings_.certificate_tolerance,
                                         settings_.certificate_guard);
@@ -268,6 +304,7 @@ class SemismoothNewton {
     sol.objective = cur_.f2;
     sol.dual_objective = cur_.dual;
     sol.iterations = it_ + phase1_iterations_;
+    sol.passes = budget_.used;
     sol.status = status_;
     if (!sol.forces.allFinite() || !sol.multipliers.allFinite() || !std::isfinite(sol.dual_objective)) {
       sol.forces.setZero(m_);
@@ -293,8 +330,12 @@ class SemismoothNewton {
   Wrench<S> dinv_;    ///< D^-1/2
   const Passes passes_;  ///< hard fingers: the grasp copied into columns once
   Forces x_, xt_;        ///< the forces at lambda_ and at the line-search point
+  Forces best_x_;        ///< the forces of the least-residual iterate met (best_lambda_)
   GramAccumulator<S> cur_h_, trial_h_;  ///< the Hessian sums at lambda_ and at the line-search point
   ConstrainedPass<S> cur_;              ///< the pass sums at lambda_
+  ConstrainedPass<S> best_;             ///< the pass sums at best_lambda_
+  Wrench<S> best_lambda_{Wrench<S>::Zero()};
+  S best_rn_{std::numeric_limits<S>::infinity()};  ///< |residual| at best_lambda_
   S damping_{1};  ///< Levenberg-Marquardt state: /10 after a full step, *4 after a cut one
   Status status_{Status::IterationLimit};
   int it_{0};
@@ -307,6 +348,7 @@ class SemismoothNewton {
   Forces p_x_;
   Wrench<S> p_lambda_{Wrench<S>::Zero()};
   bool pending_{false};  ///< an infeasibility verdict awaits the grace iterations
+  PassBudget budget_;    ///< settings.max_passes, and the passes made
   int grace_{0};         ///< iterations left for Newton to converge before the verdict stands
 };
 

@@ -1,0 +1,190 @@
+// ConstrainedSettings::max_passes, the deadline of solve_constrained: never exceeded, the
+// answer unchanged when the solve fits in it, and otherwise IterationLimit with the least
+// residual iterate met (forces in their cones, residual their own) or a certified Infeasible.
+// Instances: random grasps of every model with loads from 0.5 to 200 N, many of them slipping.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <random>
+
+#include <grip/solve/solve_constrained.hpp>
+
+#include "solve/constrained_support.hpp"
+#include "support/fixtures.hpp"
+#include "support/random.hpp"
+#include "support/tolerance.hpp"
+
+using namespace grip;
+
+namespace constrained_settings_test {
+
+// A load of 0.5 to 200 N (log-uniform) in a random direction, with moments of a few cm times it.
+template <class S>
+Wrench<S> random_load(std::mt19937& rng) {
+  const Wrench<S> w = grip_test::random_wrench<S>(rng);
+  const double size = 0.5 * std::pow(400.0, grip_test::canonical(rng));
+  return w * S(size / std::max(double(w.template head<3>().norm()), 1e-3));
+}
+
+template <class S>
+Contact<double> to_double(const Contact<S>& c) {
+  return Contact<double>{c.position.template cast<double>(), c.normal.template cast<double>(), double(c.friction),
+                         double(c.torsional_friction), double(c.squeeze), double(c.weight)};
+}
+
+// |G x + w| in double from the forces alone, and its round-off scale |w| + sum (1 + |r_i|) |x_i|.
+template <class GraspT>
+double residual_in_double(const GraspT& g, const typename GraspT::ForceVector& x,
+                          const Wrench<typename GraspT::ScalarType>& w, double& scale) {
+  using M = typename GraspT::ModelType;
+  constexpr int d = M::dim;
+  Wrench<double> r = w.template cast<double>();
+  scale = r.norm();
+  for (int i = 0; i < g.size(); ++i) {
+    const Contact<double> c = to_double(g.contact(i));
+    const Eigen::Matrix<double, d, 1> xi = x.template segment<d>(i * d).template cast<double>();
+    r += M::wrench(c, xi);
+    scale += (1.0 + c.position.norm()) * xi.norm();
+  }
+  return r.norm();
+}
+
+// What an answer cut by the deadline promises: finite, forces in their cones (they are
+// projections: exact up to the round-off of one projection, 16 u |x_i|), and the residual
+// reported is that of the forces (the pass sums them in S: 8 n u times the scale).
+template <class GraspT>
+void check_cut(const GraspT& g, const Wrench<typename GraspT::ScalarType>& w,
+               const ConstrainedSolution<GraspT>& cut) {
+  using M = typename GraspT::ModelType;
+  using S = typename GraspT::ScalarType;
+  constexpr int d = M::dim;
+  REQUIRE(cut.forces.allFinite());
+  REQUIRE(cut.multipliers.allFinite());
+  for (int i = 0; i < g.size(); ++i) {
+    const Contact<double> c = to_double(g.contact(i));
+    const Eigen::Matrix<double, d, 1> xi = cut.forces.template segment<d>(i * d).template cast<double>();
+    CHECK(grip_test::cone_violation<M>(c, xi) <= grip_test::roundoff<S>(16, 1, 1e-30 + xi.norm()));
+  }
+  double scale = 0;
+  const double r = residual_in_double(g, cut.forces, w, scale);
+  CHECK(std::abs(double(cut.residual) - r) <= grip_test::roundoff<S>(8.0 * g.size(), 1, scale));
+}
+
+template <class Model, class S, int N>
+void deadline_on_random_instances(std::uint32_t seed, int count) {
+  using GraspT = Grasp<N, Model, S>;
+  std::mt19937 rng(seed);
+  const int deadlines[] = {1, 2, 3, 5, 8, 13, 21, 34};
+  int cut_count = 0, infeasible_count = 0, unchanged_count = 0, compared_best = 0;
+  for (int k = 0; k < count; ++k) {
+    const GraspT g = grip_test::random_grasp<GraspT>(rng, N, true, 0.5);
+    const Wrench<S> w = random_load<S>(rng);
+    const auto full = solve_constrained(g, w);
+    REQUIRE(full.status != Status::InvalidInput);
+    if (full.fast_path) {
+      CHECK(full.passes == 0);
+      continue;
+    }
+    CHECK(full.passes >= 1);
+    double last_limited = -1.0;  // residual of the previous IterationLimit answer (smaller deadline)
+    for (int p : deadlines) {
+      ConstrainedSettings<S> st;
+      st.max_passes = p;
+      const auto cut = solve_constrained(g, w, st);
+      // The deadline is never exceeded, and a solve that fits in it is untouched.
+      CHECK(cut.passes <= p);
+      if (full.passes <= p) {
+        CHECK(cut.status == full.status);
+        CHECK(cut.passes == full.passes);
+        CHECK(cut.forces == full.forces);
+        CHECK(cut.multipliers == full.multipliers);
+        ++unchanged_count;
+        continue;
+      }
+      // Cut short: IterationLimit with forces in the cones, or Infeasible with a certificate
+      // the least-residual solve found within the deadline. Never Ok: the default solve met
+      // its stopping test only after p passes, and the iterates are the same up to the cut.
+      check_cut(g, w, cut);
+      if (cut.status == Status::Infeasible) {
+        ++infeasible_count;
+        const Wrench<double> y = cut.certificate.template cast<double>();
+        CHECK(y.norm() == doctest::Approx(1.0).epsilon(1e-4));
+        CHECK(y.dot(w.template cast<double>()) > 0.0);
+        continue;
+      }
+      REQUIRE(cut.status == Status::IterationLimit);
+      ++cut_count;
+      // The least residual met: a larger deadline meets the same iterates and more (the solver
+      // is deterministic and the deadline only truncates), so its answer is no worse.
+      if (last_limited >= 0.0) {
+        CHECK(double(cut.residual) <= last_limited);
+        ++compared_best;
+      }
+      last_limited = double(cut.residual);
+    }
+  }
+  // Coverage: each branch was reached many times (a misread deadline would leave one empty).
+  CHECK(cut_count >= count / 4);
+  CHECK(unchanged_count >= count / 4);
+  CHECK(compared_best >= count / 8);
+  MESSAGE("cut " << cut_count << ", infeasible " << infeasible_count << ", unchanged " << unchanged_count);
+}
+
+}  // namespace constrained_settings_test
+
+TEST_CASE_TEMPLATE("max_passes: the deadline is honoured on random grasps (hard fingers)", S, double, float) {
+  constrained_settings_test::deadline_on_random_instances<HardFinger, S, 3>(101, 200);
+  constrained_settings_test::deadline_on_random_instances<HardFinger, S, 5>(102, 200);
+  constrained_settings_test::deadline_on_random_instances<HardFinger, S, 20>(103, 60);
+}
+
+TEST_CASE_TEMPLATE("max_passes: the deadline is honoured on random grasps (soft, frictionless)", S, double, float) {
+  constrained_settings_test::deadline_on_random_instances<SoftFinger, S, 5>(104, 150);
+  constrained_settings_test::deadline_on_random_instances<FrictionlessPoint, S, 8>(105, 150);
+}
+
+TEST_CASE_TEMPLATE("max_passes: bad values are refused, the fast path spends none", S, double, float) {
+  std::mt19937 rng(106);
+  const auto g = grip_test::random_grasp<Grasp<4, HardFinger, S>>(rng, 4);
+  const Wrench<S> w = grip_test::random_wrench<S>(rng);
+  ConstrainedSettings<S> st;
+  for (int bad : {0, -1, std::numeric_limits<int>::min()}) {
+    st.max_passes = bad;
+    CHECK(solve_constrained(g, w, st).status == Status::InvalidInput);
+  }
+  // The load that the squeeze targets t_i = s_i a_i balance (w = -G t): t is the optimum and
+  // lies strictly inside every cone, so the fast path answers, with 0 passes even at 1.
+  typename Grasp<4, HardFinger, S>::ForceVector t;
+  for (int i = 0; i < g.size(); ++i) t.template segment<3>(3 * i) = g.contact(i).squeeze * g.contact(i).normal;
+  const Wrench<S> inside = -g.wrench(t);
+  st.max_passes = 1;
+  const auto fast = solve_constrained(g, inside, st);
+  REQUIRE(fast.fast_path);
+  CHECK(fast.passes == 0);
+  CHECK(fast.status == Status::Ok);
+}
+
+TEST_CASE("max_passes: a warm start is bound by the same deadline") {
+  std::mt19937 rng(107);
+  using GraspT = Grasp<6, HardFinger, double>;
+  int cut = 0;
+  for (int k = 0; k < 100; ++k) {
+    const GraspT g = grip_test::random_grasp<GraspT>(rng, 6, true, 0.5);
+    const Wrench<double> w = constrained_settings_test::random_load<double>(rng);
+    const auto first = solve_constrained(g, w);
+    if (first.fast_path) continue;
+    const Wrench<double> w2 = w * 1.05;  // the next frame's load
+    const auto warm = solve_constrained(g, w2, ConstrainedSettings<double>{}, first.multipliers);
+    ConstrainedSettings<double> st;
+    st.max_passes = 2;
+    const auto warm_cut = solve_constrained(g, w2, st, first.multipliers);
+    CHECK(warm_cut.passes <= 2);
+    if (warm.passes <= 2) {
+      CHECK(warm_cut.forces == warm.forces);
+    } else {
+      constrained_settings_test::check_cut(g, w2, warm_cut);
+      ++cut;
+    }
+  }
+  CHECK(cut >= 10);
+}
