@@ -94,6 +94,11 @@ class HapticPipeline {
   }
   /// True while the grasp holds the object (it moves with the wrist).
   bool held() const { return held_; }
+  /// The frame solver, e.g. to set a ConstrainedFrameSolver's settings (a deadline:
+  /// settings.max_passes) before the first step or between steps.
+  Solver& solver() { return solver_; }
+  /// The frame solver.
+  const Solver& solver() const { return solver_; }
   /// The hand posture of the last frame (world capsules).
   const HandPosture<Scalar>& posture() const { return posture_; }
   /// The hand contacts of the last frame.
