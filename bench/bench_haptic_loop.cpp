@@ -6,7 +6,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <memory>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -143,6 +147,123 @@ void BM_Frame_OctreeCollision_Constrained_deadline(benchmark::State& s) {
   run_session<grip::OctreeScene<S, octree_capacity, CylinderShape>, grip::ConstrainedFrameSolver<S>>(
       s, octree_scene(), static_cast<int>(s.range(0)));
 }
+// Frame times by what the grasp is doing, without and with a deadline of 16 passes (cylinder
+// scene, constrained solver, warm): each frame is timed as the least of three runs from a copy
+// of the pipeline's state (its own cost, without the machine's interruptions), and put in one
+// class by its own outcome: slipping (the solve is not Ok, or a contact slides), shaking (the
+// script's "shake" phase, held), holding (held, any other phase); the rest (closing, free
+// flight) is not drawn. Counters: each class's median and p99 (us) per variant. With
+// GRIP_HISTOGRAM_SVG=<file> it also writes the histograms as an SVG (docs/images/frame_times.svg).
+struct FrameClassTimes {
+  std::vector<double> us[3];  // holding, shaking, slipping
+};
+
+template <class Pipeline>
+FrameClassTimes classify_session(int max_passes) {
+  const Inputs& in = inputs();
+  Pipeline pipeline(settings(), scene(), object());
+  set_deadline(pipeline, max_passes);
+  FrameClassTimes out;
+  grip::HapticFrame<S> frame;
+  for (std::size_t i = 0; i < in.wrist.size(); ++i) {
+    double least = 1e300;
+    for (int rep = 0; rep < 3; ++rep) {
+      Pipeline copy = pipeline;
+      const auto t0 = std::chrono::steady_clock::now();
+      copy.step(in.wrist[i], in.angles[i], frame);
+      const auto t1 = std::chrono::steady_clock::now();
+      benchmark::DoNotOptimize(frame);
+      least = std::min(least, std::chrono::duration<double, std::micro>(t1 - t0).count());
+    }
+    pipeline.step(in.wrist[i], in.angles[i], frame);
+    const bool slipping = frame.contacts > 0 && (frame.solve_status != grip::Status::Ok || frame.sliding > 0);
+    const bool shaking = std::string(phases[phase_at(static_cast<S>(i) / rate)].name) == "shake";
+    if (slipping) out.us[2].push_back(least);
+    else if (frame.held && shaking) out.us[1].push_back(least);
+    else if (frame.held) out.us[0].push_back(least);
+  }
+  for (auto& v : out.us) std::sort(v.begin(), v.end());
+  return out;
+}
+
+double quantile(const std::vector<double>& sorted, double q) {
+  return sorted.empty() ? 0.0 : sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))];
+}
+
+// Three panels (holding, shaking, slipping) of frame-time histograms on a log axis from 1 us to
+// 1 ms, 12 bins per decade, as the fraction of the class's frames; grey: no deadline, blue: 16.
+void write_histograms(const char* path, const FrameClassTimes& none, const FrameClassTimes& bounded) {
+  std::FILE* f = std::fopen(path, "w");
+  if (f == nullptr) return;
+  const double W = 900, left = 70, right = 230, top = 50, ph = 150, gap = 40, pw = W - left - right;
+  const double H = top + 3 * ph + 2 * gap + 50;
+  const int bins = 36;
+  const char* names[3] = {"holding", "shaking", "slipping"};
+  const auto X = [&](double us) { return left + pw * (std::log10(std::max(us, 1.0)) / 3.0); };
+  std::fprintf(f, "<svg xmlns='http://www.w3.org/2000/svg' width='%.0f' height='%.0f' font-family='sans-serif' font-size='12'>\n", W, H);
+  std::fprintf(f, "<rect width='100%%' height='100%%' fill='white'/>\n");
+  std::fprintf(f, "<text x='%.0f' y='24' font-size='15'>grip haptic loop: frame times, solve_constrained without and with a deadline of 16 passes</text>\n", left);
+  const double yb = top + 3 * ph + 2 * gap;  // the bottom of the last panel
+  for (int d = 0; d <= 3; ++d) {
+    const double x = X(std::pow(10.0, d));
+    std::fprintf(f, "<line x1='%.1f' x2='%.1f' y1='%.0f' y2='%.0f' stroke='#ccc'/>\n", x, x, top, yb);
+    std::fprintf(f, "<text x='%.1f' y='%.0f' text-anchor='middle'>%s</text>\n", x, yb + 16,
+                 d == 0 ? "1" : d == 1 ? "10" : d == 2 ? "100" : "1000");
+  }
+  std::fprintf(f, "<text x='%.0f' y='%.0f' text-anchor='middle'>frame time (us, log scale); bar height: fraction of the class's frames</text>\n", left + pw / 2, yb + 34);
+  for (int c = 0; c < 3; ++c) {
+    const double y0 = top + c * (ph + gap);
+    double hist[2][bins] = {};
+    const FrameClassTimes* v[2] = {&none, &bounded};
+    double peak = 0.05;
+    for (int k = 0; k < 2; ++k) {
+      const std::vector<double>& t = v[k]->us[c];
+      for (double us : t) {
+        const int b = std::min(bins - 1, std::max(0, static_cast<int>(std::log10(std::max(us, 1.0)) * 12.0)));
+        hist[k][b] += 1.0 / static_cast<double>(t.size());
+      }
+      for (int b = 0; b < bins; ++b) peak = std::max(peak, hist[k][b]);
+    }
+    std::fprintf(f, "<rect x='%.0f' y='%.0f' width='%.0f' height='%.0f' fill='none' stroke='black'/>\n", left, y0, pw, ph);
+    for (int k = 0; k < 2; ++k)
+      for (int b = 0; b < bins; ++b) {
+        if (hist[k][b] <= 0) continue;
+        const double x0 = left + pw * b / bins, x1 = left + pw * (b + 1) / bins, h = ph * hist[k][b] / peak;
+        std::fprintf(f, "<rect x='%.1f' y='%.1f' width='%.1f' height='%.1f' fill='%s' fill-opacity='%s' stroke='%s'/>\n",
+                     x0, y0 + ph - h, x1 - x0, h, k == 0 ? "#999" : "#1f77b4", k == 0 ? "0.5" : "0.6",
+                     k == 0 ? "#666" : "#1f77b4");
+      }
+    std::fprintf(f, "<text x='%.0f' y='%.0f' font-size='13'>%s</text>\n", left + 6, y0 + 16, names[c]);
+    for (int k = 0; k < 2; ++k) {
+      const std::vector<double>& t = v[k]->us[c];
+      std::fprintf(f, "<text x='%.0f' y='%.0f' fill='%s'>%s: %zu frames</text>\n", left + pw + 12, y0 + 18 + 44 * k,
+                   k == 0 ? "#555" : "#1f77b4", k == 0 ? "no deadline" : "deadline 16", t.size());
+      std::fprintf(f, "<text x='%.0f' y='%.0f' fill='%s'>median %.1f us, p99 %.1f us</text>\n", left + pw + 12,
+                   y0 + 34 + 44 * k, k == 0 ? "#555" : "#1f77b4", quantile(t, 0.5), quantile(t, 0.99));
+    }
+  }
+  std::fprintf(f, "</svg>\n");
+  std::fclose(f);
+}
+
+void BM_FrameTimeHistogram(benchmark::State& state) {
+  using Pipeline = grip::HapticPipeline<S, grip::CylinderScene<S>, grip::ConstrainedFrameSolver<S>>;
+  FrameClassTimes none, bounded;
+  for (auto _ : state) {
+    none = classify_session<Pipeline>(0);
+    bounded = classify_session<Pipeline>(16);
+  }
+  const char* names[3] = {"hold", "shake", "slip"};
+  for (int c = 0; c < 3; ++c) {
+    state.counters[std::string(names[c]) + "_p50_us"] = quantile(none.us[c], 0.5);
+    state.counters[std::string(names[c]) + "_p99_us"] = quantile(none.us[c], 0.99);
+    state.counters[std::string(names[c]) + "_p50_us_16"] = quantile(bounded.us[c], 0.5);
+    state.counters[std::string(names[c]) + "_p99_us_16"] = quantile(bounded.us[c], 0.99);
+  }
+  if (const char* path = std::getenv("GRIP_HISTOGRAM_SVG")) write_histograms(path, none, bounded);
+}
+BENCHMARK(BM_FrameTimeHistogram)->Iterations(1)->Unit(benchmark::kMillisecond);
+
 BENCHMARK(BM_Frame_AnalyticContacts_Constrained_deadline)
     ->Arg(16)->Arg(32)->Arg(64)->Iterations(2 * session_frames)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Frame_OctreeCollision_Constrained_deadline)
