@@ -20,6 +20,7 @@
 #include "geometry/mesh_test_support.hpp"
 #include "support/allocation_counter.hpp"
 #include "support/constants.hpp"
+#include "support/tolerance.hpp"
 
 template class grip::MeshShape<double, 16, 32>;
 template class grip::MeshShape<float, 16, 32>;
@@ -103,15 +104,19 @@ TEST_CASE_TEMPLATE("a square pyramid (6 triangles: a padded block): hierarchy, f
     held += node.count;
   }
   CHECK(held == 6);
-  const double tol = grip_test::tol_of<S>(1e-15, 1e-7);
-  CHECK((f.node(0).lo.template cast<double>() - V3(-a, -a, 0)).norm() <= tol);
-  CHECK((f.node(0).hi.template cast<double>() - V3(a, a, h)).norm() <= tol);
+  // Tolerances from round-off (support/tolerance.hpp). The root's box: each coordinate a
+  // vertex's, rounded once to S: at most u |(a, a, h)| (k = 1).
+  const double corner = V3(a, a, h).norm();
+  CHECK((f.node(0).lo.template cast<double>() - V3(-a, -a, 0)).norm() <= grip_test::roundoff<S>(1, 1, corner));
+  CHECK((f.node(0).hi.template cast<double>() - V3(a, a, h)).norm() <= grip_test::roundoff<S>(1, 1, corner));
   // Far field of the root, by hand: area 4 a^2 + 4 a sqrt(h^2 + a^2); a closed surface's
   // area-weighted normals sum to zero.
   const auto& root = f.winding_node(0);
   const double area = 4 * a * a + 4 * a * std::sqrt(h * h + a * a);
-  CHECK(std::abs(double(root.area) - area) <= 10 * tol);
-  CHECK(double(root.normal_sum.norm()) <= 10 * tol);
+  // Each of the 6 triangles' |cross| / 2 and cross / 2 from coordinates rounded to S (2 u of
+  // the area), the cross product's and the norm's roundings, then the sum: k = 16 of the area.
+  CHECK(std::abs(double(root.area) - area) <= grip_test::roundoff<S>(16, 1, area));
+  CHECK(double(root.normal_sum.norm()) <= grip_test::roundoff<S>(16, 1, area));
   // Distances against the tests' own point-triangle distance; the sign from the winding number.
   const std::vector<std::array<double, 9>> tris = grip_mesh_test::plain_triangles(m);
   const auto view = winding_signed(f, true);
@@ -123,9 +128,17 @@ TEST_CASE_TEMPLATE("a square pyramid (6 triangles: a padded block): hierarchy, f
     if (expect < 1e-4) continue;  // the sign is decided well away from the surface
     const bool in = p.z() > 0 && std::max(std::abs(p.x()), std::abs(p.y())) < a * (1 - p.z() / h);
     const Vector3<S> q = p.cast<S>();
-    CHECK(std::abs(double(f.distance(q)) - (in ? -expect : expect)) <= 100 * tol);
-    CHECK(std::abs(double(view.distance(q)) - (in ? -expect : expect)) <= 100 * tol);
-    CHECK(std::abs(double(f.winding_number_exact(q)) - (in ? 1.0 : 0.0)) <= grip_test::tol_of<S>(1e-12, 1e-4));
+    // The distance |p - q|: q's coordinates carry a couple of roundings of M, the largest
+    // coordinate vector (p's and the vertices' rounding to S, the closest point's
+    // interpolation), p - q and its norm a few of d <= 2 M: k = 8 u M (observed 1.5 u M).
+    const double M = std::max(p.norm(), corner), tol_d = grip_test::roundoff<S>(8, 1, M);
+    CHECK(std::abs(double(f.distance(q)) - (in ? -expect : expect)) <= tol_d);
+    CHECK(std::abs(double(view.distance(q)) - (in ? -expect : expect)) <= tol_d);
+    // The winding number: 6 solid angles (each within 2 u of 2 pi, as in triangle.test.cpp,
+    // times the condition 1 + L / d of atan2's arguments at distance d from a triangle of
+    // edges up to L = 2 sqrt(2) a) summed, over 4 pi: k = 1 per triangle.
+    const double cond_w = 1 + 2 * std::sqrt(2.0) * a / expect;
+    CHECK(std::abs(double(f.winding_number_exact(q)) - (in ? 1.0 : 0.0)) <= grip_test::roundoff<S>(1, cond_w, 6));
     inside += in ? 1 : 0;
   }
   CHECK(inside > 5);
