@@ -28,12 +28,6 @@ Wrench<S> random_load(std::mt19937& rng) {
   return w * S(size / std::max(double(w.template head<3>().norm()), 1e-3));
 }
 
-template <class S>
-Contact<double> to_double(const Contact<S>& c) {
-  return Contact<double>{c.position.template cast<double>(), c.normal.template cast<double>(), double(c.friction),
-                         double(c.torsional_friction), double(c.squeeze), double(c.weight)};
-}
-
 // |G x + w| in double from the forces alone, and its round-off scale |w| + sum (1 + |r_i|) |x_i|.
 template <class GraspT>
 double residual_in_double(const GraspT& g, const typename GraspT::ForceVector& x,
@@ -43,7 +37,7 @@ double residual_in_double(const GraspT& g, const typename GraspT::ForceVector& x
   Wrench<double> r = w.template cast<double>();
   scale = r.norm();
   for (int i = 0; i < g.size(); ++i) {
-    const Contact<double> c = to_double(g.contact(i));
+    const Contact<double> c = grip_test::cast_contact<double>(g.contact(i));
     const Eigen::Matrix<double, d, 1> xi = x.template segment<d>(i * d).template cast<double>();
     r += M::wrench(c, xi);
     scale += (1.0 + c.position.norm()) * xi.norm();
@@ -63,7 +57,7 @@ void check_cut(const GraspT& g, const Wrench<typename GraspT::ScalarType>& w,
   REQUIRE(cut.forces.allFinite());
   REQUIRE(cut.multipliers.allFinite());
   for (int i = 0; i < g.size(); ++i) {
-    const Contact<double> c = to_double(g.contact(i));
+    const Contact<double> c = grip_test::cast_contact<double>(g.contact(i));
     const Eigen::Matrix<double, d, 1> xi = cut.forces.template segment<d>(i * d).template cast<double>();
     CHECK(grip_test::cone_violation<M>(c, xi) <= grip_test::roundoff<S>(16, 1, 1e-30 + xi.norm()));
   }

@@ -87,11 +87,12 @@ inline std::vector<ConstrainedReference> load_constrained_reference(ReferenceCou
   return out;
 }
 
-template <class S>
-grip::Contact<S> cast_contact(const grip::Contact<double>& c) {
+/// Contact c in scalar type S (e.g. a float grasp's contact in double for the checks below).
+template <class S, class From>
+grip::Contact<S> cast_contact(const grip::Contact<From>& c) {
   grip::Contact<S> o;
-  o.position = c.position.cast<S>();
-  o.normal = c.normal.cast<S>();
+  o.position = c.position.template cast<S>();
+  o.normal = c.normal.template cast<S>();
   o.friction = S(c.friction);
   o.torsional_friction = S(c.torsional_friction);
   o.squeeze = S(c.squeeze);

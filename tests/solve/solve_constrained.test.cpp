@@ -23,18 +23,6 @@ template struct grip::ConstrainedSettings<float>;
 
 namespace {
 
-grip::Contact<double> as_double(const Contact<float>& c) {
-  Contact<double> o;
-  o.position = c.position.cast<double>();
-  o.normal = c.normal.cast<double>();
-  o.friction = double(c.friction);
-  o.torsional_friction = double(c.torsional_friction);
-  o.squeeze = double(c.squeeze);
-  o.weight = double(c.weight);
-  return o;
-}
-grip::Contact<double> as_double(const Contact<double>& c) { return c; }
-
 // Round-off scales of a solution (support/tolerance.hpp), in double. The solver's forces are
 // projections x_i = P_i(v_i) of v_i = t_i + k_i G_i^T lambda at its multipliers, so the
 // conditions on x_i and s_i below hold exactly but for the rounding of v_i and of the
@@ -42,7 +30,7 @@ grip::Contact<double> as_double(const Contact<double>& c) { return c; }
 template <class GraspT>
 double v_bound(const GraspT& g, int i, const Wrench<double>& l) {
   using M = typename GraspT::ModelType;
-  const Contact<double> c = as_double(g.contact(i));
+  const Contact<double> c = grip_test::cast_contact<double>(g.contact(i));
   return M::target(c).norm() +
          double(g.inverse_weight(i)) * (l.template head<3>().norm() + (1 + c.position.norm()) * l.template tail<3>().norm());
 }
@@ -111,7 +99,7 @@ void check_kkt(const GraspT& g, const Wrench<typename GraspT::ScalarType>& w,
   const Wrench<double> l = sol.multipliers.template cast<double>();
   Wrench<double> r = w.template cast<double>();
   for (int i = 0; i < g.size(); ++i) {
-    const Contact<double> c = as_double(g.contact(i));
+    const Contact<double> c = grip_test::cast_contact<double>(g.contact(i));
     const Eigen::Matrix<double, d, 1> x = sol.forces.template segment<d>(i * d).template cast<double>();
     const Eigen::Matrix<double, d, 1> s = c.weight * (x - M::target(c)) - M::wrench_transpose(c, l);
     const double v = v_bound(g, i, l);
@@ -303,7 +291,7 @@ TEST_CASE_TEMPLATE("solve_constrained: infeasible wrenches get a checked certifi
   CHECK(y.dot(w.template cast<double>()) > 0.0);
   const ConstrainedSettings<S> st;
   for (int i = 0; i < 3; ++i) {
-    const Contact<double> c = as_double(g.contact(i));
+    const Contact<double> c = grip_test::cast_contact<double>(g.contact(i));
     // The solver's acceptance (is_infeasibility_certificate): z = G_i^T y within
     // certificate_tolerance (1 + |r_i|) of K_i^*, the solver's contract per type (1e-5 in
     // double, 2e-3 in float); mu |z_t| - z_n is sqrt(1 + mu^2) times that distance. Plus the
@@ -323,7 +311,7 @@ TEST_CASE_TEMPLATE("solve_constrained: infeasible wrenches get a checked certifi
   // In its cone: a projection sn a + beta v_t, both parts proportional to sn, so on the cone to
   // a few roundings of its own size |x_i| (k = 8), through 1 + mu (see cone_condition).
   for (int i = 0; i < 3; ++i)
-    CHECK(grip_test::cone_violation<HardFinger>(as_double(g.contact(i)), sol.forces.template segment<3>(3 * i)) <=
+    CHECK(grip_test::cone_violation<HardFinger>(grip_test::cast_contact<double>(g.contact(i)), sol.forces.template segment<3>(3 * i)) <=
           grip_test::roundoff<S>(8, 1 + double(g.contact(i).friction), double(sol.forces.template segment<3>(3 * i).norm())));
   // An empty Dynamic grasp: only w_ext = 0 is balanced.
   Grasp<Dynamic, HardFinger, S, 4> empty;

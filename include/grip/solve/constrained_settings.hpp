@@ -47,7 +47,7 @@ struct ConstrainedSettings {
   /// When it is reached the solver stops and answers IterationLimit with the least-residual
   /// iterate it has met (forces in their cones), or Infeasible if a certificate was already
   /// found. The worst-case time of a solve is then about the fast path plus max_passes times
-  /// (one pass + one 6x6 solve): docs/solvers.md gives both per contact count. Default: the
+  /// (one pass + one 6x6 solve): docs/solve.md gives both per contact count. Default: the
   /// largest int, no deadline (the iteration bounds govern).
   int max_passes{std::numeric_limits<int>::max()};
 

@@ -15,6 +15,7 @@
 
 #include <cmath>
 #include <type_traits>
+#include <utility>
 
 #include <Eigen/Geometry>
 
@@ -44,6 +45,12 @@ struct PassBudget {
   int used{0};  ///< passes made
   /// True while another pass may be started.
   bool left() const { return used < limit; }
+  /// One pass of `passes` (ConstrainedPasses::pass's arguments), counted. Callers check left().
+  template <class Passes, class... Args>
+  auto run(const Passes& passes, Args&&... args) {
+    ++used;
+    return passes.pass(std::forward<Args>(args)...);
+  }
 };
 
 /// The cone's own projection, except a Coulomb cone with mu = 0 (the ray {f_n a, f_n >= 0}):

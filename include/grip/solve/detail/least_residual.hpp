@@ -42,10 +42,6 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
   lambda.setZero();
   f2 = S(0);
   if (!budget.left()) return 0;
-  const auto pass = [&](const Wrench<S>& v, typename Passes::Forces& forces, GramAccumulator<S>* h) {
-    ++budget.used;
-    return passes.pass(w_ext, v, forces, h);
-  };
   typename Passes::Forces xt = passes.make_forces();
   // The Hessian sums at the current point and at the line-search point, from their passes.
   GramAccumulator<S> cur_h, trial_h;
@@ -58,7 +54,7 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
   const auto phi = [&](const ConstrainedPass<S>& p, const Wrench<S>& l) {
     return -S(0.5) * l.squaredNorm() + l.dot(p.residual) + dl * p.f2;
   };
-  ConstrainedPass<S> cur = pass(Wrench<S>(-lambda / dl), x, &cur_h);
+  ConstrainedPass<S> cur = budget.run(passes, w_ext, Wrench<S>(-lambda / dl), x, &cur_h);
   S cur_phi = phi(cur, lambda);
   // The forces returned are the best point met by the requested problem's objective
   // |r|^2/2 + delta F2: at the last, tiny delta, x(l) is so sensitive to l that the last
@@ -78,7 +74,7 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
   const auto next_stage = [&]() {
     if (!(dl > delta) || !budget.left()) return false;
     dl = dl / drop < delta ? delta : dl / drop;
-    cur = pass(Wrench<S>(-lambda / dl), x, &cur_h);
+    cur = budget.run(passes, w_ext, Wrench<S>(-lambda / dl), x, &cur_h);
     cur_phi = phi(cur, lambda);
     keep();
     return true;
@@ -110,7 +106,7 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
     S trial_phi = cur_phi;
     for (int ls = 0; ls < settings.max_line_search && budget.left(); ++ls, alpha *= S(0.5)) {
       lt = lambda + alpha * dir;
-      trial = pass(Wrench<S>(-lt / dl), xt, &trial_h);
+      trial = budget.run(passes, w_ext, Wrench<S>(-lt / dl), xt, &trial_h);
       trial_phi = phi(trial, lt);
       const S slack =
           S(constrained_roundoff) * eps * (std::abs(cur_phi) + std::abs(trial_phi) + lt.squaredNorm());

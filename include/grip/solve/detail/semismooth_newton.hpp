@@ -82,16 +82,8 @@ class SemismoothNewton {
     for (int k = 0; k < 6; ++k)
       jacobi_(k) = jacobi_(k) > settings_.jacobi_floor * jmax ? jacobi_(k) : settings_.jacobi_floor * jmax;
     dinv_ = jacobi_.cwiseSqrt().cwiseInverse();
-    cur_ = pass(lambda_, x_, &cur_h_);
+    cur_ = budget_.run(passes_, w_ext_, lambda_, x_, &cur_h_);  // always allowed: max_passes >= 1
     keep_best();
-  }
-
-  /// One pass at multipliers l (forces into x, the Hessian sums into h if given), counted in
-  /// the budget. Callers check budget_.left() first (the constructor's pass is always allowed:
-  /// max_passes >= 1).
-  ConstrainedPass<S> pass(const Wrench<S>& l, Forces& x, GramAccumulator<S>* h) {
-    ++budget_.used;
-    return passes_.pass(w_ext_, l, x, h);
   }
 
   /// Keeps the iterate if its residual is the least met so far: the answer under IterationLimit.
@@ -156,7 +148,7 @@ class SemismoothNewton {
       S alpha = S(1);
       for (; cuts < settings_.max_line_search && budget_.left(); ++cuts, alpha *= S(0.5)) {
         lt = lambda_ + alpha * dir;
-        trial = pass(lt, xt_, &trial_h_);
+        trial = budget_.run(passes_, w_ext_, lt, xt_, &trial_h_);
         const S slack =
             S(constrained_roundoff) * eps() * (std::abs(trial.dual) + std::abs(cur_.dual) + std::abs(cur_.f2));
         if (trial.dual >= cur_.dual + settings_.armijo * alpha * slope - slack) {
@@ -209,7 +201,7 @@ class SemismoothNewton {
   /// there is not q (it can exceed the optimum, and Newton would stay on it).
   void restart_from_phase1() {
     if (!inputs_in_range(p_lambda_) || !budget_.left()) return;
-    ConstrainedPass<S> alt = pass(p_lambda_, xt_, &trial_h_);
+    ConstrainedPass<S> alt = budget_.run(passes_, w_ext_, p_lambda_, xt_, &trial_h_);
     if (alt.dual > cur_.dual && std::isfinite(alt.dual)) {
       lambda_ = p_lambda_;
       x_ = xt_;
