@@ -8,15 +8,27 @@
 #include <grip/hand/hand_model.hpp>
 
 #include "support/allocation_counter.hpp"
+#include "support/tolerance.hpp"
 
 using namespace grip;
 
 namespace {
 template <class S>
 using Iso = Eigen::Transform<S, 3, Eigen::Isometry>;
+// Tolerances from round-off (support/tolerance.hpp), condition 1.
+// A dimension c L (c a coefficient of Buchholz's table): c's and L's rounding to S, the product,
+// and the reference's own product in double: k = 4 of the value.
 template <class S>
-S tol() {
-  return std::is_same<S, float>::value ? S(1e-5) : S(1e-12);
+double dim_tol(double value) {
+  return grip_test::roundoff<S>(4, 1, value);
+}
+// A point of forward kinematics, on M (m), the hand length (every point lies within it of the
+// wrist) plus |t| of a wrist shift: the base's rounding (3), per phalanx the rotation
+// AngleAxis(sum, axis) * rest (about 8 roundings of 1, times a length) and p + l dir (2), over
+// up to 3 phalanges (their lengths sum below L), then R p + t (6): k = 24.
+template <class S>
+double fk_tol(double M) {
+  return grip_test::roundoff<S>(24, 1, M);
 }
 }  // namespace
 
@@ -46,18 +58,22 @@ TEST_CASE_TEMPLATE("standard dimensions are Buchholz's fractions of hand length"
   CHECK(d.hand_length == L);
   REQUIRE(validate(d) == Status::Ok);
   // Buchholz et al. 1992 coefficients, typed from the paper's table (not from the code).
-  CHECK(d.length[static_cast<std::size_t>(phalanx_index(Finger::Long, Phalanx::Proximal))] == doctest::Approx(0.277 * 0.19));
-  CHECK(d.length[static_cast<std::size_t>(phalanx_index(Finger::Index, Phalanx::Middle))] == doctest::Approx(0.143 * 0.19));
-  CHECK(d.length[static_cast<std::size_t>(phalanx_index(Finger::Little, Phalanx::Distal))] == doctest::Approx(0.093 * 0.19));
-  CHECK(d.length[static_cast<std::size_t>(phalanx_index(Finger::Thumb, Phalanx::Distal))] == doctest::Approx(0.158 * 0.19));
-  CHECK(d.base[2].x() == doctest::Approx(0.373 * 0.19));  // long MCP at its metacarpal length
+  CHECK(std::abs(double(d.length[static_cast<std::size_t>(phalanx_index(Finger::Long, Phalanx::Proximal))]) - 0.277 * 0.19) <= dim_tol<S>(0.277 * 0.19));
+  CHECK(std::abs(double(d.length[static_cast<std::size_t>(phalanx_index(Finger::Index, Phalanx::Middle))]) - 0.143 * 0.19) <= dim_tol<S>(0.143 * 0.19));
+  CHECK(std::abs(double(d.length[static_cast<std::size_t>(phalanx_index(Finger::Little, Phalanx::Distal))]) - 0.093 * 0.19) <= dim_tol<S>(0.093 * 0.19));
+  CHECK(std::abs(double(d.length[static_cast<std::size_t>(phalanx_index(Finger::Thumb, Phalanx::Distal))]) - 0.158 * 0.19) <= dim_tol<S>(0.158 * 0.19));
+  CHECK(std::abs(double(d.base[2].x()) - 0.373 * 0.19) <= dim_tol<S>(0.373 * 0.19));  // long MCP at its metacarpal length
   // Scaling: twice the hand, twice every length, radius and joint position.
   const HandDimensions<S> d2 = HandDimensions<S>::standard(S(2) * L);
+  // Doubling is exact in binary, so c (2 L) and 2 (c L) round the same product: at most the
+  // two evaluations' own roundings apart (k = 2 each, of the value; the thumb's base, a sum of
+  // such terms, k = 8 of its norm).
   for (int k = 0; k < 14; ++k) {
-    CHECK(d2.length[static_cast<std::size_t>(k)] == doctest::Approx(double(S(2) * d.length[static_cast<std::size_t>(k)])).epsilon(1e-5));
-    CHECK(d2.radius[static_cast<std::size_t>(k)] == doctest::Approx(double(S(2) * d.radius[static_cast<std::size_t>(k)])).epsilon(1e-5));
+    const double l2 = double(S(2) * d.length[static_cast<std::size_t>(k)]), r2 = double(S(2) * d.radius[static_cast<std::size_t>(k)]);
+    CHECK(std::abs(double(d2.length[static_cast<std::size_t>(k)]) - l2) <= grip_test::roundoff<S>(2, 1, l2));
+    CHECK(std::abs(double(d2.radius[static_cast<std::size_t>(k)]) - r2) <= grip_test::roundoff<S>(2, 1, r2));
   }
-  CHECK((d2.base[0] - S(2) * d.base[0]).norm() <= S(10) * tol<S>());
+  CHECK(double((d2.base[0] - S(2) * d.base[0]).norm()) <= grip_test::roundoff<S>(8, 1, double(d2.base[0].norm())));
   // Bad hand lengths give dimensions that validate() rejects.
   CHECK(validate(HandDimensions<S>::standard(S(0))) == Status::InvalidInput);
   CHECK(validate(HandDimensions<S>::standard(std::numeric_limits<S>::quiet_NaN())) == Status::InvalidInput);
@@ -72,6 +88,7 @@ TEST_CASE_TEMPLATE("zero angles give the documented rest pose", S, double, float
   HandPosture<S> h;
   REQUIRE(forward_kinematics(d, Iso<S>::Identity(), JointAngles<S>::Zero(), h) == Status::Ok);
   // Fingers: straight along +x from the MCP at (metacarpal fraction * L, y, 0).
+  const double rest_tol = grip_test::roundoff<S>(12, 1, 0.19);
   const double mc[5] = {0, 0.374, 0.373, 0.336, 0.295};
   const double y[5] = {0, 0.105, 0, -0.10, -0.20};
   for (int f = 1; f < 5; ++f) {
@@ -80,24 +97,27 @@ TEST_CASE_TEMPLATE("zero angles give the documented rest pose", S, double, float
       const PhalanxCapsule<S>& c = h.phalanges[static_cast<std::size_t>(phalanx_index(static_cast<Finger>(f), static_cast<Phalanx>(p)))];
       CHECK(c.finger == static_cast<Finger>(f));
       CHECK(c.phalanx == static_cast<Phalanx>(p));
-      CHECK(double(c.base.x()) == doctest::Approx(x).epsilon(1e-5));
-      CHECK(double(c.base.y()) == doctest::Approx(y[f] * 0.19).epsilon(1e-5));
-      CHECK(std::abs(c.base.z()) <= tol<S>());
-      CHECK(std::abs(c.tip.y() - c.base.y()) <= tol<S>());
-      CHECK(std::abs(c.tip.z()) <= tol<S>());
+      // Forward kinematics' points at zero angles: AngleAxis(0) is the identity exactly, and so
+      // is the wrist, so fk_tol's count shrinks to the base's 3 roundings and p + l dir's 2 per
+      // phalanx (9), and the reference x's differences in S, 1 per phalanx: k = 12 of L.
+      CHECK(std::abs(double(c.base.x()) - x) <= rest_tol);
+      CHECK(std::abs(double(c.base.y()) - y[f] * 0.19) <= rest_tol);
+      CHECK(double(std::abs(c.base.z())) <= rest_tol);
+      CHECK(double(std::abs(c.tip.y() - c.base.y())) <= rest_tol);
+      CHECK(double(std::abs(c.tip.z())) <= rest_tol);
       x += double(c.tip.x() - c.base.x());
     }
     // Long finger: MCP + proximal + middle + distal = (0.373 + 0.277 + 0.170 + 0.108) L.
-    if (f == 2) CHECK(x == doctest::Approx(0.928 * 0.19).epsilon(1e-5));
+    if (f == 2) CHECK(std::abs(x - 0.928 * 0.19) <= rest_tol);
   }
   // Thumb: from its MCP = CMC (0.05 L, 0.22 L, 0) + 0.251 L u, along u = (sin 25, 0, -cos 25).
   const double b = 25.0 * 3.141592653589793 / 180.0;
   const Vector3<double> u(std::sin(b), 0, -std::cos(b));
   const Vector3<double> mcp = Vector3<double>(0.05 * 0.19, 0.22 * 0.19, 0) + 0.251 * 0.19 * u;
   const Vector3<double> tip = mcp + (0.196 + 0.158) * 0.19 * u;
-  CHECK((h.phalanges[0].base.template cast<double>() - mcp).norm() <= 1e-6);
-  CHECK((h.phalanges[1].tip.template cast<double>() - tip).norm() <= 1e-6);
-  CHECK(h.phalanges[0].radius == doctest::Approx(0.050 * 0.19));
+  CHECK((h.phalanges[0].base.template cast<double>() - mcp).norm() <= rest_tol);
+  CHECK((h.phalanges[1].tip.template cast<double>() - tip).norm() <= rest_tol);
+  CHECK(std::abs(double(h.phalanges[0].radius) - 0.050 * 0.19) <= dim_tol<S>(0.050 * 0.19));
   (void)L;
 }
 
@@ -112,10 +132,14 @@ TEST_CASE_TEMPLATE("flexion: a right-angle MCP turns the finger palmar, the wris
   REQUIRE(forward_kinematics(d, Iso<S>::Identity(), q, h) == Status::Ok);
   // Proximal: rotating +x by 90 deg about +y gives -z (palmar).
   const Vector3<S> prox = h.phalanges[static_cast<std::size_t>(k)].tip - h.phalanges[static_cast<std::size_t>(k)].base;
-  CHECK((prox - d.length[static_cast<std::size_t>(k)] * Vector3<S>(0, 0, -1)).norm() <= S(10) * tol<S>());
+  // A difference of two FK points (2 fk_tol), and the angle's own rounding to S (pi/2 within
+  // u pi/2; the PIP's sum pi within u pi) times the length, below u L: k = 2 x 24 + 1.
+  CHECK(double((prox - d.length[static_cast<std::size_t>(k)] * Vector3<S>(0, 0, -1)).norm()) <= grip_test::roundoff<S>(49, 1, 0.19));
   const Vector3<S> mid = h.phalanges[static_cast<std::size_t>(k + 1)].tip - h.phalanges[static_cast<std::size_t>(k + 1)].base;
-  CHECK((mid - d.length[static_cast<std::size_t>(k + 1)] * Vector3<S>(-1, 0, 0)).norm() <= S(10) * tol<S>());
-  CHECK((h.phalanges[static_cast<std::size_t>(k + 1)].base - h.phalanges[static_cast<std::size_t>(k)].tip).norm() <= tol<S>());  // chained
+  CHECK(double((mid - d.length[static_cast<std::size_t>(k + 1)] * Vector3<S>(-1, 0, 0)).norm()) <= grip_test::roundoff<S>(49, 1, 0.19));
+  // Chained: the next base is R p + t of the same p as this tip: equal, at most one
+  // evaluation's last roundings apart (k = 2 of L).
+  CHECK(double((h.phalanges[static_cast<std::size_t>(k + 1)].base - h.phalanges[static_cast<std::size_t>(k)].tip).norm()) <= grip_test::roundoff<S>(2, 1, 0.19));
 
   // A wrist pose T: every point is T applied to the identity-pose point.
   Iso<S> T = Iso<S>::Identity();
@@ -123,9 +147,12 @@ TEST_CASE_TEMPLATE("flexion: a right-angle MCP turns the finger palmar, the wris
   T.translation() = Vector3<S>(S(0.3), S(-0.1), S(1.2));
   HandPosture<S> g;
   REQUIRE(forward_kinematics(d, T, q, g) == Status::Ok);
+  // Both evaluate R p + t of the same p (h's identity pose is exact): the two evaluations' 6
+  // roundings each of |p| + |t| (k = 12), on M = L + |t| (support/tolerance.hpp).
+  const double M = 0.19 + double(T.translation().norm());
   for (int i = 0; i < 14; ++i) {
-    CHECK((g.phalanges[static_cast<std::size_t>(i)].base - T * h.phalanges[static_cast<std::size_t>(i)].base).norm() <= S(100) * tol<S>());
-    CHECK((g.phalanges[static_cast<std::size_t>(i)].tip - T * h.phalanges[static_cast<std::size_t>(i)].tip).norm() <= S(100) * tol<S>());
+    CHECK(double((g.phalanges[static_cast<std::size_t>(i)].base - T * h.phalanges[static_cast<std::size_t>(i)].base).norm()) <= grip_test::roundoff<S>(12, 1, M));
+    CHECK(double((g.phalanges[static_cast<std::size_t>(i)].tip - T * h.phalanges[static_cast<std::size_t>(i)].tip).norm()) <= grip_test::roundoff<S>(12, 1, M));
   }
 }
 
