@@ -5,6 +5,7 @@
 
 #include "support/allocation_counter.hpp"
 #include "support/fixtures.hpp"
+#include "support/tolerance.hpp"
 
 using namespace grip;
 
@@ -59,14 +60,21 @@ TEST_CASE_TEMPLATE("G and H match the paper's eq. 3 and eq. 9 block by block", S
   x << S(1), S(0), S(0), S(0), S(1), S(0);
   Wrench<S> gx_hand;
   gx_hand << S(1), S(1), S(0), S(-0.01), S(0.03), S(-0.04);
-  CHECK((g.wrench(x) - gx_hand).norm() <= grip_test::tight<S>());
-  CHECK((G * x - gx_hand).norm() <= grip_test::tight<S>());
+  // Round-off (support/tolerance.hpp): each row of G x takes 2 products and 1 sum of its terms
+  // (here products with 0 and 1 and a doubling: exact), the hand values their rounding to S:
+  // k = 4 of sum (1 + |r_i|) |x_i|.
+  const double gx_scale = 2 + double(c1.position.norm() + c2.position.norm());
+  CHECK(double((g.wrench(x) - gx_hand).norm()) <= grip_test::roundoff<S>(4, 1, gx_scale));
+  CHECK(double((G * x - gx_hand).norm()) <= grip_test::roundoff<S>(4, 1, gx_scale));
   // G^T l, by hand: l = (l_f, l_m) gives f-block l_f + l_m x r_i (= l_f - r_i x l_m).
   Wrench<S> l;
   l << S(1), S(2), S(3), S(4), S(5), S(6);
   const Vector3<S> lf = l.template head<3>(), lm = l.template tail<3>();
-  CHECK((HardFinger::wrench_transpose(c1, l) - (lf + lm.cross(c1.position))).norm() <= grip_test::tight<S>());
-  CHECK((HardFinger::wrench_transpose(c2, l) - (lf + lm.cross(c2.position))).norm() <= grip_test::tight<S>());
+  // Both sides: the cross product (2 products and a difference) and the sum, 4 roundings of
+  // |l_f| + |l_m| |r| each: k = 8.
+  const double l1 = double(lf.norm() + lm.norm() * c1.position.norm()), l2 = double(lf.norm() + lm.norm() * c2.position.norm());
+  CHECK(double((HardFinger::wrench_transpose(c1, l) - (lf + lm.cross(c1.position))).norm()) <= grip_test::roundoff<S>(8, 1, l1));
+  CHECK(double((HardFinger::wrench_transpose(c2, l) - (lf + lm.cross(c2.position))).norm()) <= grip_test::roundoff<S>(8, 1, l2));
 
   Wrench<S> w_ext;
   w_ext << S(1), S(2), S(3), S(4), S(5), S(6);
@@ -90,7 +98,9 @@ TEST_CASE_TEMPLATE("soft and frictionless grasp matrices have the documented col
   const auto Gp = point.grasp_matrix();
   REQUIRE(Gp.cols() == 1);
   CHECK((Gp.col(0).template head<3>() - c.normal).norm() == S(0));
-  CHECK((Gp.col(0).template tail<3>() - c.position.cross(c.normal)).norm() <= grip_test::tight<S>());
+  // Two evaluations of r x a, 3 roundings each of |r| |a| (support/tolerance.hpp): k = 6.
+  CHECK(double((Gp.col(0).template tail<3>() - c.position.cross(c.normal)).norm()) <=
+        grip_test::roundoff<S>(6, 1, double(c.position.norm() * c.normal.norm())));
 }
 
 TEST_CASE_TEMPLATE("bad contacts are refused with InvalidInput and leave the grasp unchanged", S, double, float) {
