@@ -36,12 +36,14 @@ namespace grip {
 /// Tolerances and bounds of the conic analyses (force closure, largest resistible wrench).
 template <class Scalar>
 struct ConicAnalysisSettings {
-  /// Barrier bound theta/tau at which the solver stops (relative to 1 + |objective|); the
-  /// reported margin/scale is within this of the exact optimum. Also the decision threshold:
-  /// force closure is reported only when margin > 10 * tolerance.
+  /// Stopping tolerance of the interior-point solver (conic_dual.hpp): the duality gap, the
+  /// residuals and the difference of the primal and dual objectives below it (relative to
+  /// 1 + |objective|), so the reported margin/scale is within it of the exact optimum. Also
+  /// the decision threshold: force closure is reported only when margin > 10 * tolerance.
   Scalar tolerance{ScalarTraits<Scalar>::is_single_precision ? Scalar(1e-4) : Scalar(1e-9)};
-  /// Bound on Newton steps (each O(n) plus a 6x6 solve): the worst-case time.
-  int max_newton_steps{400};
+  /// Bound on interior-point iterations (each O(n) plus a 7x7 factorisation and two solves):
+  /// the worst-case time. Typical solves take 8 to 25.
+  int max_newton_steps{100};
 };
 
 /// True when `settings` can be used: tolerance finite and > 0, max_newton_steps >= 1 (else the
@@ -53,7 +55,7 @@ bool valid_settings(const ConicAnalysisSettings<Scalar>& settings) {
 
 /// The outcome of force_closure().
 ///
-/// Ok: decided (closure true/false with the numbers below). IterationLimit: the Newton
+/// Ok: decided (closure true/false with the numbers below). IterationLimit: the iteration
 /// bound was hit; `margin` is the last dual value (an upper bound on the margin), closure
 /// false. InvalidInput: incomplete or empty grasp, bad settings; everything zero.
 template <class GraspT>
@@ -69,44 +71,56 @@ struct ForceClosure {
   /// cones balance w_ext = u. Zero when closure holds.
   Wrench<Scalar> unresisted{Wrench<Scalar>::Zero()};
   /// An internal force (G x = 0 to round-off, see `residual`; sum e_i.x_i = 1) achieving the
-  /// margin: x_i - margin e_i inside K_i. The barrier's primal point is corrected onto the null
+  /// margin: x_i - margin e_i inside K_i. The solver's cone multipliers are corrected onto the null
   /// space of G (least squares on the cone spans). Zero when the rank test fails.
   typename GraspT::ForceVector internal_force;
   Scalar residual{0};   ///< |G internal_force| (N and N m).
   int rank{0};          ///< Rank of G restricted to the cone spans (6 needed).
-  int iterations{0};    ///< Newton steps used.
+  int iterations{0};    ///< interior-point iterations used.
   Status status{Status::InvalidInput};  ///< Ok, IterationLimit or InvalidInput (see above).
 };
 
 /// Decides force closure of `grasp` with its exact cones (see the file comment), returning
 /// the margin when it holds and an unresisted wrench direction when it does not. No heap;
-/// at most settings.max_newton_steps Newton steps of O(n) each.
+/// at most settings.max_newton_steps interior-point iterations of O(n) each.
 template <class GraspT>
 ForceClosure<GraspT> force_closure(const GraspT& grasp,
                                    const ConicAnalysisSettings<typename GraspT::ScalarType>& settings = {}) {
   using S = typename GraspT::ScalarType;
+  using W = typename ScalarTraits<S>::Wide;  // the scalar of the computation (conic_dual.hpp)
   using M = typename GraspT::ModelType;
   constexpr int D = GraspT::dim;
+  using XW = Eigen::Matrix<W, GraspT::unknowns_at_compile_time, 1, Eigen::ColMajor, GraspT::max_unknowns, 1>;
   ForceClosure<GraspT> out;
   out.internal_force.setZero(grasp.unknowns());
   const int n = grasp.size();
   if (!grasp.complete() || n == 0 || !valid_settings(settings))
     return out;
-  const S rho = detail::internal_torque_scale(grasp);
-  const Wrench<S> dsc = detail::row_scaling(rho);
+  auto contact = [&](int i) { return detail::widen<W>(grasp.contact(i)); };
+  const W rho = W(detail::internal_torque_scale(grasp));
+  const Wrench<W> dsc = detail::row_scaling(rho);
 
   // 1. Rank of G on the cone spans.
-  Wrench<S> ev;  // ascending
-  Matrix6<S> vecs;
-  detail::symmetric_eigen_6x6_sorted(detail::cone_span_gram(grasp, rho), ev, vecs);
-  const S cut = ScalarTraits<S>::rank_tolerance * ev(5);
+  Matrix6<W> gram = Matrix6<W>::Zero();
+  Wrench<W> ge = Wrench<W>::Zero();  // D G e: sum of the scaled normal columns
+  for (int i = 0; i < n; ++i) {
+    const Contact<W> c = contact(i);
+    const auto k = detail::exact_cone<M>(c);
+    const Eigen::Matrix<W, 6, D> b = dsc.asDiagonal() * M::basis(c);
+    gram.noalias() += b * k.span * b.transpose();
+    ge.noalias() += b * k.axis;
+  }
+  Wrench<W> ev;  // ascending
+  Matrix6<W> vecs;
+  detail::symmetric_eigen_6x6_sorted(gram, ev, vecs);
+  const W cut = W(ScalarTraits<S>::rank_tolerance) * ev(5);
   out.rank = 0;
   for (int k = 0; k < 6; ++k)
-    if (ev(k) > cut && ev(k) > S(0)) ++out.rank;
+    if (ev(k) > cut && ev(k) > W(0)) ++out.rank;
   if (out.rank < 6) {
     // Any y in the kernel: G_i^T y vanishes on the span of K_i, so it is in K_i^*.
-    const Wrench<S> u = dsc.cwiseProduct(vecs.col(0));
-    out.unresisted = u / u.norm();
+    const Wrench<W> u = dsc.cwiseProduct(vecs.col(0));
+    out.unresisted = (u / u.norm()).template cast<S>();
     out.status = Status::Ok;
     return out;
   }
@@ -114,58 +128,58 @@ ForceClosure<GraspT> force_closure(const GraspT& grasp,
   // 2. The margin problem through its dual.
   Eigen::Matrix<S, 7, 1> c = Eigen::Matrix<S, 7, 1>::Zero(), a, q0 = Eigen::Matrix<S, 7, 1>::Zero();
   c(6) = S(1);
-  Wrench<S> ge = Wrench<S>::Zero();
-  for (int i = 0; i < n; ++i) {
-    const auto k = detail::exact_cone<M>(grasp.contact(i));
-    ge.noalias() += dsc.asDiagonal() * (M::basis(grasp.contact(i)) * k.axis);
-  }
-  a.template head<6>() = -ge;
+  a.template head<6>() = -ge.template cast<S>();
   a(6) = S(n);
   q0(6) = S(1) / S(n);
-  const auto r = detail::solve_conic_dual(grasp, rho, c, a, q0, false, settings.tolerance, settings.max_newton_steps);
+  const auto r = detail::solve_conic_dual(grasp, S(rho), c, a, q0, false, settings.tolerance, settings.max_newton_steps);
   out.iterations = r.iterations;
-  out.margin = r.status == Status::Infeasible ? S(-1) : r.objective;
-  // Internal force x = s + t e with t = (1 - sum e.s) / n (the primal point of the barrier).
-  S es(0);
-  for (int i = 0; i < n; ++i)
-    es += detail::exact_cone<M>(grasp.contact(i)).axis.dot(r.primal.template segment<D>(i * D));
-  const S t = (S(1) - es) / S(n);
-  for (int i = 0; i < n; ++i)
-    out.internal_force.template segment<D>(i * D) =
-        r.primal.template segment<D>(i * D) + t * detail::exact_cone<M>(grasp.contact(i)).axis;
-  if (!out.internal_force.allFinite()) out.internal_force.setZero(grasp.unknowns());
+  W margin = r.status == Status::Infeasible ? W(-1) : W(r.objective);
+  // Internal force x = s + t e with t = (1 - sum e.s) / n (s the cone multipliers).
+  XW x = r.primal.template cast<W>();
+  W es(0);
+  for (int i = 0; i < n; ++i) es += detail::exact_cone<M>(contact(i)).axis.dot(x.template segment<D>(i * D));
+  const W t = (W(1) - es) / W(n);
+  for (int i = 0; i < n; ++i) x.template segment<D>(i * D) += t * detail::exact_cone<M>(contact(i)).axis;
+  auto wrench = [&](const XW& f) {  // G f (N and N m)
+    Wrench<W> w = Wrench<W>::Zero();
+    for (int i = 0; i < n; ++i) w.noalias() += M::basis(contact(i)) * f.template segment<D>(i * D);
+    return w;
+  };
+  if (!x.allFinite()) x.setZero(grasp.unknowns());
   if (r.status == Status::Ok) {
-    // The barrier's primal point is internal only up to its centering; make it internal to
-    // round-off by the least-squares correction on the cone spans, x_i -= P_i (D G_i)^T z with
+    // The multipliers balance only to the solver's tolerance; make x internal to round-off
+    // by the least-squares correction on the cone spans, x_i -= P_i (D G_i)^T z with
     // (sum (D G_i) P_i (D G_i)^T) z = D G x (rank 6 here), then report the margin this x
     // achieves: a witnessed lower bound, within the tolerance of the dual's upper bound.
-    const Wrench<S> res = dsc.cwiseProduct(grasp.wrench(out.internal_force));
-    const Wrench<S> z = vecs * (vecs.transpose() * res).cwiseQuotient(ev);
-    S sum(0), achieved(0);
+    const Wrench<W> res = dsc.cwiseProduct(wrench(x));
+    const Wrench<W> z = vecs * (vecs.transpose() * res).cwiseQuotient(ev);
+    W sum(0), achieved(0);
     for (int i = 0; i < n; ++i) {
-      const auto k = detail::exact_cone<M>(grasp.contact(i));
-      const Eigen::Matrix<S, 6, D> b = dsc.asDiagonal() * M::basis(grasp.contact(i));
-      out.internal_force.template segment<D>(i * D) -= k.span * (b.transpose() * z);
-      sum += k.axis.dot(out.internal_force.template segment<D>(i * D));
+      const Contact<W> ci = contact(i);
+      const auto k = detail::exact_cone<M>(ci);
+      const Eigen::Matrix<W, 6, D> b = dsc.asDiagonal() * M::basis(ci);
+      x.template segment<D>(i * D) -= k.span * (b.transpose() * z);
+      sum += k.axis.dot(x.template segment<D>(i * D));
     }
-    out.internal_force /= sum;
+    x /= sum;
     for (int i = 0; i < n; ++i) {
-      const Eigen::Matrix<S, D, 1> xi = out.internal_force.template segment<D>(i * D);
-      const S ti = detail::normal_margin<M>(grasp.contact(i), xi);
+      const W ti = detail::normal_margin<M>(contact(i), Eigen::Matrix<W, D, 1>(x.template segment<D>(i * D)));
       achieved = i == 0 ? ti : std::min(achieved, ti);
     }
-    if (out.internal_force.allFinite() && std::isfinite(achieved))
-      out.margin = std::min(out.margin, achieved);
+    if (x.allFinite() && std::isfinite(achieved))
+      margin = std::min(margin, achieved);
     else
-      out.internal_force.setZero(grasp.unknowns());
+      x.setZero(grasp.unknowns());
   }
-  out.residual = grasp.wrench(out.internal_force).norm();
+  out.margin = S(margin);
+  out.internal_force = x.template cast<S>();
+  out.residual = S(wrench(out.internal_force.template cast<W>()).norm());
   out.status = r.status == Status::IterationLimit ? Status::IterationLimit : Status::Ok;
   out.closure = out.status == Status::Ok && out.margin > S(10) * settings.tolerance;
   if (!out.closure) {
-    const Wrench<S> u = -dsc.cwiseProduct(r.y);
-    const S nu = u.norm();
-    if (nu > S(0) && std::isfinite(nu)) out.unresisted = u / nu;
+    const Wrench<W> u = -dsc.cwiseProduct(r.y.template cast<W>());
+    const W nu = u.norm();
+    if (nu > W(0) && std::isfinite(nu)) out.unresisted = (u / nu).template cast<S>();
   }
   return out;
 }

@@ -27,7 +27,7 @@ namespace grip {
 /// The outcome of max_resistible_wrench().
 ///
 /// Ok: `scale` is the optimum within settings.tolerance (relative). IterationLimit: the
-/// Newton bound was hit; `scale` is an upper bound. InvalidInput: incomplete or empty
+/// iteration bound was hit; `scale` is an upper bound. InvalidInput: incomplete or empty
 /// grasp, direction zero/non-finite, budget not finite and > 0, bad settings; zeros.
 template <class GraspT>
 struct ResistibleWrench {
@@ -36,7 +36,7 @@ struct ResistibleWrench {
   /// Contact forces that resist about -G x ~ scale * d within the cones and the budget.
   typename GraspT::ForceVector forces;
   Scalar residual{0};  ///< |G forces + scale d| (N and N m): the gap of the estimate.
-  int iterations{0};   ///< Newton steps used.
+  int iterations{0};   ///< interior-point iterations used.
   Status status{Status::InvalidInput};  ///< Ok, IterationLimit or InvalidInput (see above).
 };
 

@@ -27,6 +27,8 @@ struct ScalarTraits<double> {
   static constexpr double min_weight = 1e-12;
   /// Default relative tolerance for comparisons in tests and iterative solvers.
   static constexpr double default_tolerance = 1e-9;
+  /// The scalar the offline conic analyses compute in (analysis/conic_dual.hpp).
+  using Wide = double;
 };
 
 /// Tolerances for float.
@@ -45,6 +47,10 @@ struct ScalarTraits<float> {
   static constexpr float min_weight = 1e-6f;
   /// Default relative tolerance for comparisons in tests and iterative solvers.
   static constexpr float default_tolerance = 1e-4f;
+  /// The scalar the offline conic analyses compute in (analysis/conic_dual.hpp): double. Their
+  /// interior-point systems grow ill-conditioned as the iterates near the cones' boundaries,
+  /// and in float the dual residual then stalls above the default tolerance.
+  using Wide = double;
 };
 
 }  // namespace grip

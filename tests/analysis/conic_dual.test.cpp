@@ -1,0 +1,230 @@
+// The interior-point solver of the conic analyses (analysis/conic_dual.hpp): its second-order
+// cone algebra checked against the definitions, and force_closure / max_resistible_wrench
+// against cvxopt's solutions of the primal problems (conic_reference.txt, written by
+// make_conic_reference.py next to this file).
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <grip/analysis/detail/second_order_cone.hpp>
+#include <grip/analysis/force_closure.hpp>
+#include <grip/analysis/max_wrench.hpp>
+
+#include "support/random.hpp"
+#include "support/tolerance.hpp"
+
+using namespace grip;
+
+namespace {
+
+// --- The cone algebra -------------------------------------------------------------------------
+
+// A random point of the interior of Q^M: the tail drawn in a ball, the head above its norm.
+template <int M>
+detail::SocVector<double, M> interior_point(std::mt19937& rng) {
+  grip_test::Uniform u(-1.0, 1.0), lift(0.01, 2.0);
+  detail::SocVector<double, M> v;
+  for (int k = 0; k < M; ++k) v(k) = u(rng);
+  v(0) = detail::soc_tail_norm(v) + lift(rng);
+  return v;
+}
+
+template <int M>
+void check_algebra(std::mt19937& rng) {
+  using V = detail::SocVector<double, M>;
+  grip_test::Uniform u(-1.0, 1.0);
+  for (int rep = 0; rep < 200; ++rep) {
+    const V s = interior_point<M>(rng), z = interior_point<M>(rng);
+    detail::SocScaling<double, M> w;
+    REQUIRE(w.set(s, z));
+    // The defining property of the Nesterov-Todd scaling and its consequences.
+    const V lambda = w.apply(z);
+    const double scale = s.norm() + z.norm();
+    CHECK((lambda - w.apply_inverse(s)).norm() <= grip_test::roundoff<double>(64, 1, scale));
+    CHECK(std::abs(lambda.squaredNorm() - s.dot(z)) <= grip_test::roundoff<double>(64, 1, scale * scale));
+    CHECK(detail::soc_interior(lambda));
+    V x;
+    for (int k = 0; k < M; ++k) x(k) = u(rng);
+    CHECK((w.apply(w.apply_inverse(x)) - x).norm() <= grip_test::roundoff<double>(64, 1, x.norm() * (1 + scale)));
+    // The Jordan product's definition, and division as its inverse.
+    const V p = detail::soc_product(s, z);
+    CHECK(std::abs(p(0) - s.dot(z)) <= grip_test::roundoff<double>(8, 1, scale * scale));
+    if constexpr (M > 1)
+      CHECK((p.template tail<M - 1>() - (s(0) * z.template tail<M - 1>() + z(0) * s.template tail<M - 1>())).norm() <=
+            grip_test::roundoff<double>(8, 1, scale * scale));
+    CHECK((detail::soc_product(s, detail::soc_divide(s, x)) - x).norm() <=
+          grip_test::roundoff<double>(1e4, 1, x.norm() * (1 + s.norm() / detail::soc_det(s))));
+    // The largest step against bisection on membership.
+    const V d = interior_point<M>(rng) - 2.0 * interior_point<M>(rng);
+    const double a = detail::soc_max_step(s, d);
+    if (std::isinf(a)) {
+      CHECK(detail::soc_interior(V(s + 1e3 * d)));
+    } else {
+      CHECK(a > 0);
+      CHECK(detail::soc_interior(V(s + 0.999 * a * d)));
+      CHECK_FALSE(detail::soc_interior(V(s + 1.001 * a * d)));
+    }
+  }
+}
+
+}  // namespace
+
+TEST_CASE("second-order cone algebra: Nesterov-Todd scaling, Jordan product, step to the boundary") {
+  std::mt19937 rng(41);
+  check_algebra<1>(rng);
+  check_algebra<2>(rng);
+  check_algebra<3>(rng);
+  check_algebra<4>(rng);
+}
+
+// --- Against cvxopt ---------------------------------------------------------------------------
+
+namespace {
+
+struct ConicReference {
+  char model{'H'};
+  int n{0};
+  bool margin_feasible{true};
+  double margin_lo{0}, margin_hi{0};  // cvxopt's bracket of the optimal margin
+  double budget{0};
+  double scale_lo{0}, scale_hi{0};    // ... of the largest resistible scale along d
+  Wrench<double> d{Wrench<double>::Zero()};
+  std::vector<Contact<double>> contacts;
+};
+
+std::vector<ConicReference> load_conic_reference(int counts[3]) {
+  std::string dir = __FILE__;
+  dir = dir.substr(0, dir.find_last_of("/\\") + 1);
+  std::ifstream in(dir + "conic_reference.txt");
+  std::vector<ConicReference> out;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("# counts ", 0) == 0) {
+      std::istringstream h(line.substr(9));
+      char tag = 0;
+      int count = 0;
+      while (h >> tag >> count) counts[tag == 'H' ? 0 : tag == 'S' ? 1 : 2] = count;
+    }
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream s(line);
+    std::string tag;
+    s >> tag;
+    if (tag == "instance") {
+      ConicReference r;
+      int k = 0;
+      std::string lo, hi;
+      s >> k >> r.model >> r.n >> lo >> hi >> r.budget >> r.scale_lo >> r.scale_hi;
+      r.margin_feasible = lo != "none";
+      if (r.margin_feasible) {
+        r.margin_lo = std::stod(lo);
+        r.margin_hi = std::stod(hi);
+      }
+      out.push_back(r);
+    } else if (tag == "d" && !out.empty()) {
+      for (int k = 0; k < 6; ++k) s >> out.back().d(k);
+    } else if (tag == "c" && !out.empty()) {
+      Contact<double> c;
+      s >> c.position(0) >> c.position(1) >> c.position(2) >> c.normal(0) >> c.normal(1) >> c.normal(2) >> c.friction >>
+          c.torsional_friction;
+      c.squeeze = 1.0;
+      out.back().contacts.push_back(c);
+    }
+  }
+  return out;
+}
+
+template <class S>
+Contact<S> narrow(const Contact<double>& c) {
+  Contact<S> o;
+  o.position = c.position.cast<S>();
+  o.normal = c.normal.cast<S>();
+  o.friction = S(c.friction);
+  o.torsional_friction = S(c.torsional_friction);
+  o.squeeze = S(c.squeeze);
+  return o;
+}
+
+template <class S>
+const char* S_name() {
+  return ScalarTraits<S>::is_single_precision ? "float" : "double";
+}
+
+// Distance of v outside [lo, hi].
+double outside(double v, double lo, double hi) { return std::max({0.0, lo - v, v - hi}); }
+
+template <class Model, class S>
+void check_model(const std::vector<ConicReference>& data, char tag, int expected) {
+  using GraspT = Grasp<Dynamic, Model, S, 20>;
+  const ConicAnalysisSettings<S> settings;
+  const double tol = double(settings.tolerance);
+  // In double the data are the reference's own: the answers are within the solver's stopping
+  // tolerance of cvxopt's bracket. In float the data are rounded to float first (relative
+  // 2^-24), which moves the optimum by up to that times the problem's condition; the solver,
+  // run in ScalarTraits<float>::Wide, is then within its tolerance of the rounded problem's
+  // optimum. 2^-24 times a condition of 1e3 stays below the float tolerance of 1e-4, so the
+  // bound below is twice the stopping tolerance.
+  const double bound = ScalarTraits<S>::is_single_precision ? 2 * tol : tol;
+  int count = 0, worst_iter = 0, rank_deficient = 0;
+  double worst_margin = 0, worst_scale = 0;
+  for (const auto& ref : data) {
+    if (ref.model != tag) continue;
+    ++count;
+    GraspT g;
+    for (const auto& c : ref.contacts) REQUIRE(g.add(narrow<S>(c)) == Status::Ok);
+    REQUIRE(g.size() == ref.n);
+    const ForceClosure<GraspT> f = force_closure(g, settings);
+    REQUIRE(f.status == Status::Ok);
+    REQUIRE(ref.margin_feasible);
+    worst_iter = std::max(worst_iter, f.iterations);
+    if (f.rank < 6) {
+      // The rank test at ScalarTraits<S>::rank_tolerance (1e-5 in float: eigenvalues of the
+      // scaled Gram matrix below it are not told from the data's rounding) may call a
+      // nearly rank-deficient grasp rank-deficient: margin 0, not in closure. Allowed in
+      // float only, and only where cvxopt finds no clear closure either.
+      ++rank_deficient;
+      CHECK(ScalarTraits<S>::is_single_precision);
+      CHECK(ref.margin_hi < 20 * tol);
+      CHECK_FALSE(f.closure);
+      CHECK(double(f.margin) == 0.0);
+      continue;
+    }
+    const double m = double(f.margin);
+    const double em = outside(m, ref.margin_lo, ref.margin_hi) / (1 + std::abs(ref.margin_lo));
+    worst_margin = std::max(worst_margin, em);
+    CHECK(em <= bound);
+    // The decision agrees wherever the optimum is clear of the threshold 10 tol.
+    if (ref.margin_lo > 20 * tol) CHECK(f.closure);
+    if (ref.margin_hi < 5 * tol) CHECK_FALSE(f.closure);
+    const Wrench<S> d = ref.d.cast<S>();
+    const ResistibleWrench<GraspT> w = max_resistible_wrench(g, d, S(ref.budget), settings);
+    REQUIRE(w.status == Status::Ok);
+    worst_iter = std::max(worst_iter, w.iterations);
+    const double es = outside(double(w.scale), std::max(0.0, ref.scale_lo), std::max(0.0, ref.scale_hi)) /
+                      (1 + ref.budget);
+    worst_scale = std::max(worst_scale, es);
+    CHECK(es <= bound);
+  }
+  CHECK(count == expected);
+  CHECK(count > 0);
+  MESSAGE(std::string(1, tag), ": ", count, " instances, worst margin error ", worst_margin, ", worst scale error ", worst_scale,
+          " (bound ", bound, "), most iterations ", worst_iter, ", rank-deficient in ", std::string(S_name<S>()), ": ",
+          rank_deficient);
+}
+
+}  // namespace
+
+TEST_CASE_TEMPLATE("force_closure and max_resistible_wrench agree with cvxopt on every reference grasp", S, double,
+                   float) {
+  int counts[3] = {-1, -1, -1};
+  const auto data = load_conic_reference(counts);
+  REQUIRE(!data.empty());
+  check_model<HardFinger, S>(data, 'H', counts[0]);
+  check_model<SoftFinger, S>(data, 'S', counts[1]);
+  check_model<FrictionlessPoint, S>(data, 'F', counts[2]);
+}
