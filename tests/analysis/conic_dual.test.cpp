@@ -140,17 +140,6 @@ std::vector<ConicReference> load_conic_reference(int counts[3]) {
 }
 
 template <class S>
-Contact<S> narrow(const Contact<double>& c) {
-  Contact<S> o;
-  o.position = c.position.cast<S>();
-  o.normal = c.normal.cast<S>();
-  o.friction = S(c.friction);
-  o.torsional_friction = S(c.torsional_friction);
-  o.squeeze = S(c.squeeze);
-  return o;
-}
-
-template <class S>
 const char* S_name() {
   return ScalarTraits<S>::is_single_precision ? "float" : "double";
 }
@@ -176,7 +165,7 @@ void check_model(const std::vector<ConicReference>& data, char tag, int expected
     if (ref.model != tag) continue;
     ++count;
     GraspT g;
-    for (const auto& c : ref.contacts) REQUIRE(g.add(narrow<S>(c)) == Status::Ok);
+    for (const auto& c : ref.contacts) REQUIRE(g.add(detail::cast_contact<S>(c)) == Status::Ok);
     REQUIRE(g.size() == ref.n);
     const ForceClosure<GraspT> f = force_closure(g, settings);
     REQUIRE(f.status == Status::Ok);

@@ -30,31 +30,20 @@ All inputs are printed with 10 significant digits and the solver was given exact
 (rounded) values.
 """
 import os
+import sys
 
 import numpy as np
 from cvxopt import matrix, solvers
+
+# The rounding of printed inputs and the tangent basis (grip's TangentBasis) are the
+# constrained solver's reference generator's.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "solve"))
+from make_constrained_reference import rnd, skew, tangent_basis  # noqa: E402
 
 SEED = 20261127
 PER_MODEL = 40
 TOLS = [1e-10, 1e-9]
 WIDTH = 1e-9
-
-
-def rnd(v):
-    return float("%.10g" % v)
-
-
-def skew(r):
-    return np.array([[0, -r[2], r[1]], [r[2], 0, -r[0]], [-r[1], r[0], 0]])
-
-
-def tangent_basis(a):
-    k = int(np.argmin(np.abs(a)))
-    e = np.zeros(3)
-    e[k] = 1.0
-    e1 = np.cross(a, e)
-    e1 /= np.linalg.norm(e1)
-    return e1, np.cross(a, e1)
 
 
 def random_contact(rng, axes):

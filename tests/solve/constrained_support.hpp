@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include <grip/analysis/detail/analysis_cones.hpp>
 #include <grip/grip.hpp>
 
 namespace grip_test {
@@ -90,14 +91,7 @@ inline std::vector<ConstrainedReference> load_constrained_reference(ReferenceCou
 /// Contact c in scalar type S (e.g. a float grasp's contact in double for the checks below).
 template <class S, class From>
 grip::Contact<S> cast_contact(const grip::Contact<From>& c) {
-  grip::Contact<S> o;
-  o.position = c.position.template cast<S>();
-  o.normal = c.normal.template cast<S>();
-  o.friction = S(c.friction);
-  o.torsional_friction = S(c.torsional_friction);
-  o.squeeze = S(c.squeeze);
-  o.weight = S(c.weight);
-  return o;
+  return grip::detail::cast_contact<S>(c);
 }
 
 /// Normal part, tangential norm (and moment) of a contact unknown, for each model.

@@ -93,7 +93,7 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
   std::array<FM, cap> WF;  // W_i^-1 F_i, per iteration
   for (int i = 0; i < n; ++i) {
     const auto k = detail::idx(i);
-    const Contact<S> ci = widen<S>(grasp.contact(i));
+    const Contact<S> ci = cast_contact<S>(grasp.contact(i));
     Eigen::Matrix<S, D, 7> A;
     A.template leftCols<6>() = -(M::basis(ci).transpose() * dsc.asDiagonal());
     A.col(6) = exact_cone<M>(ci).axis;
@@ -299,7 +299,7 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
   out.gap_bound = T(c.dot(q) - y);
   for (int i = 0; i < n; ++i)
     out.primal.template segment<D>(i * D) =
-        (cone_map<M>(widen<S>(grasp.contact(i))).transpose() * z[detail::idx(i)]).template cast<T>();
+        (cone_map<M>(cast_contact<S>(grasp.contact(i))).transpose() * z[detail::idx(i)]).template cast<T>();
   out.zeta_primal = T(h.z);
   if (!out.primal.allFinite()) out.primal.setZero(grasp.unknowns());
   return out;

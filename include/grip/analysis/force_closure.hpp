@@ -96,7 +96,7 @@ ForceClosure<GraspT> force_closure(const GraspT& grasp,
   const int n = grasp.size();
   if (!grasp.complete() || n == 0 || !valid_settings(settings))
     return out;
-  auto contact = [&](int i) { return detail::widen<W>(grasp.contact(i)); };
+  auto contact = [&](int i) { return detail::cast_contact<W>(grasp.contact(i)); };
   const W rho = W(detail::internal_torque_scale(grasp));
   const Wrench<W> dsc = detail::row_scaling(rho);
 

@@ -4,7 +4,7 @@
 /// force_closure.hpp and max_wrench.hpp): each contact's cone K_i in its unknown space
 /// (dim = 1, 3 or 4), its axis e_i, the margin of a force inside it, and the linear map that
 /// takes its dual cone K_i^* onto the standard second-order cone; the units' balancing of G;
-/// contacts widened to the scalar the analyses compute in.
+/// contacts cast to the scalar the analyses compute in.
 /// - HardFinger: the Coulomb cone {|f_t| <= mu f_n} (eq. 4-5); mu = 0 leaves the ray f = f_n a;
 /// - SoftFinger: the elliptic cone {|f_t|^2 / mu^2 + m^2 / mu_t^2 <= f_n^2} (mu_t in m);
 ///   a zero coefficient removes that direction;
@@ -120,16 +120,17 @@ Wrench<S> row_scaling(S rho) {
   return d;
 }
 
-/// Contact c in the scalar W (exact: W is at least as wide as S).
-template <class W, class S>
-Contact<W> widen(const Contact<S>& c) {
-  Contact<W> w;
-  w.position = c.position.template cast<W>();
-  w.normal = c.normal.template cast<W>();
-  w.friction = W(c.friction);
-  w.torsional_friction = W(c.torsional_friction);
-  w.squeeze = W(c.squeeze);
-  w.weight = W(c.weight);
+/// Contact c in the scalar To, field by field (exact when To is at least as wide as S, as
+/// ScalarTraits<S>::Wide is).
+template <class To, class S>
+Contact<To> cast_contact(const Contact<S>& c) {
+  Contact<To> w;
+  w.position = c.position.template cast<To>();
+  w.normal = c.normal.template cast<To>();
+  w.friction = To(c.friction);
+  w.torsional_friction = To(c.torsional_friction);
+  w.squeeze = To(c.squeeze);
+  w.weight = To(c.weight);
   return w;
 }
 
