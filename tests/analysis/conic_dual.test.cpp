@@ -217,3 +217,97 @@ TEST_CASE_TEMPLATE("force_closure and max_resistible_wrench agree with cvxopt on
   check_model<SoftFinger, S>(data, 'S', counts[1]);
   check_model<FrictionlessPoint, S>(data, 'F', counts[2]);
 }
+
+TEST_CASE("the step to the boundary along the axis: a double root that rounding can hide") {
+  // u on the axis, d against it: det(u + a d) = (2 - a)^2 has a double root at a = 2 (the
+  // apex), with discriminant 0 that rounding may make negative.
+  for (const double s : {1.0, 1e-7, 3.3, 1e5}) {
+    detail::SocVector<double, 3> u(2 * s, 0, 0), d(-s, 0, 0);
+    CHECK(detail::soc_max_step(u, d) == doctest::Approx(2.0).epsilon(1e-15));
+    detail::SocVector<double, 4> u4(0.7 * s, 0, 0, 0), d4(-0.1 * s, 0, 0, 0);
+    CHECK(detail::soc_max_step(u4, d4) == doctest::Approx(7.0).epsilon(1e-15));
+  }
+}
+
+TEST_CASE_TEMPLATE("hard fingers with mu = 0 are frictionless points: the same margin, decision and scale", S, double,
+                   float) {
+  // With mu = 0 the Coulomb cone is the ray along the normal, the frictionless point's cone:
+  // both models pose the same problems (the hard finger's cone map then has zero rows).
+  std::mt19937 rng(7);
+  grip_test::Uniform u(0.0, 1.0);
+  const double tol = double(ConicAnalysisSettings<S>{}.tolerance);
+  int closure = 0;
+  for (int rep = 0; rep < 40; ++rep) {
+    Grasp<Dynamic, HardFinger, S, 20> h;
+    Grasp<Dynamic, FrictionlessPoint, S, 20> p;
+    const int n = 7 + rep % 8;
+    for (int i = 0; i < n; ++i) {
+      const double th = std::acos(1 - 2 * u(rng)), ph = 6.283185307179586 * u(rng);
+      const Vector3<double> r(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
+      const Vector3<double> t(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
+      const Vector3<double> a = (-r + 0.4 * t).normalized();
+      Contact<S> c;
+      c.position = (0.05 * r).cast<S>();
+      c.normal = a.cast<S>();
+      c.squeeze = S(1);
+      REQUIRE(h.add(c) == Status::Ok);
+      REQUIRE(p.add(c) == Status::Ok);
+    }
+    const auto fh = force_closure(h), fp = force_closure(p);
+    REQUIRE(fh.status == Status::Ok);
+    REQUIRE(fp.status == Status::Ok);
+    CHECK(fh.rank == fp.rank);
+    CHECK(std::abs(double(fh.margin) - double(fp.margin)) <= 2 * tol * (1 + std::abs(double(fp.margin))));
+    CHECK(fh.closure == fp.closure);
+    closure += fp.closure ? 1 : 0;
+    Wrench<S> d;
+    for (int k = 0; k < 6; ++k) d(k) = S(u(rng) - 0.5);
+    const auto wh = max_resistible_wrench(h, d, S(5)), wp = max_resistible_wrench(p, d, S(5));
+    REQUIRE(wh.status == Status::Ok);
+    REQUIRE(wp.status == Status::Ok);
+    CHECK(std::abs(double(wh.scale) - double(wp.scale)) <= 2 * tol * (1 + 5.0));
+  }
+  CHECK(closure > 0);
+}
+
+TEST_CASE_TEMPLATE("no internal force at all: the search stops at margin_floor with a certificate", S, double, float) {
+  // Six frictionless points of generic position: G is 6 x 6 of rank 6, so G x = 0 only for
+  // x = 0 and no internal force has normal forces summing to 1: the margin problem is
+  // infeasible, its dual unbounded. Force closure must say no, with margin below the floor
+  // and an unresisted wrench u whose G_i^T u = a_i . u >= 0 for every contact.
+  std::mt19937 rng(11);
+  grip_test::Uniform u(0.0, 1.0);
+  int stopped = 0;
+  for (int rep = 0; rep < 20; ++rep) {
+    Grasp<6, FrictionlessPoint, S> g;
+    for (int i = 0; i < 6; ++i) {
+      const double th = std::acos(1 - 2 * u(rng)), ph = 6.283185307179586 * u(rng);
+      const Vector3<double> r(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
+      const Vector3<double> t(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
+      Contact<S> c;
+      c.position = (0.05 * r).cast<S>();
+      c.normal = (-r + 0.4 * t).normalized().cast<S>();
+      c.squeeze = S(1);
+      REQUIRE(g.set(i, c) == Status::Ok);
+    }
+    const ConicAnalysisSettings<S> settings;
+    const auto f = force_closure(g, settings);
+    REQUIRE(f.status == Status::Ok);
+    CHECK_FALSE(f.closure);
+    if (f.rank < 6) continue;
+    ++stopped;
+    CHECK(f.margin < settings.margin_floor);
+    CHECK(f.iterations < settings.max_newton_steps);
+    CHECK(double(f.unresisted.norm()) == doctest::Approx(1.0).epsilon(1e-3));
+    for (int i = 0; i < 6; ++i)
+      CHECK(double(g.contact(i).normal.dot(f.unresisted.template head<3>()) +
+                   g.contact(i).position.cross(g.contact(i).normal).dot(f.unresisted.template tail<3>())) >=
+            -grip_test::roundoff<S>(64, 1, 1));
+  }
+  CHECK(stopped > 0);
+  ConicAnalysisSettings<S> bad;
+  for (const S v : {S(0), S(1), std::numeric_limits<S>::quiet_NaN(), -std::numeric_limits<S>::infinity()}) {
+    bad.margin_floor = v;
+    CHECK_FALSE(valid_settings(bad));
+  }
+}

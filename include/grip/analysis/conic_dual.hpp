@@ -56,19 +56,21 @@ struct ConicDualResult {
   S gap_bound{0};                       ///< objective - lower.
   typename GraspT::ForceVector primal;  ///< x_i = L_i^T z_i, each inside K_i: the multipliers of the cones.
   S zeta_primal{0};                     ///< the multiplier of zeta >= 0, if used.
-  Status status{Status::InvalidInput};  ///< Ok, IterationLimit, or Infeasible (objective below -1/tol: unbounded).
+  Status status{Status::InvalidInput};  ///< Ok, IterationLimit, or Infeasible (objective below `floor`).
   int iterations{0};                    ///< interior-point iterations (each O(n) plus a 7x7 factorisation).
 };
 
 /// Minimises c . q (q = (y, zeta)) s.t. a . q = 1, zeta e_i - (D G_i)^T y in K_i^*, and
 /// zeta >= 0 if `zeta_nonneg`; q0 must be strictly feasible (else InvalidInput). `rho` the
-/// row scaling; at most `max_iterations` iterations. See the file comment for the method.
+/// row scaling; at most `max_iterations` iterations; stops with Infeasible once the objective
+/// (an upper bound on the optimum) falls below `floor`. See the file comment for the method.
 template <class GraspT>
 ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::ScalarType rho,
                                          const Eigen::Matrix<typename GraspT::ScalarType, 7, 1>& c_in,
                                          const Eigen::Matrix<typename GraspT::ScalarType, 7, 1>& a_in,
                                          const Eigen::Matrix<typename GraspT::ScalarType, 7, 1>& q0, bool zeta_nonneg,
-                                         typename GraspT::ScalarType tol_in, int max_iterations) {
+                                         typename GraspT::ScalarType tol_in, int max_iterations,
+                                         typename GraspT::ScalarType floor_in) {
   using T = typename GraspT::ScalarType;
   using S = typename ScalarTraits<T>::Wide;  // the scalar of the computation
   using M = typename GraspT::ModelType;
@@ -116,7 +118,7 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
     if (!(h.s > S(0))) return out;
   }
   const S degree = S(n + (zeta_nonneg ? 1 : 0));
-  const S unbounded = S(1) / tol;
+  const S floor = S(floor_in);
   const S eps = std::numeric_limits<S>::epsilon();
   constexpr int max_refinements = 4;
 
@@ -219,7 +221,7 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
       out.status = Status::Ok;
       break;
     }
-    if (pcost < -unbounded) {
+    if (pcost < floor) {
       out.status = Status::Infeasible;
       break;
     }

@@ -42,15 +42,21 @@ struct ConicAnalysisSettings {
   /// the decision threshold: force closure is reported only when margin > 10 * tolerance.
   Scalar tolerance{ScalarTraits<Scalar>::is_single_precision ? Scalar(1e-4) : Scalar(1e-9)};
   /// Bound on interior-point iterations (each O(n) plus a 7x7 factorisation and two solves):
-  /// the worst-case time. Typical solves take 8 to 25.
+  /// the worst-case time. Typical solves take 7 to 20.
   int max_newton_steps{100};
+  /// Force closure stops once the margin's upper bound falls below this (dimensionless, < 0):
+  /// the grasp is then far from closure (every internal force needs tangential components of
+  /// -margin times its normal ones), and `margin` reports that bound, not the optimum.
+  /// Grasps with no internal force at all (an unbounded dual) end there too.
+  Scalar margin_floor{-1000};
 };
 
-/// True when `settings` can be used: tolerance finite and > 0, max_newton_steps >= 1 (else the
-/// analyses answer InvalidInput).
+/// True when `settings` can be used: tolerance finite and > 0, max_newton_steps >= 1,
+/// margin_floor finite and < 0 (else the analyses answer InvalidInput).
 template <class Scalar>
 bool valid_settings(const ConicAnalysisSettings<Scalar>& settings) {
-  return settings.tolerance > Scalar(0) && std::isfinite(settings.tolerance) && settings.max_newton_steps >= 1;
+  return settings.tolerance > Scalar(0) && std::isfinite(settings.tolerance) && settings.max_newton_steps >= 1 &&
+         settings.margin_floor < Scalar(0) && std::isfinite(settings.margin_floor);
 }
 
 /// The outcome of force_closure().
@@ -64,7 +70,8 @@ struct ForceClosure {
   bool closure{false};   ///< Force closure, decided with margin > 10 * settings.tolerance.
   /// The margin above (dimensionless): when the solver converged, the one `internal_force`
   /// achieves (a witnessed lower bound, within the tolerance of the optimum); <= 0 or tiny
-  /// when not in closure (0 when the rank test fails).
+  /// when not in closure (0 when the rank test fails; an upper bound below
+  /// settings.margin_floor when the search stopped there).
   Scalar margin{0};
   /// A unit wrench direction u (force; moment in N m) that cannot be resisted when not in
   /// closure: G_i^T u in K_i^* for all i (to the tolerance), so no contact forces inside the
@@ -131,9 +138,10 @@ ForceClosure<GraspT> force_closure(const GraspT& grasp,
   a.template head<6>() = -ge.template cast<S>();
   a(6) = S(n);
   q0(6) = S(1) / S(n);
-  const auto r = detail::solve_conic_dual(grasp, S(rho), c, a, q0, false, settings.tolerance, settings.max_newton_steps);
+  const auto r = detail::solve_conic_dual(grasp, S(rho), c, a, q0, false, settings.tolerance,
+                                          settings.max_newton_steps, settings.margin_floor);
   out.iterations = r.iterations;
-  W margin = r.status == Status::Infeasible ? W(-1) : W(r.objective);
+  W margin = W(r.objective);  // below margin_floor when the solver stopped there (Infeasible)
   // Internal force x = s + t e with t = (1 - sum e.s) / n (s the cone multipliers).
   XW x = r.primal.template cast<W>();
   W es(0);

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "grip/analysis/conic_dual.hpp"
 #include "grip/analysis/force_closure.hpp"
@@ -76,7 +77,9 @@ ResistibleWrench<GraspT> max_resistible_wrench(const GraspT& grasp,
     zeta = std::max(zeta, vn + std::sqrt(std::max(q, S(0))));
   }
   q0(6) = zeta + S(1) + std::abs(zeta);
-  const auto r = detail::solve_conic_dual(grasp, rho, c, a, q0, true, settings.tolerance, settings.max_newton_steps);
+  // zeta >= 0 bounds the objective below by 0: no floor is reached.
+  const auto r = detail::solve_conic_dual(grasp, rho, c, a, q0, true, settings.tolerance, settings.max_newton_steps,
+                                          -std::numeric_limits<S>::infinity());
   out.iterations = r.iterations;
   out.status = r.status == Status::Ok ? Status::Ok : Status::IterationLimit;
   out.scale = std::max(S(0), budget * r.objective);

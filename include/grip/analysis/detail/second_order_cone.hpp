@@ -78,28 +78,31 @@ SocVector<S, M> soc_divide(const SocVector<S, M>& lambda, const SocVector<S, M>&
 }
 
 /// The largest step a >= 0 with u + a d in Q, for u in int Q (infinity when the ray stays
-/// inside): the least positive root of det(u + a d) = A a^2 + 2 B a + C, with C = det(u) > 0.
+/// inside): the least positive root of det(u + a d) = A a^2 + 2 B a + C, with C = det(u) > 0,
+/// and at most -u_0 / d_0 when d_0 < 0 (u_0 + a d_0 >= 0 is necessary). The second bound also
+/// decides the rays along which det has a double root that rounding can hide (d parallel to
+/// the axis, as for a cone whose tangential rows are zero).
 template <class S, int M>
 S soc_max_step(const SocVector<S, M>& u, const SocVector<S, M>& d) {
   const S inf = std::numeric_limits<S>::infinity();
-  if constexpr (M == 1) {
-    return d(0) < S(0) ? -u(0) / d(0) : inf;
-  } else {
+  S best = d(0) < S(0) ? -u(0) / d(0) : inf;
+  if constexpr (M > 1) {
     const S A = soc_det(d), C = soc_det(u);
     const S B = u(0) * d(0) - u.template tail<M - 1>().dot(d.template tail<M - 1>());
     const S disc = B * B - A * C;
-    if (A == S(0)) return B < S(0) ? -C / (S(2) * B) : inf;
-    if (disc < S(0)) return inf;  // A > 0: no real root; the ray stays in the double cone's inside
-    // Roots (-B -+ sqrt(disc)) / A; the cancellation-free pair q / A and C / q.
-    const S q = -(B + std::copysign(std::sqrt(disc), B));
-    S best = inf;
-    if (q != S(0)) {
-      const S r1 = q / A, r2 = C / q;
-      if (r1 > S(0)) best = std::min(best, r1);
-      if (r2 > S(0)) best = std::min(best, r2);
-    }
-    return best;
+    if (A == S(0)) {
+      if (B < S(0)) best = std::min(best, -C / (S(2) * B));
+    } else if (disc >= S(0)) {
+      // Roots (-B -+ sqrt(disc)) / A; the cancellation-free pair q / A and C / q.
+      const S q = -(B + std::copysign(std::sqrt(disc), B));
+      if (q != S(0)) {
+        const S r1 = q / A, r2 = C / q;
+        if (r1 > S(0)) best = std::min(best, r1);
+        if (r2 > S(0)) best = std::min(best, r2);
+      }
+    }  // disc < 0 (A > 0): no real root; the ray stays inside the cone's interior
   }
+  return best;
 }
 
 /// The Nesterov-Todd scaling of a pair s, z in int Q (see the file comment).
