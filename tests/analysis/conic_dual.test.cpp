@@ -253,7 +253,8 @@ TEST_CASE_TEMPLATE("hard fingers with mu = 0 are frictionless points: the same m
       REQUIRE(h.add(c) == Status::Ok);
       REQUIRE(p.add(c) == Status::Ok);
     }
-    const auto fh = force_closure(h), fp = force_closure(p);
+    const auto fh = force_closure(h);
+    const auto fp = force_closure(p);
     REQUIRE(fh.status == Status::Ok);
     REQUIRE(fp.status == Status::Ok);
     CHECK(fh.rank == fp.rank);
@@ -262,7 +263,8 @@ TEST_CASE_TEMPLATE("hard fingers with mu = 0 are frictionless points: the same m
     closure += fp.closure ? 1 : 0;
     Wrench<S> d;
     for (int k = 0; k < 6; ++k) d(k) = S(u(rng) - 0.5);
-    const auto wh = max_resistible_wrench(h, d, S(5)), wp = max_resistible_wrench(p, d, S(5));
+    const auto wh = max_resistible_wrench(h, d, S(5));
+    const auto wp = max_resistible_wrench(p, d, S(5));
     REQUIRE(wh.status == Status::Ok);
     REQUIRE(wp.status == Status::Ok);
     CHECK(std::abs(double(wh.scale) - double(wp.scale)) <= 2 * tol * (1 + 5.0));
