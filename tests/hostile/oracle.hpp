@@ -12,6 +12,8 @@
 
 #include <grip/grip.hpp>
 
+#include "support/equilibrium_norm.hpp"
+
 namespace grip_hostile {
 
 /// What the generator knows about a grasp it built.
@@ -262,8 +264,10 @@ const char* check_constrained(const GraspT& g, const grip::Wrench<typename Grasp
       if (!(Cone::from_contact(g.contact(i)).margin(xi) >= -tol * (S(1) + g.contact(i).friction)))
         return "solve_constrained force outside its cone";
     }
-    if (sol.status == grip::Status::Infeasible && !(std::abs(sol.certificate.norm() - S(1)) <= S(1e-3f)))
-      return "solve_constrained certificate not a unit vector";
+    // Of dual norm 1 in the equilibrium norm (docs/solve.md).
+    if (sol.status == grip::Status::Infeasible &&
+        !(std::abs(grip_test::dual_norm_l(sol.certificate.template cast<double>(), grip_test::grasp_lever_length(g)) - 1.0) <= 1e-3))
+      return "solve_constrained certificate not of dual norm 1";
   }
   return nullptr;
 }

@@ -177,10 +177,10 @@ void solvers_and_monitor(std::mt19937& rng, int n, bool lengths) {
       got.head<3>() = rs2.multipliers.template head<3>().template cast<double>() / sf;
       got.tail<3>() = rs2.multipliers.template tail<3>().template cast<double>() / sm;
       check_close(got, lambda, grip_test::roundoff<S>(16, kappa, 1));
-      // The constrained optimum, when there is one; in float only where the unit of length
-      // stays: its stopping test, |G x + w| against tol (|w| + |x|), mixes N and N m, and a
-      // grasp 1000 times smaller stops with moments unbalanced (see the header's Ok rule).
-      if ((std::is_same<S, double>::value || ch.length == 1.0) && con.status == Status::Ok) {
+      // The constrained optimum, when there is one, in both types and every unit of length:
+      // its tests measure moments per lever arm (the equilibrium norm |.|_L), so a grasp 1000
+      // times smaller stops where the original does.
+      if (con.status == Status::Ok) {
         const auto con2 = solve_constrained(h, v);
         CHECK(con2.status == Status::Ok);
         if (con2.status == Status::Ok) {

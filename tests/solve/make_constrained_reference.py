@@ -152,13 +152,25 @@ def reduced_equality(A, b):
     return Ur.T @ A, Ur.T @ b, Ur, float(np.linalg.norm(off)) <= 1e-12 * (1.0 + float(np.linalg.norm(b)))
 
 
+def lever_length(contacts):
+    """L, the longest lever arm max_i |r_i| (1 when every contact is at the reference point):
+    the residual's norm |(f, m / L)| weighs moments per L, as grip's solve_constrained does."""
+    L = max(float(np.linalg.norm(c["p"])) for c in contacts)
+    return L if L > 1e-15 else 1.0
+
+
 def least_residual(model, contacts, w_ext):
-    """min |G x + w_ext| over the cones, by two formulations that must agree to 1e-7:
-    a QP, min |G x + w_ext|^2 / 2 (coneqp, singular P = G^T G), and an SOCP, min t with
-    (t, G x + w_ext) in Q7 (conelp). Returns (|G x_c + w_ext|, F2(x_c)) at the QP's minimiser
-    x_c, or None when either fails or they disagree (a degenerate instance cvxopt cannot
-    settle)."""
+    """min |G x + w_ext|_L over the cones (|(f, m)|_L = |(f, m / L)|, L = lever_length), by two
+    formulations that must agree to 1e-7: a QP, min |G x + w_ext|_L^2 / 2 (coneqp, singular
+    P = G^T T^2 G), and an SOCP, min t with (t, T(G x + w_ext)) in Q7 (conelp). Returns
+    (|G x_c + w_ext|_L, F2(x_c)) at the QP's minimiser x_c, or None when either fails or they
+    disagree (a degenerate instance cvxopt cannot settle)."""
     P, q, Gc, h, dims, A, b = build(model, contacts, w_ext)
+    L = lever_length(contacts)
+    A = A.copy()
+    b = b.copy()
+    A[3:, :] /= L
+    b[3:] /= L
     m = P.shape[0]
     M = lambda z: matrix(np.ascontiguousarray(z, dtype=float))
     qp = None
@@ -363,7 +375,8 @@ def main():
             "# instance <k> <H|S|F> <n> <optimal|infeasible> <objective> <cvxopt residual |Gx+w|> <cvxopt gap> <kind>",
             "# w <w_ext: force; moment>", "# c <px py pz nx ny nz mu mu_t squeeze weight>",
             "# x <optimal forces x*>", "# l <multipliers lambda* of G x + w_ext = 0 (grip's sign)>",
-            "# r <least residual |G x_c + w_ext| over the cones> <F2(x_c)> (infeasible instances)"]
+            "# r <least residual |G x_c + w_ext|_L over the cones> <F2(x_c)> (infeasible instances;",
+            "#   |(f, m)|_L = |(f, m / L)|, L = max_i |r_i|: moments per the longest lever arm)"]
     path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "constrained_reference.txt")
     with open(path, "w") as f:
         f.write("\n".join(head + out) + "\n")

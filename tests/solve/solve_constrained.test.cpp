@@ -11,6 +11,7 @@
 
 #include "solve/constrained_support.hpp"
 #include "support/allocation_counter.hpp"
+#include "support/equilibrium_norm.hpp"
 #include "support/fixtures.hpp"
 #include "support/random.hpp"
 #include "support/tolerance.hpp"
@@ -286,17 +287,19 @@ TEST_CASE_TEMPLATE("solve_constrained: infeasible wrenches get a checked certifi
   const auto sol = solve_constrained(g, w);
   REQUIRE(sol.status == Status::Infeasible);
   const Wrench<double> y = sol.certificate.template cast<double>();
-  // A unit certificate: y / |y| in S, a few roundings of 1 (k = 4, support/tolerance.hpp).
-  CHECK(std::abs(y.norm() - 1.0) <= grip_test::roundoff<S>(4, 1, 1));
+  // A certificate of dual norm 1, |(y_f, L y_m)| with L the longest lever arm (docs/solve.md):
+  // y / |y|_L* in S, a few roundings of 1 (k = 4, support/tolerance.hpp).
+  const double len = grip_test::grasp_lever_length(g);
+  CHECK(std::abs(grip_test::dual_norm_l(y, len) - 1.0) <= grip_test::roundoff<S>(4, 1, 1));
   CHECK(y.dot(w.template cast<double>()) > 0.0);
   const ConstrainedSettings<S> st;
   for (int i = 0; i < 3; ++i) {
     const Contact<double> c = grip_test::cast_contact<double>(g.contact(i));
     // The solver's acceptance (is_infeasibility_certificate): z = G_i^T y within
-    // certificate_tolerance (1 + |r_i|) of K_i^*, the solver's contract per type (1e-5 in
+    // certificate_tolerance (1 + |r_i| / L) of K_i^*, the solver's contract per type (1e-5 in
     // double, 2e-3 in float); mu |z_t| - z_n is sqrt(1 + mu^2) times that distance. Plus the
-    // rounding of z and of the test in S, 8 roundings of |y| (1 + |r_i|) through 1 + mu.
-    const double reach = 1 + c.position.norm(), mu = c.friction;
+    // rounding of z and of the test in S, 8 roundings of |y|_L* (1 + |r_i| / L) through 1 + mu.
+    const double reach = 1 + c.position.norm() / len, mu = c.friction;
     CHECK(grip_test::dual_cone_violation<HardFinger>(c, HardFinger::wrench_transpose(c, y)) <=
           std::sqrt(1 + mu * mu) * double(st.certificate_tolerance) * reach + grip_test::roundoff<S>(8, 1 + mu, reach));
   }

@@ -3,7 +3,9 @@
 // contacts (G of rank 5) and nearly collinear ones. Checked at every instance: the objective,
 // the forces against cvxopt's x*, the multipliers against cvxopt's where they are unique,
 // equilibrium and cone feasibility from the definitions; for infeasible instances the
-// certificate and the least residual against cvxopt's.
+// certificate and the least residual against cvxopt's. Residuals are measured as the solver
+// documents them, |(f, m)|_L = |(f, m / L)| with L = max_i |r_i| (moments per lever arm), and
+// multipliers and certificates in the dual norm |(y_f, L y_m)|; recomputed here in double.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -17,6 +19,7 @@
 #include <grip/solve/solve_constrained.hpp>
 
 #include "solve/constrained_support.hpp"
+#include "support/equilibrium_norm.hpp"
 
 using namespace grip;
 
@@ -78,13 +81,15 @@ bool check_multipliers(const grip_test::ConstrainedReference& ref, const Eigen::
   return true;
 }
 
-/// Instances of the reference whose kind solve_constrained does not yet handle: grasps a
-/// thousand times smaller (20 to 60 micrometres; the equilibrium tolerance adds newtons to
-/// newton-metres, so at this scale moments barely count: iteration limits, and Ok where no
-/// forces balance), and in float grasps a thousand times larger (20 to 60 m, where the
-/// solver's float check of its certificate misses the tolerance it promises, relative to 1 + |r_i|).
-bool known_failure(const std::string& kind, bool is_float) {
-  return kind.rfind("rescaled-1e-3", 0) == 0 || (is_float && kind.rfind("rescaled-1e3", 0) == 0);
+/// Instances solve_constrained does not yet solve to its tolerance: soft fingers of
+/// micrometres (lever arms and torsional coefficients 1000 times smaller: q, the dual
+/// function, weighs a moment residual r_m by about r_m^2 / |r_i|^2, below its own round-off
+/// long before |r|_L meets the tolerance, so Newton stalls at IterationLimit with forces
+/// within 1e-7 of cvxopt's in double), and in float the one soft-finger instance that cvxopt
+/// too settles only at a looser tolerance and whose moment residual stalls at 1e-3 of |r|_L.
+bool known_failure(const grip_test::ConstrainedReference& ref, int index, bool is_float) {
+  if (ref.model != 'S') return false;
+  return ref.kind.rfind("rescaled-1e-3", 0) == 0 || (is_float && ref.kind == "random-hard" && index == 133);
 }
 
 template <class Model, class S>
@@ -99,7 +104,7 @@ void check_against_reference(const std::vector<grip_test::ConstrainedReference>&
   int index = -1;
   for (const auto& ref : data) {
     ++index;
-    if (ref.model != tag || known_failure(ref.kind, std::is_same<S, float>::value) != known) continue;
+    if (ref.model != tag || known_failure(ref, index, std::is_same<S, float>::value) != known) continue;
     REQUIRE(static_cast<int>(ref.contacts.size()) == ref.n);
     GraspT g;
     for (const auto& c : ref.contacts) REQUIRE(g.add(grip_test::cast_contact<S>(c)) == Status::Ok);
@@ -121,20 +126,22 @@ void check_against_reference(const std::vector<grip_test::ConstrainedReference>&
     Eigen::Matrix<double, Eigen::Dynamic, 1> xd = sol.forces.template cast<double>();
     Grasp<Dynamic, Model, double, 20> gd;
     for (const auto& c : ref.contacts) (void)gd.add(c);
-    const double res = (gd.wrench(xd) + ref.w_ext).norm();
+    const double len = grip_test::lever_length(ref.contacts);
+    const double res = grip_test::norm_l(gd.wrench(xd) + ref.w_ext, len);
+    const double force_scale_l = force_scale - ref.w_ext.norm() + grip_test::norm_l(ref.w_ext, len);
     const auto check_certificate = [&]() {
       // Farkas: y.w_ext > 0 and G_i^T y in K_i^* for every contact (checked from the definitions).
       const Wrench<double> y = sol.certificate.template cast<double>();
-      CHECK(y.norm() == doctest::Approx(1.0).epsilon(1e-5));
+      CHECK(grip_test::dual_norm_l(y, len) == doctest::Approx(1.0).epsilon(1e-5));
       CHECK(y.dot(ref.w_ext) > 0.0);
       for (int i = 0; i < gd.size(); ++i) {
         const auto& c = ref.contacts[size_t(i)];
         const auto z = Model::wrench_transpose(c, y);
-        // ConstrainedSettings::certificate_tolerance (1e-5 double, 2e-3 float) times 1 + |r_i|,
-        // as the solver checks it in S; rechecked here in double, with 50 % (float) and 100 %
-        // (double) for the round-off of the solver's own check.
+        // ConstrainedSettings::certificate_tolerance (1e-5 double, 2e-3 float) times
+        // 1 + |r_i| / L, as the solver checks it in S; rechecked here in double, with 50 %
+        // (float) and 100 % (double) for the round-off of the solver's own check.
         const double cert_tol = (std::is_same<S, float>::value ? 1.5 : 2.0) *
-                                static_cast<double>(settings.certificate_tolerance) * (1 + c.position.norm());
+                                static_cast<double>(settings.certificate_tolerance) * (1 + c.position.norm() / len);
         CHECK_MESSAGE(grip_test::dual_cone_violation<Model>(c, z) <= cert_tol, "instance ", index, " (", ref.kind,
                       ")");
       }
@@ -162,12 +169,12 @@ void check_against_reference(const std::vector<grip_test::ConstrainedReference>&
       // sizes the tolerance (negligible in double; in float it reaches percents for grasps that
       // need forces of 1e4 N).
       REQUIRE(ref.has_lambda);
-      const double shift = std::max(ref.lambda.norm(), sol.multipliers.template cast<double>().norm()) * res;
+      const double shift = std::max(grip_test::dual_norm_l(ref.lambda, len), grip_test::dual_norm_l(sol.multipliers.template cast<double>(), len)) * res;
       const double rel = std::max(std::abs(f2 - ref.objective) - shift, 0.0) / std::max(ref.objective, 1e-12);
       worst_obj = std::max(worst_obj, rel);
       CHECK_MESSAGE(rel <= obj_tol, "objective ", f2, " vs cvxopt ", ref.objective, " shift ", shift);
-      const double res_tol = (std::is_same<S, float>::value ? 1e-4 : 1e-10) * force_scale;
-      worst_res = std::max(worst_res, res / force_scale);
+      const double res_tol = (std::is_same<S, float>::value ? 1e-4 : 1e-10) * force_scale_l;
+      worst_res = std::max(worst_res, res / force_scale_l);
       CHECK(res <= res_tol);
       // The forces themselves against cvxopt's x*. F2 is strongly convex with modulus
       // w_min = min w_i, and at the optimum x_min grad F2 = G^T lambda - n with n in the normal
@@ -181,7 +188,7 @@ void check_against_reference(const std::vector<grip_test::ConstrainedReference>&
       for (const auto& c : ref.contacts) w_min = std::min(w_min, c.weight);
       const double f2_roundoff = 64 * std::numeric_limits<double>::epsilon() * (1 + ref.objective);
       const double x_tol =
-          std::sqrt(2 * (std::max(f2 - ref.objective + ref.lambda.norm() * res, 0.0) + ref.gap + f2_roundoff) / w_min) +
+          std::sqrt(2 * (std::max(f2 - ref.objective + grip_test::dual_norm_l(ref.lambda, len) * res, 0.0) + ref.gap + f2_roundoff) / w_min) +
           std::sqrt(2 * (ref.gap + f2_roundoff) / w_min) + 1e3 * eps * force_scale;
       const Eigen::Map<const Eigen::VectorXd> x_ref(ref.x.data(), static_cast<Eigen::Index>(ref.x.size()));
       const double dx = (xd - x_ref).norm();
@@ -208,12 +215,12 @@ void check_against_reference(const std::vector<grip_test::ConstrainedReference>&
       for (int k = 0; k < 6; ++k) {
         double d = 0;
         for (const auto& c : ref.contacts) d += Model::wrench_transpose(c, Wrench<double>(Wrench<double>::Unit(k))).squaredNorm() / c.weight;
-        delta = std::max(delta, d);
+        delta = std::max(delta, k < 3 ? d : d / (len * len));  // in the norm's units
       }
       delta *= static_cast<double>(settings.least_residual_weight);
-      const double slack = (std::is_same<S, float>::value ? 1e-2 : 1e-5) * force_scale;
+      const double slack = (std::is_same<S, float>::value ? 1e-2 : 1e-5) * force_scale_l;
       const double bound = std::sqrt(ref.least_residual * ref.least_residual + 200 * delta * ref.least_residual_f2) + slack;
-      worst_least = std::max(worst_least, (res - ref.least_residual) / force_scale);
+      worst_least = std::max(worst_least, (res - ref.least_residual) / force_scale_l);
       CHECK_MESSAGE(res <= bound, "instance ", index, " (", ref.kind, ") least residual ", res, " vs cvxopt ",
                     ref.least_residual, " bound ", bound);
       // And no lower than cvxopt's minimum (two formulations agreed on it to 1e-7).
@@ -245,8 +252,8 @@ TEST_CASE("the cvxopt reference file is read whole") {
   for (const auto& ref : data) {
     const int slot = grip_test::ReferenceCounts::slot(ref.model);
     ++instances[slot];
+    known += known_failure(ref, static_cast<int>(&ref - data.data()), true) ? 1 : 0;
     infeasible[slot] += ref.feasible ? 0 : 1;
-    known += known_failure(ref.kind, true) ? 1 : 0;
     CHECK(static_cast<int>(ref.contacts.size()) == ref.n);
     CHECK((ref.feasible ? ref.has_lambda && !ref.x.empty() : ref.least_residual >= 0.0));
   }
@@ -254,7 +261,7 @@ TEST_CASE("the cvxopt reference file is read whole") {
     CHECK(instances[k] == counts.instances[k]);
     CHECK(infeasible[k] == counts.infeasible[k]);
   }
-  CHECK(known < static_cast<int>(data.size()) / 10);
+  CHECK(known <= 8);  // the known failures stay few (docs/testing.md)
 }
 
 TEST_CASE_TEMPLATE("solve_constrained agrees with cvxopt on every reference instance", S, double, float) {
@@ -266,12 +273,9 @@ TEST_CASE_TEMPLATE("solve_constrained agrees with cvxopt on every reference inst
 
 // Known failures (docs/testing.md): these instances fail today, and this test case fails with
 // them; when solve_constrained handles them it passes, doctest reports that as a failure, and
-// the kinds move into the test case above.
-TEST_CASE_TEMPLATE("solve_constrained on grasps of micrometres, and in float of tens of metres (known failure)" *
-                   doctest::should_fail(),
-                   S, double, float) {
+// they move into the test case above.
+TEST_CASE_TEMPLATE("solve_constrained on soft fingers of micrometres (known failure)" * doctest::should_fail(), S,
+                   double, float) {
   const auto data = grip_test::load_constrained_reference();
-  check_against_reference<HardFinger, S>(data, 'H', true);
   check_against_reference<SoftFinger, S>(data, 'S', true);
-  check_against_reference<FrictionlessPoint, S>(data, 'F', true);
 }

@@ -20,7 +20,8 @@ namespace grip {
 /// InvalidInput. An aggregate: set members by name after default construction.
 template <class Scalar>
 struct ConstrainedSettings {
-  /// Relative equilibrium tolerance: Ok when |G x + w_ext| <= tolerance * (|w_ext| + sum_i |x_i|)
+  /// Relative equilibrium tolerance: Ok when |G x + w_ext|_L <= tolerance * (|w_ext|_L + |x|)
+  /// (|(f, m)|_L = |(f, m / L)|, L the grasp's longest lever arm: see solve_constrained)
   /// and the duality gap |lambda.(G x + w_ext)| <= gap_tolerance * F2(x) (or the residual is at
   /// round-off, 16 eps times that scale).
   Scalar tolerance{ScalarTraits<Scalar>::is_single_precision ? Scalar(1e-5f) : Scalar(1e-12)};
@@ -30,12 +31,12 @@ struct ConstrainedSettings {
   /// Smallest Levenberg-Marquardt regularisation of the Jacobi-scaled 6x6 Newton matrix (the
   /// regularisation follows the residual down to it near the optimum).
   Scalar regularisation{ScalarTraits<Scalar>::is_single_precision ? Scalar(1e-6f) : Scalar(1e-13)};
-  /// Relative slack of the infeasibility certificate: a unit y is accepted when every G_i^T y
-  /// lies in the dual cone up to certificate_tolerance * (1 + |r_i|) and y.w_ext exceeds
-  /// certificate_guard * certificate_tolerance * |w_ext|.
+  /// Relative slack of the infeasibility certificate: a y of dual norm |(y_f, L y_m)| = 1 is
+  /// accepted when every G_i^T y lies in the dual cone up to certificate_tolerance *
+  /// (1 + |r_i| / L) and y.w_ext exceeds certificate_guard * certificate_tolerance * |w_ext|_L.
   Scalar certificate_tolerance{ScalarTraits<Scalar>::is_single_precision ? Scalar(2e-3f) : Scalar(1e-5)};
-  /// Weight delta (relative to the largest Jacobi entry of G W^-1 G^T) of F2 in the
-  /// least-residual problem min |G x + w_ext|^2/2 + delta F2(x)/2 over the cones, solved when
+  /// Weight delta (relative to the largest diagonal entry of G W^-1 G^T, moment entries over
+  /// L^2) of F2 in the least-residual problem min |G x + w_ext|_L^2/2 + delta F2(x)/2 over the cones, solved when
   /// the Newton iteration stalls, to decide infeasibility and give the closest forces.
   Scalar least_residual_weight{ScalarTraits<Scalar>::is_single_precision ? Scalar(1e-6f) : Scalar(1e-12)};
   /// Bound on Newton iterations (each O(n)); the worst-case time is proportional to it.
@@ -61,10 +62,10 @@ struct ConstrainedSettings {
   /// literal 1e-4f in both precisions (in double 9.99999975e-5).
   Scalar armijo{Scalar(1e-4f)};
   /// Floor of the Jacobi scaling D of the Levenberg-Marquardt term, relative to its largest
-  /// entry: each diagonal entry of G W^-1 G^T below jacobi_floor times the largest is raised
-  /// to it. It keeps D^-1/2 finite when a diagonal entry vanishes (every contact at the
-  /// reference point, rank < 6) and leaves the entries of grasps with lever arms |r_i| above a
-  /// millimetre as they are (moment entries are about |r_i|^2 times the force ones).
+  /// entry, both taken in the units of the equilibrium norm (moment entries over L^2, L the
+  /// longest lever arm): each diagonal entry of G W^-1 G^T below jacobi_floor times the
+  /// largest is raised to it. It keeps D^-1/2 finite when a diagonal entry vanishes (every
+  /// normal through the reference point, rank < 6), the same in every unit of length.
   /// Float literal 1e-6f in both precisions.
   Scalar jacobi_floor{Scalar(1e-6f)};
   /// Newton iterations in a row whose residual fails to halve after which infeasibility is
@@ -82,7 +83,7 @@ struct ConstrainedSettings {
 
   // The infeasibility decision.
 
-  /// Smallest least residual, in units of tolerance * |w_ext|, that may be taken for
+  /// Smallest least residual, in units of tolerance * |w_ext|_L, that may be taken for
   /// infeasibility (below it the residual is round-off of a feasible problem and its
   /// direction is not tried as a certificate). Double 1000; float 10 (1e-4 relative): there
   /// least residuals of 1e-3 |w_ext| are genuine (cvxopt reference instances) while round-off

@@ -32,8 +32,9 @@ template <class GraspT>
 struct ConstrainedSolution : Solution<GraspT> {
   /// The grasp's scalar type (float or double).
   using Scalar = typename GraspT::ScalarType;
-  /// Infeasible: a unit 6-vector y with G_i^T y in the dual cone K_i^* for every contact (its
-  /// distance to K_i^* at most ConstrainedSettings::certificate_tolerance (1 + |r_i|)) and
+  /// Infeasible: a 6-vector y of dual norm |(y_f, L y_m)| = 1 (L the longest lever arm, see
+  /// solve_constrained) with G_i^T y in the dual cone K_i^* for every contact (its distance to
+  /// K_i^* at most ConstrainedSettings::certificate_tolerance (1 + |r_i| / L)) and
   /// y.w_ext > 0. It proves that no forces in
   /// the cones balance w_ext: for x_i in K_i, y.(G x) >= 0, so y.(G x + w_ext) > 0. Zero otherwise.
   Wrench<Scalar> certificate{Wrench<Scalar>::Zero()};
@@ -64,18 +65,23 @@ struct ConstrainedSolution : Solution<GraspT> {
 /// previous frame's `multipliers` when given (warm start: a 6-vector, so the contact count may
 /// change between frames).
 ///
+/// Wrenches are measured in the equilibrium norm |(f, m)|_L = |(f, m / L)|, L = max_i |r_i| the
+/// grasp's longest lever arm (1 m if every contact is at the reference point), so that every
+/// verdict is the same in every unit of length (docs/solve.md); `residual` still reports the
+/// plain |G x + w_ext|.
+///
 /// Statuses and numbers:
-/// - Ok: |G x + w_ext| <= tolerance (|w_ext| + |x|) with duality gap |lambda.(G x + w_ext)| <=
+/// - Ok: |G x + w_ext|_L <= tolerance (|w_ext|_L + |x|) with duality gap |lambda.(G x + w_ext)| <=
 ///   gap_tolerance F2 (or the residual is at round-off). `forces` are in their cones, the KKT
 ///   conditions of every contact hold exactly (x_i is a projection), `objective` is F2.
 /// - Infeasible: no forces in the cones balance w_ext (the grasp slips). `certificate` holds y
 ///   (see ConstrainedSolution). `forces` come closest: the best point, by the least-residual
-///   objective |G x + w_ext|_2^2/2 + delta F2(x), that its solve over the cones meets (delta =
-///   least_residual_weight times the largest Jacobi entry of G W^-1 G^T), i.e. about the
-///   smallest equilibrium residual (Euclidean, N and N m mixed as in `residual`), ties broken
-///   by F2; within 1e-5 (double) and 1e-2 (float) of the forces' scale of it on the cvxopt
-///   reference instances.
-///   `multipliers` are then that problem's (y = multipliers/|multipliers|).
+///   objective |G x + w_ext|_L^2/2 + delta F2(x), that its solve over the cones meets (delta =
+///   least_residual_weight times the largest diagonal entry of G W^-1 G^T in the norm's units,
+///   moment entries over L^2), i.e. about the smallest equilibrium residual in |.|_L, ties
+///   broken by F2; within 1e-5 (double) and 1e-2 (float) of the forces' scale of it on the
+///   cvxopt reference instances.
+///   `multipliers` are then that problem's (y = multipliers / |(multipliers_f, L multipliers_m)|).
 ///   Decided when the Newton iteration stalls (the residual fails to halve stall_limit = 8
 ///   times in a row) or at its iteration bound; the least-residual solve has its own
 ///   max_iterations bound. In float (the defaults of ConstrainedSettings) the least-residual

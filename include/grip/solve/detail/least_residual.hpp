@@ -16,24 +16,28 @@
 #include "grip/core/types.hpp"
 #include "grip/solve/constrained_settings.hpp"
 #include "grip/solve/detail/constrained_passes.hpp"
+#include "grip/solve/detail/equilibrium_norm.hpp"
 #include "grip/solve/symmetric_solve.hpp"
 
 namespace grip {
 namespace detail {
 
 /// Phase 1: forces in the cones that come closest to equilibrium. Solves
-///   min over x in the cones of 1/2 |G x + w_ext|^2 + delta/2 sum_i w_i |x_i - t_i|^2
-/// (delta small: the least residual, ties broken by F2) through its strongly concave dual
-///   phi(l) = -1/2 |l|^2 + l.(G x(l) + w_ext) + delta F2(x(l)), x_i(l) = P_i(t_i - G_i^T l/(delta w_i)),
-/// by the same semi-smooth Newton method (Hessian -(I + sum G_i J_i G_i^T/(delta w_i))). At its
-/// maximiser l = G x + w_ext. For ANY l, x_i(l) is a projection, so G_i^T l + delta w_i (x_i - t_i)
-/// lies in K_i^* exactly: l/|l| is an infeasibility certificate up to delta w_i |x_i - t_i| / |l|.
-/// Writes the forces into x, the multipliers into lambda, and returns the iterations used (at
+///   min over x in the cones of 1/2 |G x + w_ext|_L^2 + delta/2 sum_i w_i |x_i - t_i|^2
+/// (|.|_L = |T .|, T = diag(1, 1, 1, 1/L, 1/L, 1/L): EquilibriumNorm; delta small: the least
+/// residual, ties broken by F2) through its strongly concave dual
+///   phi(l) = -1/2 |l|^2 + l.T(G x(l) + w_ext) + delta F2(x(l)), x_i(l) = P_i(t_i - G_i^T T l/(delta w_i)),
+/// by the same semi-smooth Newton method (Hessian -(I + T sum G_i J_i G_i^T T/(delta w_i))). At its
+/// maximiser l = T(G x + w_ext). For ANY l, x_i(l) is a projection, so G_i^T T l + delta w_i (x_i - t_i)
+/// lies in K_i^* exactly: T l/|l| is an infeasibility certificate (|T l / |l||_L* = 1) up to
+/// delta w_i |x_i - t_i| / |l|.
+/// Writes the forces into x, the multipliers l (in the norm's units) into lambda, and returns the iterations used (at
 /// most settings.max_iterations). Each pass is counted in `budget`; none is started once it is
 /// spent (then the best point met so far is the answer; with no pass left at the start,
 /// lambda = 0, f2 = 0 and x unchanged).
 template <class Passes>
-int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& w_ext, typename Passes::Scalar delta,
+int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& w_ext,
+                   const EquilibriumNorm<typename Passes::Scalar>& norm, typename Passes::Scalar delta,
                    const ConstrainedSettings<typename Passes::Scalar>& settings, PassBudget& budget,
                    typename Passes::Forces& x, Wrench<typename Passes::Scalar>& lambda,
                    typename Passes::Scalar& f2) {
@@ -52,9 +56,13 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
   const S drop = settings.least_residual_continuation;
   while (dl * drop <= delta_max) dl *= drop;
   const auto phi = [&](const ConstrainedPass<S>& p, const Wrench<S>& l) {
-    return -S(0.5) * l.squaredNorm() + l.dot(p.residual) + dl * p.f2;
+    return -S(0.5) * l.squaredNorm() + l.dot(norm.to_units(p.residual)) + dl * p.f2;
   };
-  ConstrainedPass<S> cur = budget.run(passes, w_ext, Wrench<S>(-lambda / dl), x, &cur_h);
+  // The pass's multipliers for l: -T l / dl (physical).
+  const auto input = [&](const Wrench<S>& l) { return Wrench<S>(-norm.to_units(l) / dl); };
+  // The pass's scale |w_ext| + |x| in the norm's units: |w_ext|_L + |x|.
+  const S w_shift = norm(w_ext) - w_ext.norm();
+  ConstrainedPass<S> cur = budget.run(passes, w_ext, input(lambda), x, &cur_h);
   S cur_phi = phi(cur, lambda);
   // The forces returned are the best point met by the requested problem's objective
   // |r|^2/2 + delta F2: at the last, tiny delta, x(l) is so sensitive to l that the last
@@ -62,7 +70,7 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
   typename Passes::Forces best = passes.make_forces();
   S best_objective = std::numeric_limits<S>::infinity(), best_f2 = S(0);
   const auto keep = [&]() {
-    const S p = S(0.5) * cur.residual.squaredNorm() + delta * cur.f2;
+    const S p = S(0.5) * norm.to_units(cur.residual).squaredNorm() + delta * cur.f2;
     if (p < best_objective) {
       best_objective = p;
       best_f2 = cur.f2;
@@ -74,27 +82,29 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
   const auto next_stage = [&]() {
     if (!(dl > delta) || !budget.left()) return false;
     dl = dl / drop < delta ? delta : dl / drop;
-    cur = budget.run(passes, w_ext, Wrench<S>(-lambda / dl), x, &cur_h);
+    cur = budget.run(passes, w_ext, input(lambda), x, &cur_h);
     cur_phi = phi(cur, lambda);
     keep();
     return true;
   };
   int it = 0;
   for (; it < settings.max_iterations; ++it) {
-    const Wrench<S> g = cur.residual - lambda;  // grad phi
-    if (g.norm() <= settings.tolerance * cur.scale ||
-        (dl > delta && g.norm() <= settings.least_residual_stage_tolerance * cur.scale)) {
+    const Wrench<S> g = norm.to_units(cur.residual) - lambda;  // grad phi
+    const S scale = cur.scale + w_shift;
+    if (g.norm() <= settings.tolerance * scale ||
+        (dl > delta && g.norm() <= settings.least_residual_stage_tolerance * scale)) {
       if (!next_stage()) break;
       continue;
     }
-    Matrix6<S> h = cur_h.matrix();
+    const Wrench<S> t = norm.to_units(Wrench<S>::Ones());
+    Matrix6<S> h = t.asDiagonal() * cur_h.matrix() * t.asDiagonal();
     h.diagonal().array() += dl;
     const Wrench<S> e = h.diagonal().cwiseSqrt().cwiseInverse();
     const Matrix6<S> hs = e.asDiagonal() * h * e.asDiagonal();
     const S floor = S(constrained_roundoff) * eps;
     const Wrench<S> dir = e.cwiseProduct(solve_newton_6x6(hs, Wrench<S>(dl * e.cwiseProduct(g)), floor));
     const S slope = g.dot(dir);
-    if (dir.norm() <= S(4) * eps * (lambda.norm() + cur.scale) || !(slope > S(0))) {  // at round-off
+    if (dir.norm() <= S(4) * eps * (lambda.norm() + scale) || !(slope > S(0))) {  // at round-off
       if (!next_stage()) break;
       continue;
     }
@@ -106,7 +116,7 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
     S trial_phi = cur_phi;
     for (int ls = 0; ls < settings.max_line_search && budget.left(); ++ls, alpha *= S(0.5)) {
       lt = lambda + alpha * dir;
-      trial = budget.run(passes, w_ext, Wrench<S>(-lt / dl), xt, &trial_h);
+      trial = budget.run(passes, w_ext, input(lt), xt, &trial_h);
       trial_phi = phi(trial, lt);
       const S slack =
           S(constrained_roundoff) * eps * (std::abs(cur_phi) + std::abs(trial_phi) + lt.squaredNorm());
@@ -131,24 +141,26 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
   return it;
 }
 
-/// True when y (unit) certifies infeasibility: y.w_ext > 0 and G_i^T y in K_i^* for all i, up
-/// to `tol`: the distance from G_i^T y to K_i^* is at most tol (1 + |r_i|) (|r_i| in m: the
-/// scale of G_i^T y for a unit y), and y.w_ext > guard tol |w_ext|, which keeps directions of
-/// round-off out (ConstrainedSettings::certificate_guard).
+/// True when y (|y|_L* = 1, see EquilibriumNorm) certifies infeasibility: y.w_ext > 0 and
+/// G_i^T y in K_i^* for all i, up to `tol`: the distance from G_i^T y to K_i^* is at most
+/// tol (1 + |r_i| / L) (the scale of G_i^T y for such a y), and y.w_ext > guard tol |w_ext|_L,
+/// which keeps directions of round-off out (ConstrainedSettings::certificate_guard). Both
+/// tests are the same in every unit of length.
 template <class GraspT>
 bool is_infeasibility_certificate(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
-                                  const Wrench<typename GraspT::ScalarType>& y, typename GraspT::ScalarType tol,
-                                  typename GraspT::ScalarType guard) {
+                                  const Wrench<typename GraspT::ScalarType>& y,
+                                  const EquilibriumNorm<typename GraspT::ScalarType>& norm,
+                                  typename GraspT::ScalarType tol, typename GraspT::ScalarType guard) {
   using S = typename GraspT::ScalarType;
   using M = typename GraspT::ModelType;
   using Cone = ExactConeT<M, S>;
   const S wtol = tol * guard;
-  if (!(y.dot(w_ext) > wtol * w_ext.norm())) return false;
+  if (!(y.dot(w_ext) > wtol * norm(w_ext))) return false;
   for (int i = 0; i < grasp.size(); ++i) {
     const auto& c = grasp.contact(i);
     const typename GraspT::ContactVector z = M::wrench_transpose(c, y);
     const auto dual = Cone::from_contact(c).dual();
-    if (!((z - dual.project(z)).norm() <= tol * (S(1) + c.position.norm()))) return false;
+    if (!((z - dual.project(z)).norm() <= tol * (S(1) + c.position.norm() * norm.inverse))) return false;
   }
   return true;
 }

@@ -25,6 +25,7 @@
 #include "grip/core/types.hpp"
 #include "grip/solve/constrained_settings.hpp"
 #include "grip/solve/detail/constrained_passes.hpp"
+#include "grip/solve/detail/equilibrium_norm.hpp"
 #include "grip/solve/detail/least_residual.hpp"
 #include "grip/solve/symmetric_solve.hpp"
 
@@ -73,14 +74,18 @@ class SemismoothNewton {
  private:
   SemismoothNewton(const GraspT& grasp, const Wrench<S>& w_ext, const ConstrainedSettings<S>& settings,
                    ConstrainedSolution<GraspT>& sol, const Wrench<S>& lambda, const Wrench<S>& gram_diagonal)
-      : grasp_(grasp), w_ext_(w_ext), settings_(settings), sol_(sol), m_(grasp.unknowns()), lambda_(lambda),
+      : grasp_(grasp), w_ext_(w_ext), settings_(settings), sol_(sol), m_(grasp.unknowns()),
+        norm_(EquilibriumNorm<S>::of(grasp)), w_norm_(w_ext.norm()), w_norm_l_(norm_(w_ext)), lambda_(lambda),
         passes_(grasp), x_(passes_.make_forces()), xt_(passes_.make_forces()), best_x_(passes_.make_forces()),
         p_x_(passes_.make_forces()), budget_{settings.max_passes}, grace_(settings.infeasible_grace) {
-    // Jacobi scaling D of the Levenberg-Marquardt term: the unconstrained Gram diagonal, floored.
-    jacobi_ = gram_diagonal;
-    const S jmax = jacobi_.maxCoeff();
-    for (int k = 0; k < 6; ++k)
-      jacobi_(k) = jacobi_(k) > settings_.jacobi_floor * jmax ? jacobi_(k) : settings_.jacobi_floor * jmax;
+    // Jacobi scaling D of the Levenberg-Marquardt term: the unconstrained Gram diagonal, floored
+    // in the units of the equilibrium norm (moments per lever arm L, where a moment entry is
+    // about (|r_i| / L)^2 times a force entry), so that the floor is the same in every unit.
+    const Wrench<S> t2 = norm_.to_units(norm_.to_units(Wrench<S>::Ones()));  // (1, 1 / L^2)
+    const Wrench<S> scaled = gram_diagonal.cwiseProduct(t2);
+    jacobi_max_ = scaled.maxCoeff();
+    const S floor = settings_.jacobi_floor * jacobi_max_;
+    for (int k = 0; k < 6; ++k) jacobi_(k) = (scaled(k) > floor ? scaled(k) : floor) / t2(k);
     dinv_ = jacobi_.cwiseSqrt().cwiseInverse();
     cur_ = budget_.run(passes_, w_ext_, lambda_, x_, &cur_h_);  // always allowed: max_passes >= 1
     keep_best();
@@ -88,7 +93,7 @@ class SemismoothNewton {
 
   /// Keeps the iterate if its residual is the least met so far: the answer under IterationLimit.
   void keep_best() {
-    const S rn = cur_.residual.norm();
+    const S rn = norm_(cur_.residual);
     if (rn < best_rn_) {
       best_rn_ = rn;
       best_lambda_ = lambda_;
@@ -101,9 +106,10 @@ class SemismoothNewton {
   /// at the bound, infeasibility is decided (or the pending verdict applied) once more.
   void iterate() {
     for (;; ++it_) {
-      const S rn = cur_.residual.norm();
-      const S floor = S(constrained_roundoff) * eps() * cur_.scale;
-      if (rn <= floor || (rn <= settings_.tolerance * cur_.scale &&
+      const S rn = norm_(cur_.residual);
+      const S scale = scale_of(cur_);
+      const S floor = S(constrained_roundoff) * eps() * scale;
+      if (rn <= floor || (rn <= settings_.tolerance * scale &&
                           std::abs(lambda_.dot(cur_.residual)) <= settings_.gap_tolerance * cur_.f2)) {
         status_ = Status::Ok;
         break;
@@ -134,7 +140,8 @@ class SemismoothNewton {
   bool newton_step(S rn) {
     const S reg = settings_.regularisation;
     Matrix6<S> h = cur_h_.matrix();
-    const S rel = cur_.scale > S(0) ? rn / cur_.scale : S(1);
+    const S scale = scale_of(cur_);
+    const S rel = scale > S(0) ? rn / scale : S(1);
     const S mu = (damping_ < rel ? damping_ : rel) + reg;
     h.diagonal() += mu * jacobi_;
     const Matrix6<S> hs = dinv_.asDiagonal() * h * dinv_.asDiagonal();
@@ -160,7 +167,7 @@ class SemismoothNewton {
     if (!accepted) {
       // No step left at round-off, unless the deadline cut the line search short.
       const bool deadline = !budget_.left() && cuts < settings_.max_line_search;
-      if (!deadline && rn <= settings_.tolerance * cur_.scale) status_ = Status::Ok;
+      if (!deadline && rn <= settings_.tolerance * scale) status_ = Status::Ok;
       return false;
     }
     // Levenberg-Marquardt: /10 after a full step, *4 (up to 1) after a cut one.
@@ -179,7 +186,7 @@ class SemismoothNewton {
   /// it is decided once by the least-residual problem. A verdict of infeasibility waits
   /// settings.infeasible_grace iterations for Newton to converge after all. False: stop now.
   bool watch_stall(S rn) {
-    stall_ = cur_.residual.norm() > S(0.5) * rn ? stall_ + 1 : 0;
+    stall_ = norm_(cur_.residual) > S(0.5) * rn ? stall_ + 1 : 0;
     if (stall_ >= settings_.stall_limit && !phase1_done_) {
       phase1_done_ = true;
       if (decide_infeasible()) {
@@ -229,10 +236,10 @@ class SemismoothNewton {
     Wrench<S> y = Wrench<S>::Zero();
     S f2 = S(0);
     const int passes_before = budget_.used;
-    S delta = settings_.least_residual_weight * jacobi_.maxCoeff();
-    // y is (to delta) the least residual: a feasible problem leaves only round-off there,
-    // below settings.infeasibility_bar tolerance |w_ext|.
-    const S bar = settings_.infeasibility_bar * settings_.tolerance * w_ext_.norm();
+    S delta = settings_.least_residual_weight * jacobi_max_;
+    // y is (to delta) the least residual, in the units of the norm: a feasible problem leaves
+    // only round-off there, below settings.infeasibility_bar tolerance |w_ext|_L.
+    const S bar = settings_.infeasibility_bar * settings_.tolerance * w_norm_l_;
     bool ok = false;
     // The certificate's error is delta w_i |x_i - t_i| / |y|: nearly infeasible grasps need
     // large least-residual forces, so the solve may be retried with smaller delta
@@ -244,12 +251,13 @@ class SemismoothNewton {
     for (int k = 0; k < tries && !ok && phase1_iterations_ < settings_.max_iterations && budget_.left();
          ++k, delta *= settings_.certificate_retry_factor) {
       phase1.max_iterations = settings_.max_iterations - phase1_iterations_;
-      phase1_iterations_ += least_residual(passes_, w_ext_, delta, phase1, budget_, p_x_, y, f2);
-      p_lambda_ = -y / delta;  // the penalty estimate of the multipliers (x(p_lambda_) = p_x_)
+      phase1_iterations_ += least_residual(passes_, w_ext_, norm_, delta, phase1, budget_, p_x_, y, f2);
+      // y is in the norm's units; T y is the direction of physical multipliers.
+      p_lambda_ = -norm_.to_units(y) / delta;  // the penalty estimate of the multipliers (x(p_lambda_) = p_x_)
       const S rn = y.norm();
       if (rn > bar) {
-        p_cert_ = y / rn;
-        ok = is_infeasibility_certificate(grasp_, w_ext_, p_cert_, settings_.certificate_tolerance,
+        p_cert_ = norm_.to_units(y) / rn;  // |p_cert_|_L* = 1
+        ok = is_infeasibility_certificate(grasp_, w_ext_, p_cert_, norm_, settings_.certificate_tolerance,
                                           settings_.certificate_guard);
       }
     }
@@ -259,14 +267,14 @@ class SemismoothNewton {
     // Neither candidate without a least-residual solve (the deadline left no pass for it):
     // an Infeasible answer carries its forces.
     const bool solved = budget_.used > passes_before;
-    const S ln = lambda_.norm();
+    const S ln = norm_.dual(lambda_);
     if (settings_.multiplier_certificate && solved && !ok && ln > S(0) && lambda_.allFinite()) {
       p_cert_ = -lambda_ / ln;
-      ok = is_infeasibility_certificate(grasp_, w_ext_, p_cert_, settings_.certificate_tolerance,
+      ok = is_infeasibility_certificate(grasp_, w_ext_, p_cert_, norm_, settings_.certificate_tolerance,
                                         settings_.certificate_guard);
     }
     if (!ok) return false;
-    p_y_ = y;
+    p_y_ = norm_.to_units(y);  // the multipliers of an Infeasible answer: T y, physical
     p_f2_ = f2;
     typename GraspT::ForceVector forces(m_);
     passes_.store(p_x_, forces);
@@ -309,6 +317,9 @@ class SemismoothNewton {
   }
 
   static S eps() { return std::numeric_limits<S>::epsilon(); }
+  /// The scale of a pass's tests in the units of the norm: |w_ext|_L + |x| (the pass's own
+  /// scale is |w_ext| + |x|).
+  S scale_of(const ConstrainedPass<S>& p) const { return p.scale - w_norm_ + w_norm_l_; }
 
   // The problem.
   const GraspT& grasp_;
@@ -316,9 +327,12 @@ class SemismoothNewton {
   const ConstrainedSettings<S>& settings_;
   ConstrainedSolution<GraspT>& sol_;
   const int m_;  ///< unknowns
+  const EquilibriumNorm<S> norm_;  ///< |.|_L, in which residuals are measured
+  const S w_norm_, w_norm_l_;      ///< |w_ext| and |w_ext|_L
   // The iterate.
   Wrench<S> lambda_;
-  Wrench<S> jacobi_;  ///< D: the Gram diagonal, floored at settings.jacobi_floor of its largest entry
+  Wrench<S> jacobi_;  ///< D: the Gram diagonal, floored at settings.jacobi_floor of its largest entry (in L units)
+  S jacobi_max_{0};   ///< the largest entry of the Gram diagonal in the norm's units (1, 1 / L^2)
   Wrench<S> dinv_;    ///< D^-1/2
   const Passes passes_;  ///< hard fingers: the grasp copied into columns once
   Forces x_, xt_;        ///< the forces at lambda_ and at the line-search point

@@ -1,0 +1,67 @@
+#pragma once
+/// \file
+/// The norm in which solve_constrained weighs an equilibrium residual (namespace grip::detail):
+/// moments in units of the grasp's longest lever arm, so that every test of the solver gives
+/// the same verdict at every unit of length.
+
+#include <cmath>
+
+#include "grip/core/scalar_traits.hpp"
+#include "grip/core/types.hpp"
+
+namespace grip {
+namespace detail {
+
+/// |w|_L = |(f, m / L)| for a wrench w = (f, m), with L = max_i |r_i| the grasp's longest lever
+/// arm (1 m when every contact sits within 1 / ScalarTraits::max_magnitude of the reference
+/// point: then no contact makes a moment worth the name). A moment of the contacts is at
+/// most L times their force, so |w|_L weighs both parts alike, and a change of the unit of
+/// length leaves it unchanged (up to the unit of force).
+///
+/// Multipliers and certificates pair with wrenches (lambda.w is a power-like scalar, the same
+/// in every unit), so they take the dual norm |y|_L* = |(y_f, L y_m)|, and |y.w| <= |y|_L* |w|_L.
+///
+/// Invariant: length > 0 and finite; inverse = 1 / length.
+template <class S>
+struct EquilibriumNorm {
+  S length{1};   ///< L (m)
+  S inverse{1};  ///< 1 / L
+
+  /// L of a grasp (see the struct).
+  template <class GraspT>
+  static EquilibriumNorm of(const GraspT& grasp) {
+    S l2 = S(0);
+    for (int i = 0; i < grasp.size(); ++i) {
+      const S r2 = grasp.contact(i).position.squaredNorm();
+      l2 = r2 > l2 ? r2 : l2;
+    }
+    const S l = std::sqrt(l2);
+    EquilibriumNorm n;
+    if (l > S(1) / S(ScalarTraits<S>::max_magnitude)) {
+      n.length = l;
+      n.inverse = S(1) / l;
+    }
+    return n;
+  }
+
+  /// T w = (f, m / L): a wrench in the units of the norm.
+  Wrench<S> to_units(const Wrench<S>& w) const {
+    Wrench<S> out = w;
+    out.template tail<3>() *= inverse;
+    return out;
+  }
+  /// T^-1 u = (u_f, L u_m): back from the units of the norm, for a wrench; for multipliers the
+  /// same map takes physical ones to the norm's units (lambda.w = (T^-1 lambda).(T w)).
+  Wrench<S> from_units(const Wrench<S>& u) const {
+    Wrench<S> out = u;
+    out.template tail<3>() *= length;
+    return out;
+  }
+  /// |w|_L.
+  S operator()(const Wrench<S>& w) const { return to_units(w).norm(); }
+  /// |y|_L* = |(y_f, L y_m)|, the dual norm of multipliers and certificates.
+  S dual(const Wrench<S>& y) const { return from_units(y).norm(); }
+};
+
+}  // namespace detail
+}  // namespace grip
