@@ -12,6 +12,7 @@
 #include "support/fixtures.hpp"
 #include "support/random.hpp"
 #include "support/test_scale.hpp"
+#include "support/tolerance.hpp"
 
 using namespace grip;
 
@@ -76,33 +77,63 @@ double brute_force_epsilon(const std::vector<Eigen::Matrix<double, 6, 1>>& pts) 
   return std::max(best, 0.0);
 }
 
+// Tolerances (support/tolerance.hpp). An Ok answer brackets the exact epsilon: `epsilon` is
+// the offset of a facet of the inner polytope, whose vertices are support points of W (a lower
+// bound), `upper` a support value h_W(u) (an upper bound), and the search stops once
+// upper - epsilon <= tolerance * scale (the `tolerance` argument; scale = the largest primitive
+// wrench norm). Both bounds hold to the round-off of a facet plane through six support points:
+// k = 8 of scale for L1 (each point a primitive, rounded once per coordinate, the plane's
+// orthogonal factorisation a few u), k = 48 for L-infinity (each point a sum of up to six
+// per-contact supports, six roundings more per coordinate).
+template <class S>
+void check_brackets(const Epsilon<S>& e, double exact, double k, double stop, double scale) {
+  const double ro = grip_test::roundoff<S>(k, 1, scale);
+  CHECK(double(e.epsilon) <= exact + ro);
+  CHECK(double(e.upper) >= exact - ro);
+  CHECK(double(e.upper) - double(e.epsilon) <= stop * scale + ro);
+}
+
+// The largest norm of the primitive wrenches: the scale of ferrari_canny_epsilon's tolerance.
+double largest_norm(const std::vector<Eigen::Matrix<double, 6, 1>>& pts) {
+  double m = 0;
+  for (const auto& p : pts) m = std::max(m, p.norm());
+  return m;
+}
+
 }  // namespace
 
 TEST_CASE_TEMPLATE("epsilon of the symmetric cube grasp, derived by hand", S, double, float) {
   const double rho = 0.02;
   const auto g = cube_grasp<S>(rho);
   auto ws = std::make_unique<EpsilonWorkspace<S>>();
+  // The search's stopping tolerance: ScalarTraits' default relative tolerance, passed explicitly
+  // so that the bound below can name it; the primitives' largest norm is sqrt(2) ([a; +-a]).
+  const S stop = ScalarTraits<S>::default_tolerance;
+  const double scale = std::sqrt(2.0);
   Epsilon<S> e1, einf;
   {
     grip_test::NoHeapScope scope;
-    e1 = ferrari_canny_epsilon<4>(g, EpsilonNorm::L1, S(rho), *ws);
-    einf = ferrari_canny_epsilon<4>(g, EpsilonNorm::LInfinity, S(rho), *ws);
+    e1 = ferrari_canny_epsilon<4>(g, EpsilonNorm::L1, S(rho), *ws, stop);
+    einf = ferrari_canny_epsilon<4>(g, EpsilonNorm::LInfinity, S(rho), *ws, stop);
     CHECK(scope.allocations() == 0);
   }
-  const double tol = std::is_same<S, float>::value ? 1e-3 : 1e-9;
   REQUIRE(e1.status == Status::Ok);
   CHECK(e1.closure);
-  CHECK(double(e1.epsilon) == doctest::Approx(1.0 / std::sqrt(3.0)).epsilon(tol));
-  CHECK(double(e1.upper) == doctest::Approx(1.0 / std::sqrt(3.0)).epsilon(tol));
+  // check_brackets: the cross-polytope is resolved to its facets, so epsilon and upper are
+  // 1/sqrt(3) to round-off. Observed at most 2.1 u (double) and 1.3 u (float) of scale, k = 8.
+  check_brackets(e1, 1.0 / std::sqrt(3.0), 8, double(stop), scale);
   REQUIRE(einf.status == Status::Ok);
-  CHECK(double(einf.epsilon) == doctest::Approx(1.0).epsilon(tol));
+  // Observed at most 7.1 u (double) and 17.7 u (float) of scale, k = 48.
+  check_brackets(einf, 1.0, 48, double(stop), scale);
   // Without torsion (mu_t = 0, mu = 0) nothing resists a moment: epsilon = 0, no closure.
   const auto g0 = cube_grasp<S>(0.0);
   const auto e0 = ferrari_canny_epsilon<4>(g0, EpsilonNorm::L1, S(rho), *ws);
   CHECK(e0.status == Status::Ok);
   CHECK_FALSE(e0.closure);
   CHECK(e0.epsilon == S(0));
-  CHECK(double(e0.direction.template head<3>().norm()) <= tol);  // the weak direction is a moment
+  // The weak direction is a moment: a unit facet normal whose force part is zero to a few
+  // roundings (k = 8 of 1). Observed 0 in both types.
+  CHECK(double(e0.direction.template head<3>().norm()) <= grip_test::roundoff<S>(8, 1, 1));
 }
 
 TEST_CASE_TEMPLATE("epsilon: IterationLimit when the workspace fills, bracketing the exact value", S, double, float) {
@@ -116,10 +147,12 @@ TEST_CASE_TEMPLATE("epsilon: IterationLimit when the workspace fills, bracketing
   REQUIRE(full.facets > small_facets);  // so that the small workspace must fill up
   auto small = std::make_unique<EpsilonWorkspace<S, 32, small_facets>>();
   const auto cut = ferrari_canny_epsilon<4>(g, EpsilonNorm::L1, S(rho), *small);
-  const double tol = std::is_same<S, float>::value ? 1e-3 : 1e-9;
   CHECK(cut.status == Status::IterationLimit);
-  CHECK(double(cut.epsilon) <= exact * (1 + tol));  // a lower bound
-  CHECK(double(cut.upper) >= exact * (1 - tol));    // and an upper one
+  // A lower bound and an upper one, to the round-off of a facet (k = 8 of the primitives'
+  // largest norm, sqrt(2), as in check_brackets). Observed 0.28 below and 0.20 above.
+  const double ro = grip_test::roundoff<S>(8, 1, std::sqrt(2.0));
+  CHECK(double(cut.epsilon) <= exact + ro);
+  CHECK(double(cut.upper) >= exact - ro);
   CHECK(cut.epsilon <= cut.upper);
   CHECK(cut.facets <= small_facets);
 }
@@ -139,16 +172,30 @@ TEST_CASE_TEMPLATE("epsilon L1 equals a brute-force facet enumeration, L-inf bra
       for (const auto& x : w) pts.push_back(x.template cast<double>());
     }
     const double expect = brute_force_epsilon(pts);
-    const auto e1 = ferrari_canny_epsilon<4>(g, EpsilonNorm::L1, S(rho), *ws);
+    // The stopping tolerance passed explicitly (ScalarTraits' default relative tolerance) so
+    // that the bounds can name it; its scale is the primitives' largest norm.
+    const S stop = ScalarTraits<S>::default_tolerance;
+    const double scale = largest_norm(pts);
+    const auto e1 = ferrari_canny_epsilon<4>(g, EpsilonNorm::L1, S(rho), *ws, stop);
     REQUIRE(e1.status == Status::Ok);
-    const double tol = std::is_same<S, float>::value ? 2e-3 : 1e-8;
-    CHECK(double(e1.epsilon) == doctest::Approx(expect).epsilon(tol).scale(1.0));
+    // The brute force takes the same primitives (in double): the two differ by the search's
+    // stop, stop * scale, and each one's facet round-off (k = 8 of scale in S, as in
+    // check_brackets, and k = 8 in double). Observed at most 1.3e-16 (double) and 6.8e-8
+    // (float), far inside the stop: the search resolves these hulls to their facets.
+    const double ro1 = grip_test::roundoff<S>(8, 1, scale) + grip_test::roundoff<double>(8, 1, scale);
+    CHECK(std::abs(double(e1.epsilon) - expect) <= double(stop) * scale + ro1);
+    check_brackets(e1, expect, 16, double(stop), scale);
     closures += e1.closure ? 1 : 0;
-    // L-infinity: W_1 in W_inf in 3 W_1, and epsilon <= h(u) for random unit u.
-    const auto ei = ferrari_canny_epsilon<4>(g, EpsilonNorm::LInfinity, S(rho), *ws);
+    // L-infinity: W_1 in W_inf in 3 W_1, and epsilon <= h(u) for random unit u. Each epsilon
+    // is a lower bound to its facet round-off (ro1, and k = 48 for L-infinity) and within the
+    // stop of its exact value: epsilon_inf >= exact_inf - stop - ro >= exact_1 - stop - ro >=
+    // epsilon_1 - stop - ro - ro1, and epsilon_inf <= exact_inf + ro <= 3 exact_1 + ro <=
+    // 3 (epsilon_1 + stop + ro1) + ro. Observed: at least 0 and 0.085 inside.
+    const auto ei = ferrari_canny_epsilon<4>(g, EpsilonNorm::LInfinity, S(rho), *ws, stop);
     REQUIRE(ei.status == Status::Ok);
-    CHECK(double(ei.epsilon) >= double(e1.epsilon) - tol);
-    CHECK(double(ei.epsilon) <= 3 * double(e1.epsilon) + tol);
+    const double ro_inf = grip_test::roundoff<S>(48, 1, scale);
+    CHECK(double(ei.epsilon) >= double(e1.epsilon) - double(stop) * scale - ro_inf - ro1);
+    CHECK(double(ei.epsilon) <= 3 * (double(e1.epsilon) + double(stop) * scale + ro1) + ro_inf);
     grip_test::Normal n01(0.0, 1.0);
     for (int t = 0; t < 50; ++t) {
       Eigen::Matrix<double, 6, 1> u;
@@ -160,7 +207,8 @@ TEST_CASE_TEMPLATE("epsilon L1 equals a brute-force facet enumeration, L-inf bra
         for (int k = 0; k < 4; ++k) best = std::max(best, u.dot(pts[static_cast<std::size_t>(1 + 4 * i + k)]));
         h += best;
       }
-      CHECK(double(ei.epsilon) <= h + tol);
+      // A lower bound (ro_inf), h summed in double from the primitives (k = 8 of scale).
+      CHECK(double(ei.epsilon) <= h + ro_inf + grip_test::roundoff<double>(8, 1, scale));
     }
   }
   CHECK(closures > 0);

@@ -55,6 +55,24 @@ bool inside_cones(const GraspT& g, const typename GraspT::ForceVector& x, double
   return true;
 }
 
+// The round-off of inside_cones() for hard fingers: each force component is rounded once to S
+// (u of |x|) and the margin t once (u of t); the cone test divides the tangential part by mu, so
+// its rounding counts 1/mu times: k = 2 (1 + 1/mu) for the smallest mu of the grasp, of |x| + t.
+template <class GraspT>
+double cone_roundoff(const GraspT& g, const typename GraspT::ForceVector& x, double t) {
+  double mu = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < g.size(); ++i) mu = std::min(mu, double(g.contact(i).friction));
+  return grip_test::roundoff<typename GraspT::ScalarType>(2 * (1 + 1 / mu), 1, double(x.norm()) + std::abs(t));
+}
+
+// How far a certificate u may leave the dual cones: the interior-point solver stops with its
+// cone residuals below settings.tolerance relative to 1 + |objective| (objective <= 1 here),
+// 2 * stop, plus u's rounding to S and G_i^T u's (|v| <= 1 + |r| ~ 1): k = 8 of 1.
+template <class S>
+double certificate_tolerance() {
+  return 2 * double(ConicAnalysisSettings<S>{}.tolerance) + grip_test::roundoff<S>(8, 1, 1);
+}
+
 template <class S>
 Contact<S> on_sphere(double theta, double phi, double mu, double mut = 0.0) {
   Contact<S> c = grip_test::sphere_contact<S>(theta, phi, 0.05, mu);
@@ -78,14 +96,26 @@ TEST_CASE_TEMPLATE("three hard fingers at 120 degrees, mu = 0.5: closure with ma
   REQUIRE(fc.status == Status::Ok);
   CHECK(fc.closure);
   CHECK(fc.rank == 6);
-  CHECK(double(fc.margin) == doctest::Approx(1.0 / 3.0).epsilon(std::is_same<S, float>::value ? 2e-3 : 1e-7));
-  CHECK(double(fc.residual) <= (std::is_same<S, float>::value ? 1e-3 : 1e-7));
-  CHECK(inside_cones(g, fc.internal_force, double(fc.margin), std::is_same<S, float>::value ? 2e-3 : 1e-6));
+  // The margin: within the solver's stopping tolerance of the optimum, relative to
+  // 1 + |objective| (ConicAnalysisSettings), plus its rounding to S and the data's (contacts
+  // rounded to S move the optimum by a few u): k = 4 of 1. Observed at most 1.7e-16 (double)
+  // and 1e-8 (float) of 1.3e-9 and 1.3e-4 (the solver converges far below its tolerance here).
+  const double stop = double(ConicAnalysisSettings<S>{}.tolerance);
+  CHECK(std::abs(double(fc.margin) - 1.0 / 3.0) <= stop * (1 + 1.0 / 3.0) + grip_test::roundoff<S>(4, 1, 1));
+  // G x = 0 to round-off: x (normal forces summing to 1 N) corrected onto G's null space and
+  // rounded to S, then G x summed in S over 3 contacts of lever arm 5 cm: k = 4 of 1 N.
+  // Observed at most 0.5 u (double) and 0 (float).
+  CHECK(double(fc.residual) <= grip_test::roundoff<S>(4, 1, 1));
+  // x achieves the margin (x_i - margin a_i inside K_i) to round-off (cone_roundoff, k = 6 of
+  // |x| + t here). Observed inside (double) and 0.6 u outside (float), 1/10 of the bound.
+  CHECK(inside_cones(g, fc.internal_force, double(fc.margin), cone_roundoff(g, fc.internal_force, double(fc.margin))));
   CHECK(fc.unresisted.norm() == S(0));
 }
 
 TEST_CASE_TEMPLATE("not in closure: frictionless antipodal, mu = 0 on a sphere, two hard fingers", S, double, float) {
-  const double tol = std::is_same<S, float>::value ? 1e-3 : 1e-7;
+  // Certificates within certificate_tolerance<S>() (2 stop + 8 u): observed at most 7.8e-18
+  // (double) and 2.1e-9 (float) out of the dual cones, against 2e-9 and 2e-4.
+  const double tol = certificate_tolerance<S>();
   // Two frictionless antipodal contacts: G has rank 1 (only the force along the line).
   Grasp<2, FrictionlessPoint, S> p;
   REQUIRE(p.set(0, on_sphere<S>(pi / 2, 0, 0)) == Status::Ok);
@@ -109,7 +139,10 @@ TEST_CASE_TEMPLATE("not in closure: frictionless antipodal, mu = 0 on a sphere, 
     CHECK(f.status == Status::Ok);
     CHECK_FALSE(f.closure);
     CHECK(f.rank <= 3);
-    CHECK(double(f.unresisted.template head<3>().norm()) <= tol);
+    // The normals' span is R^3 and every moment is unresisted: u's force part is orthogonal to
+    // 3+ unit normals, a null-space vector of the rank test's orthogonal factorisation, exact to
+    // a few roundings of |u| = 1: k = 8. Observed at most 2.3 u (double) and 0.4 u (float).
+    CHECK(double(f.unresisted.template head<3>().norm()) <= grip_test::roundoff<S>(8, 1, 1));
     CHECK(dual_certificate(h, f.unresisted, tol));
   }
   // Two hard fingers (any mu): no moment about the line through them; rank 5.
@@ -120,7 +153,9 @@ TEST_CASE_TEMPLATE("not in closure: frictionless antipodal, mu = 0 on a sphere, 
   CHECK_FALSE(ft.closure);
   CHECK(ft.rank == 5);
   const Vector3<S> line = (two.contact(1).position - two.contact(0).position).normalized();
-  CHECK(double(std::abs(ft.unresisted.template tail<3>().dot(line))) == doctest::Approx(1.0).epsilon(tol));
+  // |u| = 1 and |line| = 1 each to 2 roundings, their product and the dot's 3: k = 8 of 1.
+  // Observed 0 in both types.
+  CHECK(std::abs(double(std::abs(ft.unresisted.template tail<3>().dot(line))) - 1.0) <= grip_test::roundoff<S>(8, 1, 1));
 }
 
 TEST_CASE_TEMPLATE("two soft fingers: closure iff the line lies in both cones (Nguyen)", S, double, float) {
@@ -134,7 +169,7 @@ TEST_CASE_TEMPLATE("two soft fingers: closure iff the line lies in both cones (N
     REQUIRE(g.set(1, on_sphere<S>(alpha, 0.3, mu, 0.01)) == Status::Ok);
     return force_closure(g);
   };
-  const double tol = std::is_same<S, float>::value ? 1e-3 : 1e-7;
+  const double tol = certificate_tolerance<S>();  // observed at most -0.15: deep inside
   const auto yes = closure_at(0.8);
   CHECK(yes.status == Status::Ok);
   CHECK(yes.closure);
@@ -152,12 +187,22 @@ TEST_CASE_TEMPLATE("two soft fingers: closure iff the line lies in both cones (N
     const double mid = 0.5 * (lo + hi);
     (closure_at(mid).closure ? hi : lo) = mid;
   }
-  CHECK(0.5 * (lo + hi) == doctest::Approx(mu_star).epsilon(std::is_same<S, float>::value ? 2e-2 : 1e-4));
+  // Not round-off: the bisection's half width, and the decision threshold (closure only when
+  // margin > 10 * settings.tolerance), which moves the boundary up by 10 stop / the margin's
+  // slope in mu. The margin is 0 at mu* and concave in mu, so its secant over [mu*, mu* + 0.05]
+  // bounds that slope from below, and the shift from above (the contacts' rounding to S moves
+  // mu* by a few u: k = 8 of 1). Observed: 0.35 (double) and 0.92 (float) of the upper bound,
+  // the float offset being that shift (1.2e-3), which the bound predicts, not noise.
+  const double stop = double(ConicAnalysisSettings<S>{}.tolerance);
+  const double slope = double(closure_at(mu_star + 0.05).margin) / 0.05;
+  const double mid = 0.5 * (lo + hi), ro = grip_test::roundoff<S>(8, 1, 1);
+  CHECK(mid >= mu_star - (hi - lo) / 2 - ro);
+  CHECK(mid <= mu_star + (hi - lo) / 2 + 10 * stop / slope + ro);
 }
 
 TEST_CASE_TEMPLATE("random grasps: the returned internal force or certificate checks out", S, double, float) {
   std::mt19937 rng(29);
-  const double tol = std::is_same<S, float>::value ? 5e-3 : 1e-6;
+  const double tol = certificate_tolerance<S>();
   int yes = 0, no = 0;
   const int reps = grip_test::scaled(30, 8);
   for (int rep = 0; rep < reps; ++rep) {
@@ -167,11 +212,14 @@ TEST_CASE_TEMPLATE("random grasps: the returned internal force or certificate ch
     if (f.closure) {
       ++yes;
       // Internal to round-off: the cone multipliers are corrected onto the null space of G.
-      CHECK(double(f.residual) <= 64 * double(std::numeric_limits<S>::epsilon()));
-      CHECK(inside_cones(g, f.internal_force, double(f.margin), 10 * tol));
+      // As in the 120-degree case (k = 4 of 1 N): observed at most 1.1 u (double), 0.5 u (float).
+      CHECK(double(f.residual) <= grip_test::roundoff<S>(4, 1, 1));
+      // cone_roundoff: observed at most 0.5 u (double), 0.45 u (float) outside, k >= 4.4 here.
+      CHECK(inside_cones(g, f.internal_force, double(f.margin), cone_roundoff(g, f.internal_force, double(f.margin))));
     } else {
       ++no;
-      CHECK(dual_certificate(g, f.unresisted, 10 * tol));
+      // Observed at most 3e-13 (double) and 3.5e-9 (float) against 2e-9 and 2e-4.
+      CHECK(dual_certificate(g, f.unresisted, tol));
     }
   }
   CHECK(yes > 0);
@@ -193,25 +241,32 @@ TEST_CASE_TEMPLATE("largest resistible wrench along a direction, by hand", S, do
     CHECK(scope.allocations() == 0);
   }
   REQUIRE(r.status == Status::Ok);
-  const double rel = std::is_same<S, float>::value ? 2e-3 : 1e-6;
-  CHECK(double(r.scale) == doctest::Approx(5.0).epsilon(rel));
+  // The scale is budget * the dual objective, within settings.tolerance relative to
+  // 1 + |objective| (objective s*/B = 0.5): stop * (B + s*), plus 4 u of s* for its rounding.
+  // Observed 1.5e-10 (double) and 1.5e-4 (float), against 1.5e-8 and 1.5e-3.
+  const double stop = double(ConicAnalysisSettings<S>{}.tolerance);
+  CHECK(std::abs(double(r.scale) - 5.0) <= stop * (10 + 5) + grip_test::roundoff<S>(4, 1, 5));
   // The forces are the solver's cone multipliers times the budget: they balance the scaled
   // load to the solver's stopping tolerance (dual residual and objective gap each below it,
   // relative, times the budget B = 10 N), plus float's rounding of forces of about B.
-  const double stop = double(ConicAnalysisSettings<S>{}.tolerance);
   CHECK(double(r.residual) <= 10.0 * (2 * stop + grip_test::roundoff<S>(16, 1, 1)));
-  CHECK(inside_cones(g, r.forces, 0.0, 10 * rel));
+  // The cone multipliers are interior points, budget * them rounded to S: cone_roundoff.
+  // Observed inside by 8e-11 (double) and 8e-5 (float).
+  CHECK(inside_cones(g, r.forces, 0.0, cone_roundoff(g, r.forces, 0.0)));
   // Two frictionless antipodal contacts, force along the line: s* = B (one finger pushes B).
   Grasp<2, FrictionlessPoint, S> p;
   REQUIRE(p.set(0, on_sphere<S>(pi / 2, 0, 0)) == Status::Ok);
   REQUIRE(p.set(1, on_sphere<S>(pi / 2, pi, 0)) == Status::Ok);
   Wrench<S> dx = Wrench<S>::Zero();
   dx(0) = S(1);
-  CHECK(double(max_resistible_wrench(p, dx, S(4)).scale) == doctest::Approx(4.0).epsilon(rel));
+  // As above with B = 4, s* = 4: stop * (4 + 4) + 4 u of s*. Observed 4.1e-10 (double) and
+  // 4.3e-6 (float), against 8e-9 and 8e-4.
+  CHECK(std::abs(double(max_resistible_wrench(p, dx, S(4)).scale) - 4.0) <= stop * (4 + 4) + grip_test::roundoff<S>(4, 1, 4));
   // ... and nothing along y.
   Wrench<S> dy = Wrench<S>::Zero();
   dy(1) = S(1);
-  CHECK(double(max_resistible_wrench(p, dy, S(4)).scale) <= 10 * rel);
+  // s* = 0: stop * B. Observed 1.8e-10 (double) and 1.8e-4 (float), against 4e-9 and 4e-4.
+  CHECK(double(max_resistible_wrench(p, dy, S(4)).scale) <= stop * 4);
   // Bad input.
   CHECK(max_resistible_wrench(g, Wrench<S>(Wrench<S>::Zero()), S(1)).status == Status::InvalidInput);
   CHECK(max_resistible_wrench(g, d, S(-1)).status == Status::InvalidInput);
@@ -239,7 +294,7 @@ TEST_CASE_TEMPLATE("IterationLimit: a Newton bound that bites still brackets the
   REQUIRE(h.set(0, on_sphere<S>(pi / 2, 0.0, 0.5)) == Status::Ok);
   REQUIRE(h.set(1, on_sphere<S>(pi / 2 + 0.3, 2.1, 0.4)) == Status::Ok);
   REQUIRE(h.set(2, on_sphere<S>(pi / 2 - 0.2, 4.0, 0.6)) == Status::Ok);
-  const double rel = std::is_same<S, float>::value ? 2e-3 : 1e-6;
+  const double stop = double(ConicAnalysisSettings<S>{}.tolerance);
   ConicAnalysisSettings<S> few;
   few.max_newton_steps = 2;
   // Closure: the default needs more than 2 steps, so the bound must bite.
@@ -251,7 +306,10 @@ TEST_CASE_TEMPLATE("IterationLimit: a Newton bound that bites still brackets the
   CHECK(cut.status == Status::IterationLimit);
   CHECK(cut.iterations <= few.max_newton_steps);
   CHECK_FALSE(cut.closure);                                              // undecided is not closure
-  CHECK(double(cut.margin) >= double(full.margin) - rel * (1 + double(full.margin)));  // an upper bound
+  // An upper bound: the cut's margin is a dual value (>= the optimum), the converged one a
+  // witnessed lower bound (<= the optimum), so only their roundings to S part them: k = 4 of
+  // 1 + margin. Observed 3.7e-3 above the converged margin in both types.
+  CHECK(double(cut.margin) >= double(full.margin) - grip_test::roundoff<S>(4, 1, 1 + double(full.margin)));
   // The largest resistible wrench along d with a budget of 10 N: an upper bound, forces in
   // the cones.
   Wrench<S> d = Wrench<S>::Zero();
@@ -261,9 +319,12 @@ TEST_CASE_TEMPLATE("IterationLimit: a Newton bound that bites still brackets the
   REQUIRE(wfull.iterations > few.max_newton_steps);
   const auto wcut = max_resistible_wrench(h, d, S(10), few);
   CHECK(wcut.status == Status::IterationLimit);
-  CHECK(double(wcut.scale) >= double(wfull.scale) * (1 - rel));
+  // An upper bound, the converged scale within stop * (B + s*) of the optimum (as above).
+  // Observed 0.23 above the converged scale in both types.
+  CHECK(double(wcut.scale) >= double(wfull.scale) - stop * (10 + double(wfull.scale)) -
+                                  grip_test::roundoff<S>(4, 1, double(wfull.scale)));
   CHECK(wcut.forces.allFinite());
-  CHECK(inside_cones(h, wcut.forces, 0.0, 10 * rel));
+  CHECK(inside_cones(h, wcut.forces, 0.0, cone_roundoff(h, wcut.forces, 0.0)));  // observed inside by 0.53
 }
 
 template struct grip::ForceClosure<Grasp<Dynamic, SoftFinger, float, 5>>;

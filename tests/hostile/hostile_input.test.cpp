@@ -110,7 +110,9 @@ const char* trial(std::mt19937& rng, int cat, long& heap) {
         break;
       case 3: c = cs[0]; if (i == 0) c = grip_test::random_contact<S>(rng); break;  // duplicated
       case 4: {                                          // tiny or huge but valid scales
-        const double s = u(rng) < 0.5 ? 1e-6 : (std::is_same<S, float>::value ? 1e6 : 1e12);
+        // Huge but valid: three orders below the largest accepted coordinate
+        // (ScalarTraits<S>::max_magnitude: 1e12 in double, 1e6 in float). Not a tolerance.
+        const double s = u(rng) < 0.5 ? 1e-6 : 1e-3 * double(ScalarTraits<S>::max_magnitude);
         c.position = (c.position.template cast<double>() * s).template cast<S>();
         c.squeeze = S(double(c.squeeze) * (u(rng) < 0.5 ? 1e-20 : 1e6));
         c.weight = u(rng) < 0.5 ? ScalarTraits<S>::min_weight : c.weight;
