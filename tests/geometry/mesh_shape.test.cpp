@@ -98,7 +98,7 @@ double winding_condition(const std::vector<std::array<double, 9>>& tris, const V
 double extent(const std::vector<std::array<double, 9>>& tris) {
   double m = 0;
   for (const auto& c : tris)
-    for (int k = 0; k < 3; ++k) m = std::max(m, V3(c[3 * k], c[3 * k + 1], c[3 * k + 2]).norm());
+    for (std::size_t k = 0; k < 3; ++k) m = std::max(m, V3(c[3 * k], c[3 * k + 1], c[3 * k + 2]).norm());
   return m;
 }
 }  // namespace
