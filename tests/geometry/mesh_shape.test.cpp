@@ -201,10 +201,18 @@ TEST_CASE_TEMPLATE("a box mesh's signed distance is grip's analytic box SDF", S,
     const Vector3<S> e = (ps - c.cast<S>()).cwiseAbs() - h.cast<S>();
     Vector3<S> sorted = e;
     std::sort(sorted.data(), sorted.data() + 3);
-    // Not converted to a round-off bound (see the report of the tolerance change): inside the
-    // box the two normals differ by up to 1.4e4 u in double and 1.4e3 u in float, more than the
-    // direction's round-off u (1 + M / |d|) explains; the tolerance stays per type for now.
-    if (db > S(0) || sorted(2) - sorted(1) > S(1e-4)) CHECK((nm - nb).norm() <= S(grip_test::tol_of<S>(1e-9, 2e-3)));
+    // The mesh's normal is (p - q) / |d|, q its closest point, whose coordinates carry a few
+    // roundings of M each: the direction's error is about u M / |d| across it, plus the
+    // normalisation's few u. k = 8 of u (1 + M / |d|): observed at most 0.24 of it in double.
+    // In float one point in 1500 exceeds it 50-fold: 13 mm above the top face and 3.7 um
+    // inside the x = -h edge, the mesh's closest point lies on the edge, 3.7 um (600 u M) off,
+    // so the float closest-point search misplaces a point near an edge's Voronoi boundary by
+    // more than round-off explains (not yet understood; docs/testing.md). Float keeps the
+    // per-type bound until it is.
+    if (db > S(0) || sorted(2) - sorted(1) > S(1e-4)) {
+      const double bound = std::is_same<S, float>::value ? 2e-3 : grip_test::roundoff<S>(8, 1 + M / std::abs(double(db)), 1);
+      CHECK(double((nm - nb).norm()) <= bound);
+    }
   }
 }
 
