@@ -109,8 +109,12 @@ class SemismoothNewton {
       const S rn = norm_(cur_.residual);
       const S scale = scale_of(cur_);
       const S floor = S(constrained_roundoff) * eps() * scale;
-      if (rn <= floor || (rn <= settings_.tolerance * scale &&
-                          std::abs(lambda_.dot(cur_.residual)) <= settings_.gap_tolerance * cur_.f2)) {
+      // The tolerance, or the multipliers' own resolution where that is coarser (see
+      // multiplier_resolution), with the duality gap closed either way.
+      const S reach = S(constrained_roundoff) * eps() * multiplier_resolution();
+      const S bar = settings_.tolerance * scale > reach ? settings_.tolerance * scale : reach;
+      if (rn <= floor ||
+          (rn <= bar && std::abs(lambda_.dot(cur_.residual)) <= settings_.gap_tolerance * cur_.f2)) {
         status_ = Status::Ok;
         break;
       }
@@ -317,6 +321,17 @@ class SemismoothNewton {
   }
 
   static S eps() { return std::numeric_limits<S>::epsilon(); }
+  /// sum_k |H e_k|_L |lambda_k|: how far the residual moves (over eps) when each multiplier
+  /// moves by its own rounding, eps |lambda_k|. The residual cannot be resolved below eps times
+  /// this, whatever the iteration: it matters where one channel is far stiffer than the lever
+  /// arms suggest (a soft finger's torsion on a grasp of micrometres, whose moment multiplier
+  /// is then large and the residual steps by one of its units in the last place).
+  S multiplier_resolution() const {
+    const Matrix6<S> h = cur_h_.matrix();
+    S sum = S(0);
+    for (int k = 0; k < 6; ++k) sum += norm_(Wrench<S>(h.col(k))) * std::abs(lambda_(k));
+    return sum;
+  }
   /// The scale of a pass's tests in the units of the norm: |w_ext|_L + |x| (the pass's own
   /// scale is |w_ext| + |x|).
   S scale_of(const ConstrainedPass<S>& p) const { return p.scale - w_norm_ + w_norm_l_; }
