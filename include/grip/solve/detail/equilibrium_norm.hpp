@@ -57,10 +57,14 @@ struct EquilibriumNorm {
     out.template tail<3>() *= length;
     return out;
   }
-  /// |w|_L.
-  S operator()(const Wrench<S>& w) const { return to_units(w).norm(); }
+  /// |w|_L (no temporary: the frame's Newton iteration takes it several times per pass).
+  S operator()(const Wrench<S>& w) const {
+    return std::sqrt(w.template head<3>().squaredNorm() + inverse * inverse * w.template tail<3>().squaredNorm());
+  }
   /// |y|_L* = |(y_f, L y_m)|, the dual norm of multipliers and certificates.
-  S dual(const Wrench<S>& y) const { return from_units(y).norm(); }
+  S dual(const Wrench<S>& y) const {
+    return std::sqrt(y.template head<3>().squaredNorm() + length * length * y.template tail<3>().squaredNorm());
+  }
 };
 
 }  // namespace detail

@@ -74,10 +74,10 @@ class SemismoothNewton {
  private:
   SemismoothNewton(const GraspT& grasp, const Wrench<S>& w_ext, const ConstrainedSettings<S>& settings,
                    ConstrainedSolution<GraspT>& sol, const Wrench<S>& lambda, const Wrench<S>& gram_diagonal)
-      : grasp_(grasp), w_ext_(w_ext), settings_(settings), sol_(sol), m_(grasp.unknowns()),
-        norm_(EquilibriumNorm<S>::of(grasp)), w_norm_(w_ext.norm()), w_norm_l_(norm_(w_ext)), lambda_(lambda),
+      : grasp_(grasp), w_ext_(w_ext), settings_(settings), sol_(sol), m_(grasp.unknowns()), lambda_(lambda),
         passes_(grasp), x_(passes_.make_forces()), xt_(passes_.make_forces()), best_x_(passes_.make_forces()),
-        p_x_(passes_.make_forces()), budget_{settings.max_passes}, grace_(settings.infeasible_grace) {
+        p_x_(passes_.make_forces()), budget_{settings.max_passes}, grace_(settings.infeasible_grace),
+        norm_(EquilibriumNorm<S>::of(grasp)), w_norm_(w_ext.norm()), w_norm_l_(norm_(w_ext)) {
     // Jacobi scaling D of the Levenberg-Marquardt term: the unconstrained Gram diagonal, floored
     // in the units of the equilibrium norm (moments per lever arm L, where a moment entry is
     // about (|r_i| / L)^2 times a force entry), so that the floor is the same in every unit.
@@ -93,9 +93,9 @@ class SemismoothNewton {
 
   /// Keeps the iterate if its residual is the least met so far: the answer under IterationLimit.
   void keep_best() {
-    const S rn = norm_(cur_.residual);
-    if (rn < best_rn_) {
-      best_rn_ = rn;
+    rn_ = norm_(cur_.residual);
+    if (rn_ < best_rn_) {
+      best_rn_ = rn_;
       best_lambda_ = lambda_;
       best_x_ = x_;
       best_ = cur_;
@@ -106,15 +106,17 @@ class SemismoothNewton {
   /// at the bound, infeasibility is decided (or the pending verdict applied) once more.
   void iterate() {
     for (;; ++it_) {
-      const S rn = norm_(cur_.residual);
+      const S rn = rn_;
       const S scale = scale_of(cur_);
       const S floor = S(constrained_roundoff) * eps() * scale;
       // The tolerance, or the multipliers' own resolution where that is coarser (see
-      // multiplier_resolution), with the duality gap closed either way.
-      const S reach = S(constrained_roundoff) * eps() * multiplier_resolution();
-      const S bar = settings_.tolerance * scale > reach ? settings_.tolerance * scale : reach;
-      if (rn <= floor ||
-          (rn <= bar && std::abs(lambda_.dot(cur_.residual)) <= settings_.gap_tolerance * cur_.f2)) {
+      // multiplier_resolution; evaluated only once the gap has closed and the last step
+      // failed to halve the residual: a converging iteration never pays for it), with the
+      // duality gap closed either way.
+      const bool tolerance_met = rn <= settings_.tolerance * scale;
+      if (rn <= floor || ((tolerance_met || stall_ > 0) &&
+                          std::abs(lambda_.dot(cur_.residual)) <= settings_.gap_tolerance * cur_.f2 &&
+                          (tolerance_met || rn <= S(constrained_roundoff) * eps() * multiplier_resolution()))) {
         status_ = Status::Ok;
         break;
       }
@@ -133,6 +135,7 @@ class SemismoothNewton {
     lambda_ = best_lambda_;
     x_ = best_x_;
     cur_ = best_;
+    rn_ = best_rn_;
   }
 
   /// One Newton step from lambda_ (residual norm `rn`): the direction from
@@ -190,7 +193,7 @@ class SemismoothNewton {
   /// it is decided once by the least-residual problem. A verdict of infeasibility waits
   /// settings.infeasible_grace iterations for Newton to converge after all. False: stop now.
   bool watch_stall(S rn) {
-    stall_ = norm_(cur_.residual) > S(0.5) * rn ? stall_ + 1 : 0;
+    stall_ = rn_ > S(0.5) * rn ? stall_ + 1 : 0;
     if (stall_ >= settings_.stall_limit && !phase1_done_) {
       phase1_done_ = true;
       if (decide_infeasible()) {
@@ -342,8 +345,6 @@ class SemismoothNewton {
   const ConstrainedSettings<S>& settings_;
   ConstrainedSolution<GraspT>& sol_;
   const int m_;  ///< unknowns
-  const EquilibriumNorm<S> norm_;  ///< |.|_L, in which residuals are measured
-  const S w_norm_, w_norm_l_;      ///< |w_ext| and |w_ext|_L
   // The iterate.
   Wrench<S> lambda_;
   Wrench<S> jacobi_;  ///< D: the Gram diagonal, floored at settings.jacobi_floor of its largest entry (in L units)
@@ -356,7 +357,8 @@ class SemismoothNewton {
   ConstrainedPass<S> cur_;              ///< the pass sums at lambda_
   ConstrainedPass<S> best_;             ///< the pass sums at best_lambda_
   Wrench<S> best_lambda_{Wrench<S>::Zero()};
-  S best_rn_{std::numeric_limits<S>::infinity()};  ///< |residual| at best_lambda_
+  S best_rn_{std::numeric_limits<S>::infinity()};  ///< |residual|_L at best_lambda_
+  S rn_{0};  ///< |residual|_L at lambda_ (set by keep_best with every new iterate)
   S damping_{1};  ///< Levenberg-Marquardt state: /10 after a full step, *4 after a cut one
   Status status_{Status::IterationLimit};
   int it_{0};
@@ -371,6 +373,9 @@ class SemismoothNewton {
   bool pending_{false};  ///< an infeasibility verdict awaits the grace iterations
   PassBudget budget_;    ///< settings.max_passes, and the passes made
   int grace_{0};         ///< iterations left for Newton to converge before the verdict stands
+  // The norm of the tests (last: the iterate's members keep the layout of the hot loop).
+  const EquilibriumNorm<S> norm_;  ///< |.|_L, in which residuals are measured
+  const S w_norm_, w_norm_l_;      ///< |w_ext| and |w_ext|_L
 };
 
 }  // namespace detail
