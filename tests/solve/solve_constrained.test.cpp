@@ -438,6 +438,7 @@ TEST_CASE_TEMPLATE("solve_constrained: every tuning constant is range-checked, d
   CHECK(d.infeasibility_bar == (single ? S(10) : S(1000)));
   CHECK(d.certificate_guard == (single ? S(0.1) : S(1)));
   CHECK(d.multiplier_certificate == single);
+  CHECK(d.resolution_bar == !single);
   CHECK(solve_constrained(g, w, d).status != Status::InvalidInput);
   const S nan = std::numeric_limits<S>::quiet_NaN(), inf = std::numeric_limits<S>::infinity();
   const auto invalid = [&](const char* what, const auto& change) {

@@ -102,6 +102,13 @@ struct ConstrainedSettings {
   /// least residual 8e-4 |w_ext|) has a genuine certificate with y.w_ext of 7.5e-4 |w_ext|,
   /// below the float certificate_tolerance of 2e-3.
   Scalar certificate_guard{ScalarTraits<Scalar>::is_single_precision ? Scalar(0.1) : Scalar(1)};
+  /// Let Ok accept a residual at the multipliers' own resolution, 16 eps times
+  /// sum_k |H e_k|_L |lambda_k|, where that is coarser than `tolerance` (a soft finger's torsion
+  /// on a grasp of micrometres: its moment multiplier is large and the residual steps in units
+  /// of its last place), once the duality gap has closed. Double only by default: float's gap
+  /// tolerance (1e-5 of F2) is too loose to guard it, and nearly infeasible float grasps, whose
+  /// multipliers grow, would stop with residuals of 1e-3 of their scale.
+  bool resolution_bar{!ScalarTraits<Scalar>::is_single_precision};
   /// When the least-residual certificates fail, also test the direction -lambda of the diverging
   /// Newton multipliers (x_i(lambda) is a projection, so -G_i^T lambda lies in K_i^* up to
   /// w_i |x_i - t_i| / |lambda|). Float only by default: float least-residual solves can stop

@@ -71,9 +71,9 @@ struct ConstrainedSolution : Solution<GraspT> {
 /// plain |G x + w_ext|.
 ///
 /// Statuses and numbers:
-/// - Ok: |G x + w_ext|_L <= tolerance (|w_ext|_L + |x|) (or, where coarser, 16 eps times the
-///   residual's step when each multiplier moves by its last place: sum_k |H e_k|_L |lambda_k|,
-///   H the Newton matrix) with duality gap |lambda.(G x + w_ext)| <=
+/// - Ok: |G x + w_ext|_L <= tolerance (|w_ext|_L + |x|) (or, where coarser and
+///   settings.resolution_bar, 16 eps times the residual's step when each multiplier moves by its
+///   last place: sum_k |H e_k|_L |lambda_k|, H the Newton matrix) with duality gap |lambda.(G x + w_ext)| <=
 ///   gap_tolerance F2 (or the residual is at round-off). `forces` are in their cones, the KKT
 ///   conditions of every contact hold exactly (x_i is a projection), `objective` is F2.
 /// - Infeasible: no forces in the cones balance w_ext (the grasp slips). `certificate` holds y

@@ -114,7 +114,8 @@ class SemismoothNewton {
       // failed to halve the residual: a converging iteration never pays for it), with the
       // duality gap closed either way.
       const bool tolerance_met = rn <= settings_.tolerance * scale;
-      if (rn <= floor || ((tolerance_met || stall_ > 0) &&
+      const bool try_resolution = settings_.resolution_bar && stall_ > 0;
+      if (rn <= floor || ((tolerance_met || try_resolution) &&
                           std::abs(lambda_.dot(cur_.residual)) <= settings_.gap_tolerance * cur_.f2 &&
                           (tolerance_met || rn <= S(constrained_roundoff) * eps() * multiplier_resolution()))) {
         status_ = Status::Ok;
