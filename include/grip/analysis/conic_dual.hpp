@@ -15,8 +15,9 @@
 /// unknowns x_i = L_i^T z_i then lie in K_i. Both are solved together by a primal-dual
 /// interior-point method (Mehrotra predictor-corrector, Nesterov-Todd scaling of each cone,
 /// detail/second_order_cone.hpp), started from the strictly feasible q0 and z_i = e: each
-/// iteration is O(n) to form the 7x7 matrix H = sum F_i^T W_i^-2 F_i plus its factorisation
-/// and two solves. It stops when the dual residual, the primal residual, the complementarity
+/// iteration is O(n) to form the 7x7 matrix H = sum F_i^T W_i^-2 F_i plus its pivoted LDL^T
+/// factorisation and two solves. The O(n) work runs on the contacts in SIMD lanes, 8 or 4 at
+/// a time (detail/cone_lanes.hpp, the same algebra written lane-wise). It stops when the dual residual, the primal residual, the complementarity
 /// gap sum s_i . z_i and the difference of the two objectives are below the tolerance
 /// (relative to 1 + |objective|); q stays feasible throughout, so c . q is an upper bound on
 /// the optimum at every iteration, and the dual objective t a lower bound at the end.
@@ -31,16 +32,15 @@
 #include <cmath>
 #include <limits>
 
-#include <Eigen/Cholesky>
 
 #include "grip/analysis/detail/analysis_cones.hpp"
-#include "grip/analysis/detail/second_order_cone.hpp"
+#include "grip/analysis/detail/cone_lanes.hpp"
 #include "grip/contact/contact_model.hpp"
-#include "grip/core/index.hpp"
 #include "grip/core/scalar_traits.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
 #include "grip/grasp/grasp.hpp"
+#include "grip/solve/symmetric_solve.hpp"
 
 namespace grip {
 namespace detail {
@@ -75,11 +75,8 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
   using S = typename ScalarTraits<T>::Wide;  // the scalar of the computation
   using M = typename GraspT::ModelType;
   constexpr int D = GraspT::dim;
-  constexpr int cap = GraspT::capacity;
   using V7 = Eigen::Matrix<S, 7, 1>;
   using M7 = Eigen::Matrix<S, 7, 7>;
-  using CV = SocVector<S, D>;
-  using FM = Eigen::Matrix<S, D, 7>;
   ConicDualResult<GraspT> out;
   out.primal.setZero(grasp.unknowns());
   const int n = grasp.size();
@@ -87,19 +84,19 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
   const V7 c = c_in.template cast<S>(), a = a_in.template cast<S>();
   const S tol = S(tol_in);
 
-  // The cones: u_i = F_i q in Q with F_i = L_i [-(D G_i)^T, e_i]; the optional zeta >= 0 is
-  // one more (1-dimensional) cone u = q_6. s: the slacks u, z: their multipliers.
-  std::array<FM, cap> F;
-  std::array<CV, cap> s, z, rc, ds, dz, dsa, dza, lambda, d, g;
-  std::array<SocScaling<S, D>, cap> W;
-  std::array<FM, cap> WF;  // W_i^-1 F_i, per iteration
+  // The cones, in SIMD lanes: u_i = F_i q in Q with F_i = L_i [-(D G_i)^T, e_i]; the optional
+  // zeta >= 0 is one more (1-dimensional) cone u = q_6, kept apart in `h`. s: the slacks u,
+  // z: their multipliers.
+  ConeLanes<S, D, GraspT::capacity> k(n);
+  std::array<Eigen::Matrix<S, D, D>, GraspT::capacity> L;  // cone_map of each contact
   for (int i = 0; i < n; ++i) {
-    const auto k = detail::idx(i);
     const Contact<S> ci = cast_contact<S>(grasp.contact(i));
     Eigen::Matrix<S, D, 7> A;
     A.template leftCols<6>() = -(M::basis(ci).transpose() * dsc.asDiagonal());
-    A.col(6) = exact_cone<M>(ci).axis;
-    F[k] = cone_map<M>(ci) * A;
+    A.col(6) = cone_axis<M>(ci);
+    L[static_cast<std::size_t>(i)] = cone_map<M>(ci);
+    const Eigen::Matrix<S, D, 7> Fi = L[static_cast<std::size_t>(i)] * A;
+    for (int r = 0; r < D; ++r) k.set_map(i, r, Fi.row(r));
   }
   struct Half {  // the zeta >= 0 cone, scalars
     S s{1}, z{1}, rc{0}, ds{0}, dz{0}, dsa{0}, dza{0}, lambda{1}, d{0};
@@ -107,12 +104,7 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
 
   V7 q = q0.template cast<S>();
   S y(0);
-  for (int i = 0; i < n; ++i) {
-    const auto k = detail::idx(i);
-    s[k] = F[k] * q;
-    if (!soc_interior(s[k])) return out;
-    z[k] = CV::Unit(0);
-  }
+  if (!k.start(q)) return out;
   if (zeta_nonneg) {
     h.s = q(6);
     if (!(h.s > S(0))) return out;
@@ -125,7 +117,13 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
   // Solves the Newton system for the complementarity right-hand sides d (per cone, in the
   // scaled space): W dz + W^-1 ds = d, F dq - ds = -rc, F^T dz + a dy = rd, a . dq = rp.
   // Eliminating ds and dz leaves H dq - a dy = r1, a . dq = rp with H = sum F^T W^-2 F.
-  Eigen::LDLT<M7> ldlt;
+  SmallLdlt<7, S> ldlt;  // of H, diagonally pivoted
+  auto solve_h = [&](const V7& r) {
+    S x[7];
+    for (int j = 0; j < 7; ++j) x[j] = r(j);
+    ldlt.solve(x);
+    return V7(Eigen::Map<const V7>(x));
+  };
   V7 hia;
   S aha(1);
   V7 rd;
@@ -134,7 +132,7 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
   S dy(0);
   // One solve of the reduced system with the factorisation of (regularised) H.
   auto reduced = [&](const V7& r1, S r2, V7& x, S& t) {
-    const V7 hr = ldlt.solve(r1);
+    const V7 hr = solve_h(r1);
     t = (r2 - a.dot(hr)) / aha;
     x = hr + t * hia;
   };
@@ -142,13 +140,7 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
   // g = W^-1 (d - W^-1 rc); returns the dual equation's residual rd - F^T dz - a dy.
   auto recover = [&]() {
     V7 res = rd - dy * a;
-    for (int i = 0; i < n; ++i) {
-      const auto k = detail::idx(i);
-      ds[k].noalias() = F[k] * dq;
-      ds[k] += rc[k];
-      dz[k] = g[k] - W[k].apply_inverse(CV(WF[k] * dq));
-      res.noalias() -= F[k].transpose() * dz[k];
-    }
+    k.recover(dq, res);
     if (zeta_nonneg) {
       const S om = std::sqrt(h.s / h.z);
       h.ds = dq(6) + h.rc;
@@ -159,11 +151,7 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
   };
   auto newton = [&]() {
     V7 r1 = -rd;
-    for (int i = 0; i < n; ++i) {
-      const auto k = detail::idx(i);
-      g[k] = W[k].apply_inverse(CV(d[k] - W[k].apply_inverse(rc[k])));
-      r1.noalias() += F[k].transpose() * g[k];
-    }
+    k.newton_rhs(r1);
     if (zeta_nonneg) {
       const S om = std::sqrt(h.s / h.z);
       r1(6) += (h.d - h.rc / om) / om;
@@ -184,11 +172,7 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
   };
   // The largest step in [0, 1] keeping s and z in the cones (fraction `f` of the way).
   auto step = [&](S f) {
-    S t = std::numeric_limits<S>::infinity();
-    for (int i = 0; i < n; ++i) {
-      const auto k = detail::idx(i);
-      t = std::min({t, soc_max_step(s[k], ds[k]), soc_max_step(z[k], dz[k])});
-    }
+    S t = k.max_step();
     if (zeta_nonneg) {
       if (h.ds < S(0)) t = std::min(t, -h.s / h.ds);
       if (h.dz < S(0)) t = std::min(t, -h.z / h.dz);
@@ -201,15 +185,9 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
   for (;; ++it) {
     // Residuals and the stopping test.
     rd = c - y * a;
-    S gap(0), pres = std::abs(S(1) - a.dot(q));
+    S pres = std::abs(S(1) - a.dot(q));
     rp = S(1) - a.dot(q);
-    for (int i = 0; i < n; ++i) {
-      const auto k = detail::idx(i);
-      rd.noalias() -= F[k].transpose() * z[k];
-      rc[k] = F[k] * q - s[k];
-      pres = std::max(pres, rc[k].cwiseAbs().maxCoeff() / (S(1) + s[k].cwiseAbs().maxCoeff()));
-      gap += s[k].dot(z[k]);
-    }
+    S gap = k.residuals(q, rd, pres);
     if (zeta_nonneg) {
       rd(6) -= h.z;
       h.rc = q(6) - h.s;
@@ -229,38 +207,27 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
 
     // Scalings and the factorisation of H.
     M7 H = M7::Zero();
-    bool ok = true;
-    for (int i = 0; i < n && ok; ++i) {
-      const auto k = detail::idx(i);
-      ok = W[k].set(s[k], z[k]);
-      lambda[k] = W[k].apply(z[k]);
-      W[k].apply_inverse_to(F[k], WF[k]);
-      H.noalias() += WF[k].transpose() * WF[k];
-    }
-    if (!ok) break;
+    if (!k.scale(H)) break;
     if (zeta_nonneg) {
       H(6, 6) += h.z / h.s;
       h.lambda = std::sqrt(h.s * h.z);
     }
     H.diagonal().array() += S(1) * eps * H.diagonal().maxCoeff();
-    ldlt.compute(H);
-    if (ldlt.info() != Eigen::Success) break;
-    hia = ldlt.solve(a);
+    for (int r = 0; r < 7; ++r) {
+      ldlt.perm[r] = r;
+      for (int j = 0; j < 7; ++j) ldlt.f[r][j] = H(r, j);
+    }
+    if (!ldlt_factor<7>(ldlt.f, ldlt.inv_d, ldlt.perm, S(0), true)) break;
+    hia = solve_h(a);
     aha = a.dot(hia);
     if (!(std::abs(aha) > S(0)) || !std::isfinite(aha)) break;
 
     // Predictor (affine scaling): d = -lambda.
-    for (int i = 0; i < n; ++i) d[detail::idx(i)] = -lambda[detail::idx(i)];
+    k.set_affine();
     h.d = -h.lambda;
     newton();
     const S alpha_a = step(S(1));
-    S gap_a(0);
-    for (int i = 0; i < n; ++i) {
-      const auto k = detail::idx(i);
-      gap_a += (s[k] + alpha_a * ds[k]).dot(z[k] + alpha_a * dz[k]);
-      dsa[k] = ds[k];
-      dza[k] = dz[k];
-    }
+    S gap_a = k.affine_gap(alpha_a);
     if (zeta_nonneg) {
       gap_a += (h.s + alpha_a * h.ds) * (h.z + alpha_a * h.dz);
       h.dsa = h.ds;
@@ -271,23 +238,14 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
     const S sigma = ratio * ratio * ratio;
 
     // Corrector (Mehrotra): lambda o d = sigma mu e - lambda o lambda - (W^-1 ds_a) o (W dz_a).
-    for (int i = 0; i < n; ++i) {
-      const auto k = detail::idx(i);
-      CV r = -soc_product(lambda[k], lambda[k]) - soc_product(CV(W[k].apply_inverse(dsa[k])), CV(W[k].apply(dza[k])));
-      r(0) += sigma * mu;
-      d[k] = soc_divide(lambda[k], r);
-    }
+    k.set_corrector(sigma * mu);
     if (zeta_nonneg) h.d = (sigma * mu - h.lambda * h.lambda - h.dsa * h.dza) / h.lambda;
     newton();
     const S alpha = step(S(0.99));
     if (!(alpha > S(0))) break;
     q += alpha * dq;
     y += alpha * dy;
-    for (int i = 0; i < n; ++i) {
-      const auto k = detail::idx(i);
-      s[k] += alpha * ds[k];
-      z[k] += alpha * dz[k];
-    }
+    k.update(alpha);
     if (zeta_nonneg) {
       h.s += alpha * h.ds;
       h.z += alpha * h.dz;
@@ -300,8 +258,12 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
   out.lower = T(y);
   out.gap_bound = T(c.dot(q) - y);
   for (int i = 0; i < n; ++i)
+  {
+    Eigen::Matrix<S, D, 1> zi;
+    for (int r = 0; r < D; ++r) zi(r) = k.at(k.z, r, i);
     out.primal.template segment<D>(i * D) =
-        (cone_map<M>(cast_contact<S>(grasp.contact(i))).transpose() * z[detail::idx(i)]).template cast<T>();
+        (L[static_cast<std::size_t>(i)].transpose() * zi).template cast<T>();
+  }
   out.zeta_primal = T(h.z);
   if (!out.primal.allFinite()) out.primal.setZero(grasp.unknowns());
   return out;

@@ -112,18 +112,43 @@ ForceClosure<GraspT> force_closure(const GraspT& grasp,
   Wrench<W> ge = Wrench<W>::Zero();  // D G e: sum of the scaled normal columns
   for (int i = 0; i < n; ++i) {
     const Contact<W> c = contact(i);
-    const auto k = detail::exact_cone<M>(c);
     const Eigen::Matrix<W, 6, D> b = dsc.asDiagonal() * M::basis(c);
-    gram.noalias() += b * k.span * b.transpose();
-    ge.noalias() += b * k.axis;
+    const Eigen::Matrix<W, 6, D> bs = b * detail::cone_span<M>(c);
+    gram.noalias() += bs * b.transpose();
+    ge.noalias() += b * detail::cone_axis<M>(c);
   }
-  Wrench<W> ev;  // ascending
-  Matrix6<W> vecs;
-  detail::symmetric_eigen_6x6_sorted(gram, ev, vecs);
-  const W cut = W(ScalarTraits<S>::rank_tolerance) * ev(5);
-  out.rank = 0;
-  for (int k = 0; k < 6; ++k)
-    if (ev(k) > cut && ev(k) > W(0)) ++out.rank;
+  // Rank: the eigenvalues of gram above rank_tolerance times the largest. Full rank is
+  // certain, and the eigen decomposition not needed, when the least eigenvalue's lower bound
+  // 1 / tr(gram^-1) (from a pivoted LDL^T with positive pivots) exceeds the cut even against
+  // tr(gram), an upper bound on the largest; the factorisation then also serves the
+  // least-squares correction below.
+  detail::SmallLdlt<6, W> chol;
+  const W trace = gram.trace();
+  bool full = false;
+  for (int r = 0; r < 6; ++r) {
+    chol.perm[r] = r;
+    for (int k = 0; k < 6; ++k) chol.f[r][k] = gram(r, k);
+  }
+  if (trace > W(0) && std::isfinite(trace) && detail::ldlt_factor<6>(chol.f, chol.inv_d, chol.perm, W(0), true)) {
+    W inv_trace(0);
+    for (int k = 0; k < 6; ++k) {
+      W col[6] = {W(0), W(0), W(0), W(0), W(0), W(0)};
+      col[k] = W(1);
+      chol.solve(col);
+      inv_trace += col[k];
+    }
+    full = inv_trace > W(0) && W(1) / inv_trace > W(ScalarTraits<S>::rank_tolerance) * trace;
+  }
+  Wrench<W> ev = Wrench<W>::Ones();  // ascending (when computed)
+  Matrix6<W> vecs = Matrix6<W>::Identity();
+  out.rank = 6;
+  if (!full) {
+    detail::symmetric_eigen_6x6_sorted(gram, ev, vecs);
+    const W cut = W(ScalarTraits<S>::rank_tolerance) * ev(5);
+    out.rank = 0;
+    for (int k = 0; k < 6; ++k)
+      if (ev(k) > cut && ev(k) > W(0)) ++out.rank;
+  }
   if (out.rank < 6) {
     // Any y in the kernel: G_i^T y vanishes on the span of K_i, so it is in K_i^*.
     const Wrench<W> u = dsc.cwiseProduct(vecs.col(0));
@@ -145,9 +170,9 @@ ForceClosure<GraspT> force_closure(const GraspT& grasp,
   // Internal force x = s + t e with t = (1 - sum e.s) / n (s the cone multipliers).
   XW x = r.primal.template cast<W>();
   W es(0);
-  for (int i = 0; i < n; ++i) es += detail::exact_cone<M>(contact(i)).axis.dot(x.template segment<D>(i * D));
+  for (int i = 0; i < n; ++i) es += detail::cone_axis<M>(contact(i)).dot(x.template segment<D>(i * D));
   const W t = (W(1) - es) / W(n);
-  for (int i = 0; i < n; ++i) x.template segment<D>(i * D) += t * detail::exact_cone<M>(contact(i)).axis;
+  for (int i = 0; i < n; ++i) x.template segment<D>(i * D) += t * detail::cone_axis<M>(contact(i));
   auto wrench = [&](const XW& f) {  // G f (N and N m)
     Wrench<W> w = Wrench<W>::Zero();
     for (int i = 0; i < n; ++i) w.noalias() += M::basis(contact(i)) * f.template segment<D>(i * D);
@@ -160,14 +185,21 @@ ForceClosure<GraspT> force_closure(const GraspT& grasp,
     // (sum (D G_i) P_i (D G_i)^T) z = D G x (rank 6 here), then report the margin this x
     // achieves: a witnessed lower bound, within the tolerance of the dual's upper bound.
     const Wrench<W> res = dsc.cwiseProduct(wrench(x));
-    const Wrench<W> z = vecs * (vecs.transpose() * res).cwiseQuotient(ev);
+    Wrench<W> z;
+    if (full) {
+      W col[6];
+      for (int k = 0; k < 6; ++k) col[k] = res(k);
+      chol.solve(col);
+      for (int k = 0; k < 6; ++k) z(k) = col[k];
+    } else {
+      z = vecs * (vecs.transpose() * res).cwiseQuotient(ev);
+    }
     W sum(0), achieved(0);
     for (int i = 0; i < n; ++i) {
       const Contact<W> ci = contact(i);
-      const auto k = detail::exact_cone<M>(ci);
       const Eigen::Matrix<W, 6, D> b = dsc.asDiagonal() * M::basis(ci);
-      x.template segment<D>(i * D) -= k.span * (b.transpose() * z);
-      sum += k.axis.dot(x.template segment<D>(i * D));
+      x.template segment<D>(i * D) -= detail::cone_span<M>(ci) * (b.transpose() * z);
+      sum += detail::cone_axis<M>(ci).dot(x.template segment<D>(i * D));
     }
     x /= sum;
     for (int i = 0; i < n; ++i) {

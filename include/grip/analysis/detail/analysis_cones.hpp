@@ -32,30 +32,54 @@ struct ExactConeData {
   bool halfspace{false};        ///< K_i is the ray along axis: K_i^* = {axis . v >= 0}.
 };
 
+/// The axis e_i of contact c's exact cone: the unit normal (padded with 0 for a soft finger's
+/// torsion), or 1 for a frictionless point.
+template <class Model, class S>
+Eigen::Matrix<S, Model::dim, 1> cone_axis(const Contact<S>& c) {
+  Eigen::Matrix<S, Model::dim, 1> e;
+  if constexpr (Model::dim == 1) {
+    e.setConstant(S(1));
+  } else {
+    e.setZero();
+    e.template head<3>() = c.normal / c.normal.norm();
+  }
+  return e;
+}
+
+/// The orthogonal projector onto the linear span of contact c's exact cone: the identity,
+/// less the directions whose friction coefficient is zero.
+template <class Model, class S>
+Eigen::Matrix<S, Model::dim, Model::dim> cone_span(const Contact<S>& c) {
+  using Span = Eigen::Matrix<S, Model::dim, Model::dim>;
+  Span p = Span::Identity();
+  if constexpr (Model::dim > 1) {
+    if (!(c.friction > S(0))) {
+      const Vector3<S> a = c.normal / c.normal.norm();
+      p.template topLeftCorner<3, 3>() = a * a.transpose();
+    }
+    if constexpr (Model::dim == 4) p(3, 3) = c.torsional_friction > S(0) ? S(1) : S(0);
+  }
+  return p;
+}
+
 /// The exact cone of contact c for contact model Model.
 template <class Model, class S>
 ExactConeData<S, Model::dim> exact_cone(const Contact<S>& c) {
   constexpr int D = Model::dim;
   ExactConeData<S, D> k;
+  k.axis = cone_axis<Model>(c);
+  k.span = cone_span<Model>(c);
   if constexpr (D == 1) {
-    k.axis.setConstant(S(1));
     k.quad.setConstant(S(1));
-    k.span.setConstant(S(1));
     k.halfspace = true;
   } else {
-    const Vector3<S> a = c.normal / c.normal.norm();
+    const Vector3<S> a = k.axis.template head<3>();
     const Matrix3<S> aa = a * a.transpose();
-    const Matrix3<S> tt = Matrix3<S>::Identity() - aa;
-    k.axis.setZero();
-    k.axis.template head<3>() = a;
     k.quad.setZero();
-    k.quad.template topLeftCorner<3, 3>() = aa - (c.friction * c.friction) * tt;
-    k.span.setZero();
-    k.span.template topLeftCorner<3, 3>() = c.friction > S(0) ? Matrix3<S>::Identity() : aa;
+    k.quad.template topLeftCorner<3, 3>() = aa - (c.friction * c.friction) * (Matrix3<S>::Identity() - aa);
     bool ray = !(c.friction > S(0));
     if constexpr (D == 4) {
       k.quad(3, 3) = -(c.torsional_friction * c.torsional_friction);
-      k.span(3, 3) = c.torsional_friction > S(0) ? S(1) : S(0);
       ray = ray && !(c.torsional_friction > S(0));
     }
     k.halfspace = ray;
