@@ -1,8 +1,9 @@
 #pragma once
 /// \file
 /// The second-order cone Q = {u in R^m : u_0 >= |(u_1, ..., u_{m-1})|} as a primal-dual
-/// interior-point method uses it (m = 1 is the half-line u_0 >= 0). Internal to
-/// conic_dual.hpp.
+/// interior-point method uses it (m = 1 is the half-line u_0 >= 0), one cone at a time: the
+/// definitions that conic_dual.hpp's solver runs lane-wise (detail/cone_lanes.hpp), and the
+/// reference its tests check the lanes against. Internal.
 ///
 /// Jordan algebra of Q (e = (1, 0, ..., 0) its identity, J = diag(1, -1, ..., -1)):
 ///   u o v = (u . v, u_0 v_1 + v_0 u_1),   u o e = u,   u in int Q iff u_0 > |u_1|.
