@@ -13,11 +13,11 @@
 #include <vector>
 
 #include <grip/analysis/detail/cone_lanes.hpp>
-#include <grip/analysis/detail/second_order_cone.hpp>
 #include <grip/analysis/force_closure.hpp>
 #include <grip/analysis/max_wrench.hpp>
 
 #include "support/random.hpp"
+#include "support/second_order_cone.hpp"
 #include "support/tolerance.hpp"
 
 using namespace grip;
@@ -28,48 +28,48 @@ namespace {
 
 // A random point of the interior of Q^M: the tail drawn in a ball, the head above its norm.
 template <int M>
-detail::SocVector<double, M> interior_point(std::mt19937& rng) {
+grip_test::SocVector<double, M> interior_point(std::mt19937& rng) {
   grip_test::Uniform u(-1.0, 1.0), lift(0.01, 2.0);
-  detail::SocVector<double, M> v;
+  grip_test::SocVector<double, M> v;
   for (int k = 0; k < M; ++k) v(k) = u(rng);
-  v(0) = detail::soc_tail_norm(v) + lift(rng);
+  v(0) = grip_test::soc_tail_norm(v) + lift(rng);
   return v;
 }
 
 template <int M>
 void check_algebra(std::mt19937& rng) {
-  using V = detail::SocVector<double, M>;
+  using V = grip_test::SocVector<double, M>;
   grip_test::Uniform u(-1.0, 1.0);
   for (int rep = 0; rep < 200; ++rep) {
     const V s = interior_point<M>(rng), z = interior_point<M>(rng);
-    detail::SocScaling<double, M> w;
+    grip_test::SocScaling<double, M> w;
     REQUIRE(w.set(s, z));
     // The defining property of the Nesterov-Todd scaling and its consequences.
     const V lambda = w.apply(z);
     const double scale = s.norm() + z.norm();
     CHECK((lambda - w.apply_inverse(s)).norm() <= grip_test::roundoff<double>(64, 1, scale));
     CHECK(std::abs(lambda.squaredNorm() - s.dot(z)) <= grip_test::roundoff<double>(64, 1, scale * scale));
-    CHECK(detail::soc_interior(lambda));
+    CHECK(grip_test::soc_interior(lambda));
     V x;
     for (int k = 0; k < M; ++k) x(k) = u(rng);
     CHECK((w.apply(w.apply_inverse(x)) - x).norm() <= grip_test::roundoff<double>(64, 1, x.norm() * (1 + scale)));
     // The Jordan product's definition, and division as its inverse.
-    const V p = detail::soc_product(s, z);
+    const V p = grip_test::soc_product(s, z);
     CHECK(std::abs(p(0) - s.dot(z)) <= grip_test::roundoff<double>(8, 1, scale * scale));
     if constexpr (M > 1)
       CHECK((p.template tail<M - 1>() - (s(0) * z.template tail<M - 1>() + z(0) * s.template tail<M - 1>())).norm() <=
             grip_test::roundoff<double>(8, 1, scale * scale));
-    CHECK((detail::soc_product(s, detail::soc_divide(s, x)) - x).norm() <=
-          grip_test::roundoff<double>(1e4, 1, x.norm() * (1 + s.norm() / detail::soc_det(s))));
+    CHECK((grip_test::soc_product(s, grip_test::soc_divide(s, x)) - x).norm() <=
+          grip_test::roundoff<double>(1e4, 1, x.norm() * (1 + s.norm() / grip_test::soc_det(s))));
     // The largest step against bisection on membership.
     const V d = interior_point<M>(rng) - 2.0 * interior_point<M>(rng);
-    const double a = detail::soc_max_step(s, d);
+    const double a = grip_test::soc_max_step(s, d);
     if (std::isinf(a)) {
-      CHECK(detail::soc_interior(V(s + 1e3 * d)));
+      CHECK(grip_test::soc_interior(V(s + 1e3 * d)));
     } else {
       CHECK(a > 0);
-      CHECK(detail::soc_interior(V(s + 0.999 * a * d)));
-      CHECK_FALSE(detail::soc_interior(V(s + 1.001 * a * d)));
+      CHECK(grip_test::soc_interior(V(s + 0.999 * a * d)));
+      CHECK_FALSE(grip_test::soc_interior(V(s + 1.001 * a * d)));
     }
   }
 }
@@ -88,13 +88,13 @@ TEST_CASE("second-order cone algebra: Nesterov-Todd scaling, Jordan product, ste
 // scalar definitions above, cone by cone, for counts that leave the last pack partly empty.
 template <int M>
 void check_lanes(std::mt19937& rng, int n) {
-  using V = detail::SocVector<double, M>;
+  using V = grip_test::SocVector<double, M>;
   using Lanes = detail::ConeLanes<double, M, 20>;
   grip_test::Uniform u(-1.0, 1.0);
   Lanes k(n);
   std::vector<V> s(static_cast<std::size_t>(n)), z(s), ds(s), dz(s);
   Eigen::Matrix<double, 7, 7> h_ref = Eigen::Matrix<double, 7, 7>::Zero();
-  std::vector<detail::SocScaling<double, M>> w(s.size());
+  std::vector<grip_test::SocScaling<double, M>> w(s.size());
   std::vector<Eigen::Matrix<double, M, 7>> f(s.size());
   double step_ref = std::numeric_limits<double>::infinity();
   for (int i = 0; i < n; ++i) {
@@ -116,7 +116,7 @@ void check_lanes(std::mt19937& rng, int n) {
     Eigen::Matrix<double, M, 7> wf;
     w[j].apply_inverse_to(f[j], wf);
     h_ref += wf.transpose() * wf;
-    step_ref = std::min({step_ref, detail::soc_max_step(s[j], ds[j]), detail::soc_max_step(z[j], dz[j])});
+    step_ref = std::min({step_ref, grip_test::soc_max_step(s[j], ds[j]), grip_test::soc_max_step(z[j], dz[j])});
   }
   Eigen::Matrix<double, 7, 7> h = Eigen::Matrix<double, 7, 7>::Zero();
   REQUIRE(k.scale(h));
@@ -286,14 +286,14 @@ TEST_CASE("the step to the boundary along the axis: a double root that rounding 
   // u on the axis, d against it: det(u + a d) = (2 - a)^2 has a double root at a = 2 (the
   // apex), with discriminant 0 that rounding may make negative.
   for (const double s : {1.0, 1e-7, 3.3, 1e5}) {
-    detail::SocVector<double, 3> u(2 * s, 0, 0), d(-s, 0, 0);
+    grip_test::SocVector<double, 3> u(2 * s, 0, 0), d(-s, 0, 0);
     // disc = B^2 - A C is 0 in exact arithmetic; with B^2 - A C contracted into a fused
     // multiply-add (clang -O2 on FMA targets) it is the rounding error of A C, whose square root
     // moves the root by up to sqrt(u) relative: the bound is sqrt of the rounding bound.
     const double tol = std::sqrt(grip_test::roundoff<double>(8, 1, 1.0));
-    CHECK(detail::soc_max_step(u, d) == doctest::Approx(2.0).epsilon(tol));
-    detail::SocVector<double, 4> u4(0.7 * s, 0, 0, 0), d4(-0.1 * s, 0, 0, 0);
-    CHECK(detail::soc_max_step(u4, d4) == doctest::Approx(7.0).epsilon(tol));
+    CHECK(grip_test::soc_max_step(u, d) == doctest::Approx(2.0).epsilon(tol));
+    grip_test::SocVector<double, 4> u4(0.7 * s, 0, 0, 0), d4(-0.1 * s, 0, 0, 0);
+    CHECK(grip_test::soc_max_step(u4, d4) == doctest::Approx(7.0).epsilon(tol));
     // The solver's lane-wise step, every lane along the same ray.
     detail::ConeLanes<double, 3, 20> k(11);
     for (int i = 0; i < 11; ++i)

@@ -14,10 +14,10 @@
 /// whose Lagrange dual is  max t  s.t.  sum_i F_i^T z_i + t a = c,  z_i in Q; the contact
 /// unknowns x_i = L_i^T z_i then lie in K_i. Both are solved together by a primal-dual
 /// interior-point method (Mehrotra predictor-corrector, Nesterov-Todd scaling of each cone,
-/// detail/second_order_cone.hpp), started from the strictly feasible q0 and z_i = e: each
+/// detail/cone_lanes.hpp), started from the strictly feasible q0 and z_i = e: each
 /// iteration is O(n) to form the 7x7 matrix H = sum F_i^T W_i^-2 F_i plus its pivoted LDL^T
 /// factorisation and two solves. The O(n) work runs on the contacts in SIMD lanes, 8 or 4 at
-/// a time (detail/cone_lanes.hpp, the same algebra written lane-wise). It stops when the dual residual, the primal residual, the complementarity
+/// a time. It stops when the dual residual, the primal residual, the complementarity
 /// gap sum s_i . z_i and the difference of the two objectives are below the tolerance
 /// (relative to 1 + |objective|); q stays feasible throughout, so c . q is an upper bound on
 /// the optimum at every iteration, and the dual objective t a lower bound at the end.
@@ -213,11 +213,11 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
       h.lambda = std::sqrt(h.s * h.z);
     }
     H.diagonal().array() += S(1) * eps * H.diagonal().maxCoeff();
-    for (int r = 0; r < 7; ++r) {
-      ldlt.perm[r] = r;
-      for (int j = 0; j < 7; ++j) ldlt.f[r][j] = H(r, j);
-    }
-    if (!ldlt_factor<7>(ldlt.f, ldlt.inv_d, ldlt.perm, S(0), true)) break;
+    const auto fill_h = [&H](S (&f)[7][7]) {
+      for (int r = 0; r < 7; ++r)
+        for (int j = 0; j < 7; ++j) f[r][j] = H(r, j);
+    };
+    if (!ldlt.factor_pivoted(fill_h, S(0))) break;
     hia = solve_h(a);
     aha = a.dot(hia);
     if (!(std::abs(aha) > S(0)) || !std::isfinite(aha)) break;

@@ -125,11 +125,11 @@ ForceClosure<GraspT> force_closure(const GraspT& grasp,
   detail::SmallLdlt<6, W> chol;
   const W trace = gram.trace();
   bool full = false;
-  for (int r = 0; r < 6; ++r) {
-    chol.perm[r] = r;
-    for (int k = 0; k < 6; ++k) chol.f[r][k] = gram(r, k);
-  }
-  if (trace > W(0) && std::isfinite(trace) && detail::ldlt_factor<6>(chol.f, chol.inv_d, chol.perm, W(0), true)) {
+  const auto fill_gram = [&gram](W (&f)[6][6]) {
+    for (int r = 0; r < 6; ++r)
+      for (int k = 0; k < 6; ++k) f[r][k] = gram(r, k);
+  };
+  if (trace > W(0) && std::isfinite(trace) && chol.factor_pivoted(fill_gram, W(0))) {
     W inv_trace(0);
     for (int k = 0; k < 6; ++k) {
       W col[6] = {W(0), W(0), W(0), W(0), W(0), W(0)};

@@ -99,6 +99,13 @@ struct SmallLdlt {
     reset(fill);
     return ldlt_factor<N>(f, inv_d, perm, tol * ref, true);
   }
+  /// The diagonally pivoted factorisation alone (no fast path) of the matrix `fill(f)` writes:
+  /// false as soon as a pivot is not above `min_pivot` (ldlt_factor).
+  template <class Fill>
+  bool factor_pivoted(const Fill& fill, Scalar min_pivot) {
+    reset(fill);
+    return ldlt_factor<N>(f, inv_d, perm, min_pivot, true);
+  }
   /// Factors the matrix `a` (full storage; not modified). False: rank deficient.
   bool factor(const Scalar (&a)[N][N], Scalar ref, Scalar tol) {
     return factor(

@@ -4,7 +4,23 @@
 /// lanes (core/simd.hpp): every second-order cone of dimension D (1, 3 or 4) is one lane, and
 /// each of its quantities is stored component by component across the contacts (structure of
 /// arrays), so one pack of instructions serves 8 (AVX-512), 4 (AVX2) or 1 contacts. Internal to
-/// conic_dual.hpp; the algebra is detail/second_order_cone.hpp's, written lane-wise.
+/// conic_dual.hpp.
+///
+/// The second-order cone Q = {u in R^m : u_0 >= |(u_1, ..., u_{m-1})|} (m = 1: the half-line
+/// u_0 >= 0) and its Jordan algebra (e = (1, 0, ..., 0), J = diag(1, -1, ..., -1)):
+///   u o v = (u . v, u_0 v_1 + v_0 u_1),   u o e = u,   u in int Q iff u_0 > |u_1|.
+/// Nesterov-Todd scaling of a pair s, z in int Q: the symmetric W with W z = W^-1 s = lambda,
+/// W = beta (2 v v^T - J), W^-1 = (2 J v v^T J - J) / beta, where with s' = s / sqrt(s^T J s)
+/// and z' = z / sqrt(z^T J z), gamma = sqrt((1 + z'^T s') / 2), w = (s' + J z') / (2 gamma),
+/// v = (w + e) / sqrt(2 (w_0 + 1)) (so v^T J v = 1, and 2 v v^T - J is its own J-inverse) and
+/// beta = (s^T J s / z^T J z)^(1/4). Then s^T z = lambda^T lambda. The step to the boundary
+/// of u + a d is the least positive root of det(u + a d) = A a^2 + 2 B a + C (det u = u^T J u,
+/// computed as (u_0 - |u_1|)(u_0 + |u_1|)), and at most -u_0 / d_0 when d_0 < 0, which also
+/// decides the rays along which det has a double root that rounding can hide.
+/// References: L. Vandenberghe, "The CVXOPT linear and quadratic cone program solvers" (2010),
+/// section 4; Alizadeh & Goldfarb, "Second-order cone programming", Math. Program. 95 (2003),
+/// section 4. The tests check each lane against a one-cone-at-a-time version of these
+/// definitions.
 ///
 /// Lanes past the last contact of the last block hold s = z = e and F = 0: their scaling is
 /// the identity, they add nothing to the sums over contacts (each is a product with F), and
@@ -328,7 +344,7 @@ struct ConeLanes {
     out[0] = ib * (t * vv[0] - u[0]);
     for (int r = 1; r < D; ++r) out[r] = ib * neg_mul_add(t, vv[r], u[r]);
   }
-  /// soc_max_step of second_order_cone.hpp, lane-wise.
+  /// The largest a >= 0 with u + a du in Q (infinity if none), per lane: see the file comment.
   static P ray_step(const P (&u)[D], const P (&du)[D]) {
     const P inf = P::set1(std::numeric_limits<S>::infinity()), zero = P::set1(S(0));
     P best = select(du[0] < zero, zero - u[0] / du[0], inf);

@@ -50,12 +50,11 @@ struct EquilibriumNorm {
     out.template tail<3>() *= inverse;
     return out;
   }
-  /// T^-1 u = (u_f, L u_m): back from the units of the norm, for a wrench; for multipliers the
-  /// same map takes physical ones to the norm's units (lambda.w = (T^-1 lambda).(T w)).
-  Wrench<S> from_units(const Wrench<S>& u) const {
-    Wrench<S> out = u;
-    out.template tail<3>() *= length;
-    return out;
+  /// The diagonal of T = diag(1, 1, 1, 1/L, 1/L, 1/L).
+  Wrench<S> weights() const {
+    Wrench<S> t = Wrench<S>::Ones();
+    t.template tail<3>().setConstant(inverse);
+    return t;
   }
   /// |w|_L (no temporary: the frame's Newton iteration takes it several times per pass).
   S operator()(const Wrench<S>& w) const {

@@ -31,13 +31,15 @@ namespace detail {
 /// maximiser l = T(G x + w_ext). For ANY l, x_i(l) is a projection, so G_i^T T l + delta w_i (x_i - t_i)
 /// lies in K_i^* exactly: T l/|l| is an infeasibility certificate (|T l / |l||_L* = 1) up to
 /// delta w_i |x_i - t_i| / |l|.
+/// `scale_shift` = |w_ext|_L - |w_ext| turns a pass's scale |w_ext| + |x| into the norm's units.
 /// Writes the forces into x, the multipliers l (in the norm's units) into lambda, and returns the iterations used (at
 /// most settings.max_iterations). Each pass is counted in `budget`; none is started once it is
 /// spent (then the best point met so far is the answer; with no pass left at the start,
 /// lambda = 0, f2 = 0 and x unchanged).
 template <class Passes>
 int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& w_ext,
-                   const EquilibriumNorm<typename Passes::Scalar>& norm, typename Passes::Scalar delta,
+                   const EquilibriumNorm<typename Passes::Scalar>& norm, typename Passes::Scalar scale_shift,
+                   typename Passes::Scalar delta,
                    const ConstrainedSettings<typename Passes::Scalar>& settings, PassBudget& budget,
                    typename Passes::Forces& x, Wrench<typename Passes::Scalar>& lambda,
                    typename Passes::Scalar& f2) {
@@ -60,8 +62,7 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
   };
   // The pass's multipliers for l: -T l / dl (physical).
   const auto input = [&](const Wrench<S>& l) { return Wrench<S>(-norm.to_units(l) / dl); };
-  // The pass's scale |w_ext| + |x| in the norm's units: |w_ext|_L + |x|.
-  const S w_shift = norm(w_ext) - w_ext.norm();
+  const Wrench<S> t = norm.weights();  // T's diagonal
   ConstrainedPass<S> cur = budget.run(passes, w_ext, input(lambda), x, &cur_h);
   S cur_phi = phi(cur, lambda);
   // The forces returned are the best point met by the requested problem's objective
@@ -90,13 +91,12 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
   int it = 0;
   for (; it < settings.max_iterations; ++it) {
     const Wrench<S> g = norm.to_units(cur.residual) - lambda;  // grad phi
-    const S scale = cur.scale + w_shift;
+    const S scale = cur.scale + scale_shift;  // |w_ext|_L + |x|
     if (g.norm() <= settings.tolerance * scale ||
         (dl > delta && g.norm() <= settings.least_residual_stage_tolerance * scale)) {
       if (!next_stage()) break;
       continue;
     }
-    const Wrench<S> t = norm.to_units(Wrench<S>::Ones());
     Matrix6<S> h = t.asDiagonal() * cur_h.matrix() * t.asDiagonal();
     h.diagonal().array() += dl;
     const Wrench<S> e = h.diagonal().cwiseSqrt().cwiseInverse();

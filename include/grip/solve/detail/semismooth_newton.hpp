@@ -77,11 +77,11 @@ class SemismoothNewton {
       : grasp_(grasp), w_ext_(w_ext), settings_(settings), sol_(sol), m_(grasp.unknowns()), lambda_(lambda),
         passes_(grasp), x_(passes_.make_forces()), xt_(passes_.make_forces()), best_x_(passes_.make_forces()),
         p_x_(passes_.make_forces()), budget_{settings.max_passes}, grace_(settings.infeasible_grace),
-        norm_(EquilibriumNorm<S>::of(grasp)), w_norm_(w_ext.norm()), w_norm_l_(norm_(w_ext)) {
+        norm_(EquilibriumNorm<S>::of(grasp)), w_norm_l_(norm_(w_ext)), scale_shift_(w_norm_l_ - w_ext.norm()) {
     // Jacobi scaling D of the Levenberg-Marquardt term: the unconstrained Gram diagonal, floored
     // in the units of the equilibrium norm (moments per lever arm L, where a moment entry is
     // about (|r_i| / L)^2 times a force entry), so that the floor is the same in every unit.
-    const Wrench<S> t2 = norm_.to_units(norm_.to_units(Wrench<S>::Ones()));  // (1, 1 / L^2)
+    const Wrench<S> t2 = norm_.weights().cwiseAbs2();  // (1, 1 / L^2)
     const Wrench<S> scaled = gram_diagonal.cwiseProduct(t2);
     jacobi_max_ = scaled.maxCoeff();
     const S floor = settings_.jacobi_floor * jacobi_max_;
@@ -259,7 +259,8 @@ class SemismoothNewton {
     for (int k = 0; k < tries && !ok && phase1_iterations_ < settings_.max_iterations && budget_.left();
          ++k, delta *= settings_.certificate_retry_factor) {
       phase1.max_iterations = settings_.max_iterations - phase1_iterations_;
-      phase1_iterations_ += least_residual(passes_, w_ext_, norm_, delta, phase1, budget_, p_x_, y, f2);
+      phase1_iterations_ +=
+          least_residual(passes_, w_ext_, norm_, scale_shift_, delta, phase1, budget_, p_x_, y, f2);
       // y is in the norm's units; T y is the direction of physical multipliers.
       p_lambda_ = -norm_.to_units(y) / delta;  // the penalty estimate of the multipliers (x(p_lambda_) = p_x_)
       const S rn = y.norm();
@@ -338,7 +339,7 @@ class SemismoothNewton {
   }
   /// The scale of a pass's tests in the units of the norm: |w_ext|_L + |x| (the pass's own
   /// scale is |w_ext| + |x|).
-  S scale_of(const ConstrainedPass<S>& p) const { return p.scale - w_norm_ + w_norm_l_; }
+  S scale_of(const ConstrainedPass<S>& p) const { return p.scale + scale_shift_; }
 
   // The problem.
   const GraspT& grasp_;
@@ -376,7 +377,8 @@ class SemismoothNewton {
   int grace_{0};         ///< iterations left for Newton to converge before the verdict stands
   // The norm of the tests (last: the iterate's members keep the layout of the hot loop).
   const EquilibriumNorm<S> norm_;  ///< |.|_L, in which residuals are measured
-  const S w_norm_, w_norm_l_;      ///< |w_ext| and |w_ext|_L
+  const S w_norm_l_;               ///< |w_ext|_L
+  const S scale_shift_;            ///< |w_ext|_L - |w_ext|: a pass's scale into the norm's units
 };
 
 }  // namespace detail

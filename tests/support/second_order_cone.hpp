@@ -1,22 +1,8 @@
 #pragma once
-/// \file
-/// The second-order cone Q = {u in R^m : u_0 >= |(u_1, ..., u_{m-1})|} as a primal-dual
-/// interior-point method uses it (m = 1 is the half-line u_0 >= 0), one cone at a time: the
-/// definitions that conic_dual.hpp's solver runs lane-wise (detail/cone_lanes.hpp), and the
-/// reference its tests check the lanes against. Internal.
-///
-/// Jordan algebra of Q (e = (1, 0, ..., 0) its identity, J = diag(1, -1, ..., -1)):
-///   u o v = (u . v, u_0 v_1 + v_0 u_1),   u o e = u,   u in int Q iff u_0 > |u_1|.
-/// Nesterov-Todd scaling of a pair s, z in int Q: the symmetric W with
-///   W z = W^-1 s = lambda,
-/// W = beta (2 v v^T - J), W^-1 = (2 J v v^T J - J) / beta, where with s' = s / sqrt(s^T J s)
-/// and z' = z / sqrt(z^T J z), gamma = sqrt((1 + z'^T s') / 2), w = (s' + J z') / (2 gamma),
-/// v = (w + e) / sqrt(2 (w_0 + 1)) (so v^T J v = 1, and 2 v v^T - J is its own J-inverse:
-/// (2 v v^T - J) J (2 v v^T - J) = J) and beta = (s^T J s / z^T J z)^(1/4). Then
-/// s^T z = lambda^T lambda. (The test of this header checks W z = W^-1 s numerically.)
-/// Reference: L. Vandenberghe, "The CVXOPT linear and quadratic cone program solvers"
-/// (2010), section 4 (Nesterov-Todd scaling of second-order cones); Alizadeh & Goldfarb,
-/// "Second-order cone programming", Math. Program. 95 (2003), section 4 (the algebra).
+// The second-order cone Q = {u in R^m : u_0 >= |(u_1, ..., u_{m-1})|} one cone at a time, as
+// the definitions of grip/analysis/detail/cone_lanes.hpp read (m = 1 is the half-line
+// u_0 >= 0): the reference that conic_dual.test checks the solver's lane-wise algebra against,
+// itself checked against the defining identities there.
 
 #include <algorithm>
 #include <cmath>
@@ -24,34 +10,33 @@
 
 #include <Eigen/Core>
 
-namespace grip {
-namespace detail {
+namespace grip_test {
 
 template <class S, int M>
 using SocVector = Eigen::Matrix<S, M, 1>;
 
-/// |(u_1, ..., u_{m-1})|.
+// |(u_1, ..., u_{m-1})|.
 template <class S, int M>
 S soc_tail_norm(const SocVector<S, M>& u) {
   if constexpr (M > 1) return u.template tail<M - 1>().norm();
   else return S(0);
 }
 
-/// u^T J u = u_0^2 - |u_1|^2, computed as (u_0 - |u_1|)(u_0 + |u_1|) to keep its relative
-/// accuracy near the boundary.
+// u^T J u = u_0^2 - |u_1|^2, computed as (u_0 - |u_1|)(u_0 + |u_1|) to keep its relative
+// accuracy near the boundary.
 template <class S, int M>
 S soc_det(const SocVector<S, M>& u) {
   const S t = soc_tail_norm(u);
   return (u(0) - t) * (u(0) + t);
 }
 
-/// u in the interior of Q.
+// u in the interior of Q.
 template <class S, int M>
 bool soc_interior(const SocVector<S, M>& u) {
   return u(0) > soc_tail_norm(u) && std::isfinite(u(0));
 }
 
-/// J u.
+// J u.
 template <class S, int M>
 SocVector<S, M> soc_reflect(const SocVector<S, M>& u) {
   SocVector<S, M> r = -u;
@@ -59,7 +44,7 @@ SocVector<S, M> soc_reflect(const SocVector<S, M>& u) {
   return r;
 }
 
-/// The Jordan product u o v.
+// The Jordan product u o v.
 template <class S, int M>
 SocVector<S, M> soc_product(const SocVector<S, M>& u, const SocVector<S, M>& v) {
   SocVector<S, M> r = u(0) * v + v(0) * u;
@@ -67,8 +52,8 @@ SocVector<S, M> soc_product(const SocVector<S, M>& u, const SocVector<S, M>& v) 
   return r;
 }
 
-/// The d with lambda o d = r, for lambda in int Q: d_0 = (lambda_0 r_0 - lambda_1 . r_1) /
-/// det(lambda), d_1 = (r_1 - d_0 lambda_1) / lambda_0.
+// The d with lambda o d = r, for lambda in int Q: d_0 = (lambda_0 r_0 - lambda_1 . r_1) /
+// det(lambda), d_1 = (r_1 - d_0 lambda_1) / lambda_0.
 template <class S, int M>
 SocVector<S, M> soc_divide(const SocVector<S, M>& lambda, const SocVector<S, M>& r) {
   SocVector<S, M> d;
@@ -78,11 +63,11 @@ SocVector<S, M> soc_divide(const SocVector<S, M>& lambda, const SocVector<S, M>&
   return d;
 }
 
-/// The largest step a >= 0 with u + a d in Q, for u in int Q (infinity when the ray stays
-/// inside): the least positive root of det(u + a d) = A a^2 + 2 B a + C, with C = det(u) > 0,
-/// and at most -u_0 / d_0 when d_0 < 0 (u_0 + a d_0 >= 0 is necessary). The second bound also
-/// decides the rays along which det has a double root that rounding can hide (d parallel to
-/// the axis, as for a cone whose tangential rows are zero).
+// The largest step a >= 0 with u + a d in Q, for u in int Q (infinity when the ray stays
+// inside): the least positive root of det(u + a d) = A a^2 + 2 B a + C, with C = det(u) > 0,
+// and at most -u_0 / d_0 when d_0 < 0 (u_0 + a d_0 >= 0 is necessary). The second bound also
+// decides the rays along which det has a double root that rounding can hide (d parallel to
+// the axis, as for a cone whose tangential rows are zero).
 template <class S, int M>
 S soc_max_step(const SocVector<S, M>& u, const SocVector<S, M>& d) {
   const S inf = std::numeric_limits<S>::infinity();
@@ -106,14 +91,14 @@ S soc_max_step(const SocVector<S, M>& u, const SocVector<S, M>& d) {
   return best;
 }
 
-/// The Nesterov-Todd scaling of a pair s, z in int Q (see the file comment).
+// The Nesterov-Todd scaling of a pair s, z in int Q (see the file comment).
 template <class S, int M>
 struct SocScaling {
   S beta{1};
   S inv_beta{1};  // 1 / beta
   SocVector<S, M> v{SocVector<S, M>::Unit(0)};
 
-  /// False if s or z is not in the interior.
+  // False if s or z is not in the interior.
   bool set(const SocVector<S, M>& s, const SocVector<S, M>& z) {
     const S ds = soc_det(s), dz = soc_det(z);
     if (!(ds > S(0)) || !(dz > S(0)) || !(s(0) > S(0)) || !(z(0) > S(0))) return false;
@@ -127,14 +112,14 @@ struct SocScaling {
     inv_beta = S(1) / beta;
     return std::isfinite(beta) && std::isfinite(inv_beta) && v.allFinite();
   }
-  /// W u.
+  // W u.
   SocVector<S, M> apply(const SocVector<S, M>& u) const { return beta * (S(2) * v.dot(u) * v - soc_reflect(u)); }
-  /// W^-1 u.
+  // W^-1 u.
   SocVector<S, M> apply_inverse(const SocVector<S, M>& u) const {
     const SocVector<S, M> jv = soc_reflect(v);
     return inv_beta * (S(2) * jv.dot(u) * jv - soc_reflect(u));
   }
-  /// W^-1 A for a matrix A of M rows, into out: (2 Jv (Jv^T A) - J A) / beta.
+  // W^-1 A for a matrix A of M rows, into out: (2 Jv (Jv^T A) - J A) / beta.
   template <int C>
   void apply_inverse_to(const Eigen::Matrix<S, M, C>& A, Eigen::Matrix<S, M, C>& out) const {
     const SocVector<S, M> jv = soc_reflect(v);
@@ -145,5 +130,4 @@ struct SocScaling {
   }
 };
 
-}  // namespace detail
-}  // namespace grip
+}  // namespace grip_test
