@@ -14,6 +14,8 @@ build=build/ci-sanitize
 dir=$build/coverage
 rm -rf "$dir" && mkdir -p "$dir"
 cmake --preset ci-sanitize
+# Two compilers at a time (the ci-sanitize build preset): an instrumented unity group takes up
+# to about 7 GB, and .ci/run builds another configuration alongside.
 cmake --build --preset ci-sanitize
 # Only the test run's profiles count (the build runs the binary once to list its tests).
 rm -rf "$build/profiles"
