@@ -21,7 +21,7 @@
 ///
 /// Method (exact, like the expanding polytope algorithm of van den Bergen used for
 /// penetration depth): keep an inner polytope Q of W (its vertices are support points of W),
-/// its facets as a flat list of 5-simplices. Take the facet of Q nearest the origin
+/// its facets as a flat list of 5-simplices (detail/epsilon_polytope.hpp). Take the facet of Q nearest the origin
 /// (normal u, offset b); query the support point p of W along u. If h_W(u) - b <= tolerance,
 /// then epsilon = b: b = dist(0, dQ) <= dist(0, dW) <= h_W(u) (Q inside W). Otherwise p
 /// is a further vertex of W beyond that facet: add it (remove the facets that see it, close
@@ -33,14 +33,15 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <new>
 #include <type_traits>
 
 #include <Eigen/Geometry>
-#include <Eigen/QR>
 
+#include "grip/analysis/detail/epsilon_polytope.hpp"
 #include "grip/analysis/detail/epsilon_primitives.hpp"
 #include "grip/contact/contact_model.hpp"
 #include "grip/core/index.hpp"
@@ -57,29 +58,34 @@ enum class EpsilonNorm {
   LInfinity,  ///< every normal force <= 1: W = Minkowski sum of per-contact hulls.
 };
 
-/// Storage of the expanding-polytope search: at most MaxVertices support points and
-/// MaxFacets facets. Default ~2.0 MB (1.9 MiB) for double: keep one per thread (static or heap in
-/// the caller), not in a small embedded stack.
-template <class S, int MaxVertices = 512, int MaxFacets = 16384>
+/// Storage of the expanding-polytope search: at most MaxVertices support points (7 to 4096)
+/// and MaxFacets facets. Default 6.6 MB for double (4.7 MB for float): keep one per thread
+/// (static or heap in the caller), not in a small embedded stack. The default holds the
+/// L-infinity search of 20 hard contacts with 8-sided pyramids (up to about 50 000 facets
+/// and 550 vertices on random grasps). The ridge table holds the ridges of up to
+/// MaxFacets / 12 facets seen by one added point (MaxFacets / 6 when MaxFacets is a power of
+/// two); past any of these bounds the answer is IterationLimit.
+template <class S, int MaxVertices = 1024, int MaxFacets = 65536>
 struct EpsilonWorkspace {
+  static_assert(MaxVertices >= 7 && MaxVertices <= detail::max_ridge_vertex + 1, "7 to 4096 vertices");
+  static_assert(MaxFacets >= 7, "the first simplex has 7 facets");
   static constexpr int max_vertices = MaxVertices;  ///< most support points kept
-  static constexpr int max_facets = MaxFacets;      ///< most facets kept (and horizon ridges per step)
-  /// One facet: six vertex indices (sorted), unit outward normal, offset (normal . x = offset).
-  struct Facet {
-    std::array<int, 6> v;  ///< indices into `vertices`, ascending
-    Wrench<S> normal;      ///< unit normal, pointing away from the polytope's centre
-    S offset;              ///< normal . x on the facet: the origin's distance to it when the origin is inside
-  };
+  static constexpr int max_facets = MaxFacets;      ///< most facets kept
+  /// Facet storage padded to a multiple of 8 (the planes are scanned 8 at a time).
+  static constexpr int facet_slots = (MaxFacets + 7) / 8 * 8;
   /// Support points of W found so far: the vertices of the inner polytope Q.
   std::array<Wrench<S>, detail::idx(MaxVertices)> vertices;
-  /// The facets of Q, a compact list (Epsilon::facets of them in use at the end).
-  std::array<Facet, detail::idx(MaxFacets)> facets;
+  /// The facets of Q (Epsilon::facets of them in use at the end): sorted vertex indices,
+  /// unit outward normals component by component (normals[i][f]) and offsets (normal . x =
+  /// offset on the facet: the origin's distance to it when the origin is inside).
+  std::array<std::array<int, 6>, detail::idx(MaxFacets)> facet_vertices;
+  std::array<std::array<S, detail::idx(facet_slots)>, 6> normals;  ///< see facet_vertices
+  std::array<S, detail::idx(facet_slots)> offsets;                   ///< see facet_vertices
   /// Scratch of one step: indices of the facets that see the added support point.
   std::array<int, detail::idx(MaxFacets)> visible;
-  /// Scratch of one step: the horizon ridges (five sorted vertex indices) that close the hole.
-  std::array<std::array<int, 5>, detail::idx(MaxFacets)> horizon;
-  /// Scratch of one step: per facet, whether it sees the added support point.
-  std::array<bool, detail::idx(MaxFacets)> is_visible;
+  /// Scratch of one step: a hash table of the ridges (five sorted vertex indices, packed by
+  /// detail::ridge_key) of the facets that see the added point, then the horizon among them.
+  std::array<std::uint64_t, 2 * detail::idx(MaxFacets)> ridges;
 };
 
 /// The outcome of ferrari_canny_epsilon().
@@ -103,7 +109,8 @@ struct Epsilon {
 
 /// Ferrari-Canny epsilon of `grasp` with K-sided linearised cones, the given norm and
 /// torque scale rho (m), using `ws` for storage. No heap. Cost: each step one support query
-/// (O(n K)) and one pass over the current facets.
+/// (O(n K)), one pass over the current facets' planes, and work in proportion to the facets
+/// the added point sees (detail/epsilon_polytope.hpp).
 template <int K, class GraspT, class Workspace>
 Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, EpsilonNorm norm,
                                                            typename GraspT::ScalarType torque_scale, Workspace& ws,
@@ -114,7 +121,6 @@ Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, 
   static_assert(K >= 3, "a linearised cone needs K >= 3 sides");
   using S = typename GraspT::ScalarType;
   using M = typename GraspT::ModelType;
-  using Facet = typename Workspace::Facet;
   constexpr int P = detail::primitives_per_contact<M, K>();
   Epsilon<S> out;
   if (!grasp.complete() || !std::isfinite(torque_scale) || !(torque_scale > S(0)) || !std::isfinite(tolerance) ||
@@ -219,115 +225,40 @@ Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, 
   for (int k = 0; k < 7; ++k) centre += ws.vertices[detail::idx(k)];
   centre /= S(7);
 
-  // Plane through six vertices, oriented away from the centre. False if degenerate.
-  auto make_facet = [&](const std::array<int, 6>& v, Facet& f) {
-    Eigen::Matrix<S, 6, 5> e;
-    for (int k = 1; k < 6; ++k)
-      e.col(k - 1) = ws.vertices[detail::idx(v[detail::idx(k)])] -
-                     ws.vertices[detail::idx(v[0])];
-    Eigen::HouseholderQR<Eigen::Matrix<S, 6, 5>> qr(e);
-    Wrench<S> nrm = qr.householderQ() * Wrench<S>::Unit(5);
-    S off = nrm.dot(ws.vertices[detail::idx(v[0])]);
-    const S c = nrm.dot(centre) - off;
-    if (!(std::abs(c) > std::numeric_limits<S>::epsilon() * scale)) return false;
-    if (c > S(0)) {
-      nrm = -nrm;
-      off = -off;
-    }
-    f.v = v;
-    f.normal = nrm;
-    f.offset = off;
-    return true;
-  };
-  int nf = 0;
-  for (int skip = 0; skip < 7; ++skip) {
-    std::array<int, 6> v{};
-    for (int k = 0, j = 0; k < 7; ++k)
-      if (k != skip) v[detail::idx(j++)] = k;
-    if (!make_facet(v, ws.facets[detail::idx(nf)])) return out;  // cannot happen: simplex is full
-    ++nf;
-  }
+  detail::PolytopeFacets<S, Workspace> facets(ws, centre, std::numeric_limits<S>::epsilon() * scale);
+  if (!facets.simplex()) return out;  // cannot happen: the simplex is full
 
-  // 2. Expand towards the origin.
+  // 2. Expand towards the origin. `best` is the facet nearest the origin (least offset).
   out.status = Status::IterationLimit;
+  int best = facets.nearest();
   while (true) {
-    int best = 0;
-    for (int f = 1; f < nf; ++f)
-      if (ws.facets[detail::idx(f)].offset < ws.facets[detail::idx(best)].offset) best = f;
-    const Facet& fb = ws.facets[detail::idx(best)];
-    const S h = support(fb.normal, p);
-    out.epsilon = std::max(S(0), fb.offset);
-    if (h < out.upper) {
-      out.upper = h;
-    }
-    out.direction = fb.normal;
-    if (h - fb.offset <= tol) {
+    const Wrench<S> normal = facets.normal(best);
+    const S h = support(normal, p);
+    out.epsilon = std::max(S(0), facets.offset(best));
+    if (h < out.upper) out.upper = h;
+    out.direction = normal;
+    if (h - facets.offset(best) <= tol) {
       out.status = Status::Ok;
       break;
     }
     if (nv >= Workspace::max_vertices) break;
-    const int np = nv;
+    const int np = nv;  // the largest index: last in every new facet's sorted list
     ws.vertices[detail::idx(nv++)] = p;
-    // Facets that see p.
-    int nvis = 0;
-    for (int f = 0; f < nf; ++f) {
-      const Facet& ff = ws.facets[detail::idx(f)];
-      const bool vis = ff.normal.dot(p) - ff.offset > tol_visible;
-      ws.is_visible[detail::idx(f)] = vis;
-      if (vis) ws.visible[detail::idx(nvis++)] = f;
-    }
-    // Horizon: ridges of visible facets not shared with another visible facet.
-    int nh = 0;
-    bool full = false;
-    for (int a = 0; a < nvis && !full; ++a) {
-      const Facet& fa = ws.facets[detail::idx(ws.visible[detail::idx(a)])];
-      for (int drop = 0; drop < 6; ++drop) {
-        std::array<int, 5> r{};
-        for (int k = 0, j = 0; k < 6; ++k)
-          if (k != drop) r[detail::idx(j++)] = fa.v[detail::idx(k)];
-        bool shared = false;
-        for (int b = 0; b < nvis && !shared; ++b)
-          if (b != a && detail::ridge_in_facet(r, ws.facets[detail::idx(ws.visible[detail::idx(b)])].v))
-            shared = true;
-        if (!shared) {
-          if (nh >= Workspace::max_facets) {
-            full = true;
-            break;
-          }
-          ws.horizon[detail::idx(nh++)] = r;
-        }
-      }
-    }
-    if (full || nf - nvis + nh > Workspace::max_facets) break;
-    // Remove the visible facets (compact the list), then add the cone from p to the horizon.
-    int w = 0;
-    for (int f = 0; f < nf; ++f)
-      if (!ws.is_visible[detail::idx(f)]) ws.facets[detail::idx(w++)] = ws.facets[detail::idx(f)];
-    nf = w;
-    for (int k = 0; k < nh; ++k) {
-      std::array<int, 6> v{};
-      const std::array<int, 5>& r = ws.horizon[detail::idx(k)];
-      int j = 0;
-      bool placed = false;
-      for (int m = 0; m < 5; ++m) {
-        if (!placed && np < r[detail::idx(m)]) {
-          v[detail::idx(j++)] = np;
-          placed = true;
-        }
-        v[detail::idx(j++)] = r[detail::idx(m)];
-      }
-      if (!placed) v[5] = np;
-      if (make_facet(v, ws.facets[detail::idx(nf)])) ++nf;
-    }
+    const int nvis = facets.scan(p, tol_visible, best);
+    const int nh = facets.horizon(nvis);
+    if (nh < 0 || facets.count() - nvis + nh > Workspace::max_facets) break;
+    facets.remove_visible(nvis, best);
+    facets.cone(np, nh, best);
+    if (best < 0) break;  // no facet left (cannot happen: p lies outside a closed polytope)
   }
   out.vertices = nv;
-  out.facets = nf;
+  out.facets = facets.count();
   out.closure = out.epsilon > tol;
   if (!out.closure) out.epsilon = S(0);
   return out;
 }
 
-/// As above with a workspace of the default size from the heap (about 2.0 MB for double, one
+/// As above with a workspace of the default size from the heap (6.6 MB for double, one
 /// allocation per call): an offline convenience. Repeated calls, and any thread that must not
 /// allocate, pass a workspace kept in static storage or a member. Never throws: when the
 /// allocation fails the answer is the one of a workspace full from the start, IterationLimit

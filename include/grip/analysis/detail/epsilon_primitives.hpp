@@ -1,8 +1,7 @@
 #pragma once
 /// \file
-/// The primitive wrenches of ferrari_canny_epsilon() (analysis/epsilon.hpp) and the ridge test
-/// of its expanding polytope: internal (grip::detail), may change. The definitions are those of
-/// epsilon.hpp's file comment.
+/// The primitive wrenches of ferrari_canny_epsilon() (analysis/epsilon.hpp): internal
+/// (grip::detail), may change. The definitions are those of epsilon.hpp's file comment.
 
 #include <array>
 #include <cmath>
@@ -58,14 +57,6 @@ int contact_primitives(const Contact<S>& c, S rho, Wrench<S>* out) {
     }
     return K;
   }
-}
-
-/// True if sorted ridge r (5) is a subset of sorted facet vertices f (6).
-inline bool ridge_in_facet(const std::array<int, 5>& r, const std::array<int, 6>& f) {
-  int j = 0;
-  for (int k = 0; k < 6 && j < 5; ++k)
-    if (f[idx(k)] == r[idx(j)]) ++j;
-  return j == 5;
 }
 
 }  // namespace detail
