@@ -269,3 +269,34 @@ TEST_CASE_TEMPLATE("bad input, and no heap per frame", S, double, float) {
   h.phalanges[3].tip(1) = std::numeric_limits<S>::infinity();
   CHECK(hand.set_posture(h) == Status::InvalidInput);
 }
+
+TEST_CASE_TEMPLATE("in_solid_leaf: a point is in a solid leaf's cube exactly when a loop over the leaves says so", S,
+                   double, float) {
+  // The narrow phase asks it of sample centres that no surface lies near: against every
+  // solid leaf's cube, for points anywhere about a cylinder and on the cells' own corners
+  // (where up to 8 cubes meet and the first child holding the point may be empty).
+  auto& oct = octree<S>();
+  REQUIRE(oct.build(Shape<S>(make_cylinder<S>(S(0.035), S(0.07))), 3) == Status::Ok);
+  std::mt19937 rng(59);
+  const grip_test::Uniform across(-0.06, 0.06), along(-0.1, 0.1);
+  int inside = 0, trials = 0;
+  auto check = [&](const Vector3<S>& p) {
+    bool expect = false;
+    for (int o = 0; o < oct.tree().size() && !expect; ++o)
+      expect = oct.is_solid_leaf(o) &&
+               (p - oct.tree().node(o).center).cwiseAbs().maxCoeff() <= oct.cell_half_edge(oct.tree().node(o).level);
+    CHECK(detail::in_solid_leaf(oct, p) == expect);
+    inside += expect ? 1 : 0;
+    ++trials;
+  };
+  for (int t = 0; t < 2000; ++t)
+    check(Vector3<S>(S(across(rng)), S(across(rng)), S(along(rng))));
+  for (int o = 0; o < oct.tree().size(); ++o) {  // the corners of every cell
+    const SphereNode<S>& nd = oct.tree().node(o);
+    const S hc = oct.cell_half_edge(nd.level);
+    for (int c = 0; c < 8; ++c)
+      check(nd.center + hc * Vector3<S>(c & 1 ? S(1) : S(-1), c & 2 ? S(1) : S(-1), c & 4 ? S(1) : S(-1)));
+  }
+  CHECK(inside > trials / 10);
+  CHECK(inside < trials);
+}

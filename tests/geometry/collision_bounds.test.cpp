@@ -555,19 +555,30 @@ template <class S>
 using Mug = TriangleMesh<S, 2048, 4096>;
 template <class S>
 using MugShape = MeshShape<S, 2048, 4096>;
+
+// The half sizes of the box mesh, and the box's exact distance.
+const V3 box_half(0.05, 0.04, 0.03);
+const grip_test::ExactBox exact_box{V3::Zero(), box_half, Eigen::Matrix3d::Identity()};
+
+// A 12-triangle mesh of that box (a convex field equal to the box's exact distance,
+// mesh_shape.test.cpp), with octree<double>() built from it at depth 3.
+const MeshShape<double, 16, 16>& box_mesh_shape() {
+  static BoxMesh mesh;
+  REQUIRE(grip_mesh_test::load(grip_mesh_test::box_soup(box_half), mesh).status == Status::Ok);
+  static MeshShape<double, 16, 16> shape;
+  REQUIRE(shape.build(mesh) == Status::Ok);
+  REQUIRE(octree<double>().build(winding_signed(shape), 3) == Status::Ok);
+  return shape;
+}
 }  // namespace
 
 TEST_CASE("a box as a triangle mesh: the capsule's exact deepest point, as for the analytic box") {
   // A 12-triangle mesh of a box is a convex field equal to the box's exact distance
   // (mesh_shape.test.cpp): the convex bounds hold, against the independent box geometry.
   using S = double;
-  const V3 h(0.05, 0.04, 0.03);
-  static BoxMesh mesh;
-  REQUIRE(grip_mesh_test::load(grip_mesh_test::box_soup(h), mesh).status == Status::Ok);
-  static MeshShape<S, 16, 16> shape;
-  REQUIRE(shape.build(mesh) == Status::Ok);
-  REQUIRE(octree<S>().build(winding_signed(shape), 3) == Status::Ok);
-  const grip_test::ExactBox exact{V3::Zero(), h, Eigen::Matrix3d::Identity()};
+  const V3& h = box_half;
+  const MeshShape<S, 16, 16>& shape = box_mesh_shape();
+  const grip_test::ExactBox& exact = exact_box;
   std::mt19937 rng(19);
   Tally tally;
   const int trials = grip_test::scaled(150, 38);
@@ -582,6 +593,41 @@ TEST_CASE("a box as a triangle mesh: the capsule's exact deepest point, as for t
     aim_and_check<S>(shape, exact, rng, q, n, tally);
   }
   check_tally(tally, 70, 10, 3, trials, 150);
+}
+
+TEST_CASE("a phalanx buried in a box mesh: samples deeper than the band get their exact distance") {
+  // A mesh's bounded query misses a sample whose centre lies farther than the band from the
+  // surface, inside or outside; the narrow phase must then tell the two apart (a neighbour's
+  // distance, else the octree's solid leaves) and evaluate the deep ones exactly. Axes fully
+  // buried, entering through a face from outside, and leaving through it from inside: the
+  // convex bounds against the analytic box, and the same contacts without the octree.
+  using S = double;
+  const MeshShape<S, 16, 16>& shape = box_mesh_shape();
+  const grip_test::ExactBox& exact = exact_box;
+  const double r = 0.008;
+  const std::array<std::array<V3, 2>, 4> axes{{
+      {V3(-0.01, 0.0, 0.005), V3(0.01, 0.0, 0.005)},   // buried: every sample 25 mm deep
+      {V3(0.0, 0.0, -0.01), V3(0.0, 0.0, 0.05)},       // from 20 mm deep out through the top face
+      {V3(0.0, 0.01, 0.05), V3(0.0, -0.01, -0.01)},    // from outside in, ending 20 mm deep
+      {V3(-0.045, 0.0, 0.0), V3(0.045, 0.0, 0.0)},     // along the middle, 30 mm deep at most
+  }};
+  Tally tally;
+  for (const auto& ab : axes) {
+    check_phalanx<S>(shape, exact, [&](const V3& p) { return std::abs(exact(p)); }, Iso<S>::Identity(), ab[0], ab[1],
+                     r, true, tally);
+    HandCollisionModel<S> hand;
+    REQUIRE(hand.set_posture(single<S>(5, ab[0], ab[1], S(r))) == Status::Ok);
+    HandContacts<S> with, without;
+    REQUIRE(detect_contacts(hand, octree<S>(), shape, Iso<S>::Identity(), with) == Status::Ok);
+    REQUIRE(detect_contacts_direct(hand, shape, Iso<S>::Identity(), without) == Status::Ok);
+    REQUIRE(with.count == 1);
+    REQUIRE(without.count == 1);
+    CHECK(with[0].depth == without[0].depth);
+    CHECK(with[0].point == without[0].point);
+    CHECK(with[0].normal == without[0].normal);
+    CHECK(with[0].depth > S(0.02 + r));  // deeper than any bounded query reaches
+  }
+  CHECK(tally.deep == 4);
 }
 
 TEST_CASE_TEMPLATE("a mesh with cavities and a handle (the mug): the bounds of any field", S, double, float) {

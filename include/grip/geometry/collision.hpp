@@ -145,38 +145,53 @@ Scalar reach_margin(const HandCollisionModel<Scalar, Samples>& hand, int k, cons
   return Scalar(0.5) * (c.tip - c.base).norm() / Scalar(Samples - 1);
 }
 
-/// Marks the samples the octree descent finds in reach, and those whose centre lies in a
-/// solid leaf; stops when all are in reach unless `solid` is wanted.
+/// Marks the samples the octree descent finds in reach; stops when all are.
 template <class Scalar, int Samples, int Capacity>
 struct MarkReach {
   SampleField<Scalar, Samples>* field;
-  const SphericalOctree<Scalar, Capacity>* octree;
-  const PhalanxAxis<Scalar>* axis;
-  bool want_solid;
   int marked{0};
-  bool operator()(int o, int j0, int j1) {
-    const SphereNode<Scalar>& leaf = octree->tree().node(o);
-    const Scalar h = octree->cell_half_edge(leaf.level);
+  bool operator()(int, int j0, int j1) {
     for (int j = j0; j <= j1; ++j) {
-      const auto sj = detail::idx(j);
-      bool& r = field->reach[sj];
+      bool& r = field->reach[detail::idx(j)];
       marked += r ? 0 : 1;
       r = true;
-      if (want_solid && !field->solid[sj])
-        field->solid[sj] = (axis->at(Scalar(j) / Scalar(Samples - 1)) - leaf.center).cwiseAbs().maxCoeff() <= h;
     }
-    return want_solid || marked < Samples;
+    return marked < Samples;
   }
 };
 
+/// True if object-frame point p lies in the cube of a solid leaf of the octree (any of them,
+/// where p lies on cells' common faces): the descent from the root through the cells whose
+/// cube holds p.
+template <class Scalar, int Capacity>
+bool in_solid_leaf(const SphericalOctree<Scalar, Capacity>& octree, const Vector3<Scalar>& p) {
+  const auto& tree = octree.tree();
+  if (tree.empty() || !((p - tree.node(0).center).cwiseAbs().maxCoeff() <= octree.cell_half_edge(0))) return false;
+  int stack[8 * max_octree_depth + 1];
+  int sp = 0;
+  stack[sp++] = 0;
+  while (sp > 0) {
+    const int i = stack[--sp];
+    if (tree.is_leaf(i)) {
+      if (octree.kind(i) != CellKind::Empty) return true;
+      continue;
+    }
+    const SphereNode<Scalar>& nd = tree.node(i);
+    const Scalar h = octree.cell_half_edge(nd.level + 1);
+    for (int k = nd.first_child; k < nd.first_child + nd.child_count; ++k)
+      if ((p - tree.node(k).center).cwiseAbs().maxCoeff() <= h) stack[sp++] = k;
+  }
+  return false;
+}
+
 /// Narrow phase of one phalanx (samples in reach marked in s) and its contacts appended to out.
-template <class Scalar, int Samples, class Field, int PerPhalanx>
+template <class Scalar, int Samples, class Field, int PerPhalanx, class Inside>
 void emit_contacts(const Field& field, const PhalanxAxis<Scalar>& ax, SampleField<Scalar, Samples>& s, int k,
                    const ContactSettings<Scalar>& settings, const Isometry3<Scalar>& pose,
-                   HandContacts<Scalar, PerPhalanx>& out) {
+                   HandContacts<Scalar, PerPhalanx>& out, Inside&& may_be_inside) {
   FieldProbe<Scalar, Field> probe{field};
   const Scalar band = band_of<Scalar, Samples>(ax, settings);
-  evaluate_samples(probe, ax, band, s);
+  evaluate_samples(probe, ax, band, s, may_be_inside);
   std::array<Penetration<Scalar>, PerPhalanx> found;
   std::array<int, PerPhalanx> members{};
   const int n = phalanx_contacts<PerPhalanx>(field, probe, ax, s, band, settings, found, members);
@@ -228,12 +243,13 @@ Status detect_contacts(const HandCollisionModel<Scalar, Samples>& hand, const Sp
                                  [&](int k, const Isometry3<Scalar>& to_object) {
     const detail::PhalanxAxis<Scalar> ax = detail::object_axis(hand, k, to_object);
     detail::SampleField<Scalar, Samples> s;
-    detail::MarkReach<Scalar, Samples, Capacity> mark{&s, &octree, &ax,
-                                                      detail::has_bounded_query<Field, Scalar>::value};
+    detail::MarkReach<Scalar, Samples, Capacity> mark{&s};
     const auto seg = detail::SegmentQuery<Scalar>::make(ax.a, ax.b, ax.radius + detail::reach_margin(hand, k, settings),
                                                          Samples);
     detail::descend_from_root(seg, octree, mark);
-    if (mark.marked > 0) detail::emit_contacts(field, ax, s, k, settings, object_pose, out);
+    if (mark.marked > 0)
+      detail::emit_contacts(field, ax, s, k, settings, object_pose, out,
+                            [&octree](const Vector3<Scalar>& x) { return detail::in_solid_leaf(octree, x); });
   });
   return Status::Ok;
 }
@@ -256,8 +272,8 @@ Status detect_contacts_direct(const HandCollisionModel<Scalar, Samples>& hand, c
     if (!overlap(root, bounds)) continue;
     detail::SampleField<Scalar, Samples> s;
     s.reach.fill(true);
-    s.solid.fill(true);
-    detail::emit_contacts(field, detail::object_axis(hand, k, to_object), s, k, settings, object_pose, out);
+    detail::emit_contacts(field, detail::object_axis(hand, k, to_object), s, k, settings, object_pose, out,
+                          [](const Vector3<Scalar>&) { return true; });
   }
   return Status::Ok;
 }
@@ -271,7 +287,7 @@ Status query_samples(const HandCollisionModel<Scalar, Samples>& hand, const Sphe
   const Isometry3<Scalar> to_object = object_pose.inverse(Eigen::Isometry);
   const detail::PhalanxAxis<Scalar> ax = detail::object_axis(hand, k, to_object);
   detail::SampleField<Scalar, Samples> s;
-  detail::MarkReach<Scalar, Samples, Capacity> mark{&s, &octree, &ax, false};
+  detail::MarkReach<Scalar, Samples, Capacity> mark{&s};
   const ContactSettings<Scalar> settings{};
   detail::descend_from_root(
       detail::SegmentQuery<Scalar>::make(ax.a, ax.b, ax.radius + detail::reach_margin(hand, k, settings), Samples),

@@ -93,15 +93,11 @@ struct PhalanxAxis {
 
 /// The exact distances of a phalanx's samples (object frame), and which ones the broad
 /// phase put in reach (those not in reach are farther than the band: never evaluated).
-/// `solid`: the sample's centre may lie inside the object (it lies in a solid octree leaf,
-/// or no octree was asked); one that does not and has no surface within the band is out of
-/// reach.
 template <class Scalar, int Samples>
 struct SampleField {
   std::array<Scalar, Samples> phi{};
   std::array<Vector3<Scalar>, Samples> normal{};
   std::array<bool, Samples> reach{};
-  std::array<bool, Samples> solid{};
 };
 
 /// The band of a phalanx: a sample whose distance is below it may start a contact (its
@@ -126,32 +122,40 @@ struct Penetration {
 
 /// Evaluates the field at the samples in reach; those with no surface within the band and
 /// outside the object go out of reach, and so does a sample next to one at least a spacing
-/// beyond the band (phi is 1-Lipschitz: it is beyond the band too).
-template <class Scalar, int Samples, class Probe>
-void evaluate_samples(Probe& probe, const PhalanxAxis<Scalar>& ax, Scalar band, SampleField<Scalar, Samples>& s) {
-  const Scalar skip = band + (ax.b - ax.a).norm() / Scalar(Samples - 1);
+/// beyond the band (phi is 1-Lipschitz: it is beyond the band too). A centre x with no
+/// surface within the band (a bounded field's miss) lies outside unless phi(x) <= -band;
+/// phi(x) >= phi(previous sample) - spacing > -band proves it outside (a sample out of reach
+/// or skipped lies beyond the band: phi >= band > spacing - band, as band > spacing / 2).
+/// Otherwise `may_be_inside(x)` is asked: false when x surely lies outside the object (no
+/// solid octree leaf holds it), true when the exact distance is needed.
+template <class Scalar, int Samples, class Probe, class Inside>
+void evaluate_samples(Probe& probe, const PhalanxAxis<Scalar>& ax, Scalar band, SampleField<Scalar, Samples>& s,
+                      Inside&& may_be_inside) {
+  const Scalar spacing = (ax.b - ax.a).norm() / Scalar(Samples - 1);
+  const Scalar skip = band + spacing;
   bool far = false;  // the previous sample is at least a spacing beyond the band
+  Scalar below = -std::numeric_limits<Scalar>::infinity();  // a lower bound of the previous phi
   for (int j = 0; j < Samples; ++j) {
     const auto sj = detail::idx(j);
-    if (!s.reach[sj]) {
-      far = false;
-      continue;
-    }
-    if (far) {
+    if (!s.reach[sj] || far) {
       s.reach[sj] = false;
       far = false;
+      below = band;
       continue;
     }
     const Vector3<Scalar> x = ax.at(Scalar(j) / Scalar(Samples - 1));
     if (probe.within(x, band, s.phi[sj], s.normal[sj])) {
       far = s.phi[sj] >= skip;
+      below = s.phi[sj];
       continue;
     }
-    if (s.solid[sj]) {  // deep inside, or near a solid leaf
+    if (!(below - spacing > -band) && may_be_inside(x)) {  // deep inside, or in a solid leaf
       s.phi[sj] = probe.exact(x, s.normal[sj]);
       far = s.phi[sj] >= skip;
+      below = s.phi[sj];
     } else {
       s.reach[sj] = false;
+      below = band;
     }
   }
 }
