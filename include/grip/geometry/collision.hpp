@@ -146,7 +146,7 @@ Scalar reach_margin(const HandCollisionModel<Scalar, Samples>& hand, int k, cons
 }
 
 /// Marks the samples the octree descent finds in reach; stops when all are.
-template <class Scalar, int Samples, int Capacity>
+template <class Scalar, int Samples>
 struct MarkReach {
   SampleField<Scalar, Samples>* field;
   int marked{0};
@@ -160,28 +160,27 @@ struct MarkReach {
   }
 };
 
-/// True if object-frame point p lies in the cube of a solid leaf of the octree (any of them,
-/// where p lies on cells' common faces): the descent from the root through the cells whose
-/// cube holds p.
+/// True if object-frame point p lies in the cube of a solid leaf below octree cell i (itself
+/// holding p): any of them, where p lies on cells' common faces. Recursion depth at most the
+/// octree's depth.
+template <class Scalar, int Capacity>
+bool in_solid_leaf(const SphericalOctree<Scalar, Capacity>& octree, int i, const Vector3<Scalar>& p) {
+  const auto& tree = octree.tree();
+  if (i < 0 || i >= tree.size()) return false;  // (never: children of cells are cells)
+  if (tree.is_leaf(i)) return octree.kind(i) != CellKind::Empty;
+  const SphereNode<Scalar>& nd = tree.node(i);
+  const Scalar h = octree.cell_half_edge(nd.level + 1);
+  for (int k = nd.first_child; k < nd.first_child + nd.child_count; ++k)
+    if ((p - tree.node(k).center).cwiseAbs().maxCoeff() <= h && in_solid_leaf(octree, k, p)) return true;
+  return false;
+}
+
+/// True if object-frame point p lies in the cube of a solid leaf of the octree.
 template <class Scalar, int Capacity>
 bool in_solid_leaf(const SphericalOctree<Scalar, Capacity>& octree, const Vector3<Scalar>& p) {
   const auto& tree = octree.tree();
-  if (tree.empty() || !((p - tree.node(0).center).cwiseAbs().maxCoeff() <= octree.cell_half_edge(0))) return false;
-  int stack[8 * max_octree_depth + 1];
-  int sp = 0;
-  stack[sp++] = 0;
-  while (sp > 0) {
-    const int i = stack[--sp];
-    if (tree.is_leaf(i)) {
-      if (octree.kind(i) != CellKind::Empty) return true;
-      continue;
-    }
-    const SphereNode<Scalar>& nd = tree.node(i);
-    const Scalar h = octree.cell_half_edge(nd.level + 1);
-    for (int k = nd.first_child; k < nd.first_child + nd.child_count; ++k)
-      if ((p - tree.node(k).center).cwiseAbs().maxCoeff() <= h) stack[sp++] = k;
-  }
-  return false;
+  return !tree.empty() && (p - tree.node(0).center).cwiseAbs().maxCoeff() <= octree.cell_half_edge(0) &&
+         in_solid_leaf(octree, 0, p);
 }
 
 /// Narrow phase of one phalanx (samples in reach marked in s) and its contacts appended to out.
@@ -243,7 +242,7 @@ Status detect_contacts(const HandCollisionModel<Scalar, Samples>& hand, const Sp
                                  [&](int k, const Isometry3<Scalar>& to_object) {
     const detail::PhalanxAxis<Scalar> ax = detail::object_axis(hand, k, to_object);
     detail::SampleField<Scalar, Samples> s;
-    detail::MarkReach<Scalar, Samples, Capacity> mark{&s};
+    detail::MarkReach<Scalar, Samples> mark{&s};
     const auto seg = detail::SegmentQuery<Scalar>::make(ax.a, ax.b, ax.radius + detail::reach_margin(hand, k, settings),
                                                          Samples);
     detail::descend_from_root(seg, octree, mark);
@@ -287,7 +286,7 @@ Status query_samples(const HandCollisionModel<Scalar, Samples>& hand, const Sphe
   const Isometry3<Scalar> to_object = object_pose.inverse(Eigen::Isometry);
   const detail::PhalanxAxis<Scalar> ax = detail::object_axis(hand, k, to_object);
   detail::SampleField<Scalar, Samples> s;
-  detail::MarkReach<Scalar, Samples, Capacity> mark{&s};
+  detail::MarkReach<Scalar, Samples> mark{&s};
   const ContactSettings<Scalar> settings{};
   detail::descend_from_root(
       detail::SegmentQuery<Scalar>::make(ax.a, ax.b, ax.radius + detail::reach_margin(hand, k, settings), Samples),
