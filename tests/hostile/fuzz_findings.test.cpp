@@ -31,6 +31,9 @@ TEST_CASE("fuzz findings: every committed solver input keeps the oracle's promis
   // The finding of issue 25 (float soft fingers, a denormal squeeze: the reported residual
   // underflowed to 0) must be among them.
   REQUIRE(std::count(files.begin(), files.end(), dir / "denormal_squeeze_residual") == 1);
+  // And the least-squares refinement's: one float soft finger on a lever arm of 1e-22 m, whose
+  // torsion column, scaled by 1 / L, overflowed when squared (inf times 0 made a NaN force).
+  REQUIRE(std::count(files.begin(), files.end(), dir / "torsion_on_a_lever_of_1e-22") == 1);
   for (const auto& f : files) {
     const std::vector<std::uint8_t> bytes = read_bytes(f);
     const char* msg = grip_fuzz::check_solver_input(bytes.data(), bytes.size());

@@ -44,15 +44,20 @@ void forces_from_multipliers(const GraspT& grasp, const Wrench<typename GraspT::
   sol.multipliers = lambda;
 }
 
-/// The balanced columns b_j = D g_j of contact c's block of G (D = `balance`) into `b`, and
-/// s_j^2 = 1 / |b_j|^2 into `s2` (0 for a column of zero or non-finite length).
+/// The balanced columns b_j = D g_j of contact c's block of G (D = `balance`) as unit columns
+/// q_j = b_j / |b_j| into `q`, and s_j = 1 / |b_j| into `s` (q_j = 0 and s_j = 0 for a column of
+/// zero or non-finite length). Unit columns keep every product finite where |b_j|^2 would
+/// overflow (a moment row scaled by 1 / L for a lever arm L of 1e-22 m in float).
 template <class M, class S, int d>
-void balanced_columns(const Contact<S>& c, const Wrench<S>& balance, Eigen::Matrix<S, 6, d>& b,
-                      Eigen::Matrix<S, d, 1>& s2) {
-  b = balance.asDiagonal() * M::basis(c);
+void balanced_columns(const Contact<S>& c, const Wrench<S>& balance, Eigen::Matrix<S, 6, d>& q,
+                      Eigen::Matrix<S, d, 1>& s) {
+  q = balance.asDiagonal() * M::basis(c);
   for (int j = 0; j < d; ++j) {
-    const S norm = stable_norm(b.col(j));
-    s2(j) = norm > S(0) && std::isfinite(S(1) / norm) ? S(1) / (norm * norm) : S(0);
+    const S norm = stable_norm(q.col(j));
+    const bool usable = norm > S(0) && std::isfinite(norm) && std::isfinite(S(1) / norm);
+    s(j) = usable ? S(1) / norm : S(0);
+    if (usable) q.col(j) *= s(j);
+    else q.col(j).setZero();
   }
 }
 
@@ -82,7 +87,7 @@ bool residual_reducible(const GraspT& grasp, typename GraspT::ScalarType length,
 /// lever arms far from 1 m, or one contact far beyond the lever arm L; the directions cut
 /// there stay unbalanced. The correction is therefore taken on G's own columns, each scaled to
 /// unit length (rank and the least residual do not depend on column scales): with
-/// b_j = D g_j, s_j = 1 / |b_j| and A1 = sum_j s_j^2 b_j b_j^T, x_j += s_j^2 b_j^T u for
+/// b_j = D g_j, s_j = 1 / |b_j|, q_j = s_j b_j and A1 = sum_j q_j q_j^T, x_j += s_j q_j^T u for
 /// u = A1^+ D (-res). Then |D (G x + w_ext)| is the smallest whatever the weights and units (F2
 /// is smallest among such x only to within that correction). Two steps, the residual taken from
 /// the forces themselves each time (the one from the sums, M lambda - rhs, loses to
@@ -98,12 +103,12 @@ void refine_least_squares(const GraspT& grasp, const Wrench<typename GraspT::Sca
   using Local = Eigen::Matrix<S, d, 1>;
   const Wrench<S> balance = unit_balance(length);
   Matrix6<S> a1 = Matrix6<S>::Zero();
-  Eigen::Matrix<S, 6, d> b;
-  Local s2;
+  Eigen::Matrix<S, 6, d> q;
+  Local s;
   res = w_ext;
   for (int i = 0; i < grasp.size(); ++i) {
-    balanced_columns<M>(grasp.contact(i), balance, b, s2);
-    a1.noalias() += b * s2.asDiagonal() * b.transpose();
+    balanced_columns<M>(grasp.contact(i), balance, q, s);
+    a1.noalias() += q * q.transpose();
     res += M::wrench(grasp.contact(i), Local(sol.forces.template segment<d>(i * d)));
   }
   const PseudoInverse6<S> pinv(a1);
@@ -111,9 +116,9 @@ void refine_least_squares(const GraspT& grasp, const Wrench<typename GraspT::Sca
     const Wrench<S> u = pinv.apply(Wrench<S>(-balance.cwiseProduct(res)));
     res = w_ext;
     for (int i = 0; i < grasp.size(); ++i) {
-      balanced_columns<M>(grasp.contact(i), balance, b, s2);
+      balanced_columns<M>(grasp.contact(i), balance, q, s);
       auto xi = sol.forces.template segment<d>(i * d);
-      xi += s2.cwiseProduct(b.transpose() * u);
+      xi += s.cwiseProduct(q.transpose() * u);  // s_j^2 b_j^T u
       res += M::wrench(grasp.contact(i), Local(xi));
     }
   }
