@@ -136,6 +136,67 @@ void check_lanes(std::mt19937& rng, int n) {
   double gap_ref = 0;
   for (std::size_t j = 0; j < s.size(); ++j) gap_ref += s[j].dot(z[j]);
   CHECK(k.affine_gap(0.0) == doctest::Approx(gap_ref).epsilon(1e-13));
+  // affine_gap also prepared Mehrotra's corrector from ds, dz: d = c + sm e' (fields d, el)
+  // solves lambda o d = sm e - lambda o lambda - (W^-1 ds) o (W dz) for every sm.
+  for (const double sm : {0.0, 0.37, 5.0}) {
+    for (int i = 0; i < n; ++i) {
+      const auto j = static_cast<std::size_t>(i);
+      V lambda, d;
+      for (int r = 0; r < M; ++r) {
+        lambda(r) = Lanes::at(k.lambda, r, i);
+        d(r) = Lanes::at(k.d, r, i) + sm * Lanes::at(k.el, r, i);
+      }
+      const V rhs = sm * V::Unit(0) - grip_test::soc_product(lambda, lambda) -
+                    grip_test::soc_product(w[j].apply_inverse(ds[j]), w[j].apply(dz[j]));
+      CHECK((grip_test::soc_product(lambda, d) - rhs).norm() <= grip_test::roundoff<double>(1024, 1, rhs.norm() + sm));
+    }
+  }
+  // recover, with rc = g = 0 (as constructed): ds_i = F_i dq, dz_i = -W_i^-2 F_i dq,
+  // res -= sum F_i^T dz_i, and the step max_step() finds along them.
+  Eigen::Matrix<double, 7, 1> dq, res = Eigen::Matrix<double, 7, 1>::Zero(), res_ref = res;
+  for (int c = 0; c < 7; ++c) dq(c) = u(rng);
+  double step2_ref = std::numeric_limits<double>::infinity(), scale = 0;
+  for (int i = 0; i < n; ++i) {
+    const auto j = static_cast<std::size_t>(i);
+    ds[j] = f[j] * dq;
+    dz[j] = -w[j].apply_inverse(w[j].apply_inverse(ds[j]));
+    res_ref -= f[j].transpose() * dz[j];
+    step2_ref = std::min({step2_ref, grip_test::soc_max_step(s[j], ds[j]), grip_test::soc_max_step(z[j], dz[j])});
+    scale += ds[j].norm() + dz[j].norm();
+  }
+  const double step2 = k.recover(dq, res);
+  CHECK(step2 == k.max_step());
+  if (std::isinf(step2_ref))
+    CHECK(std::isinf(step2));
+  else
+    CHECK(step2 == doctest::Approx(step2_ref).epsilon(1e-9));
+  CHECK((res - res_ref).norm() <= grip_test::roundoff<double>(1024, 1, 8 * scale));
+  // advance: the step a, then residuals, gap and H at the new point, in one pass.
+  const double a = std::isinf(step2) ? 1.0 : 0.5 * step2;
+  Eigen::Matrix<double, 7, 1> q, rd = Eigen::Matrix<double, 7, 1>::Zero(), rd_ref = rd;
+  for (int c = 0; c < 7; ++c) q(c) = u(rng);
+  Eigen::Matrix<double, 7, 7> h2 = Eigen::Matrix<double, 7, 7>::Zero(), h2_ref = h2;
+  double gap2_ref = 0, pres_ref = 0, pres = 0;
+  for (int i = 0; i < n; ++i) {
+    const auto j = static_cast<std::size_t>(i);
+    s[j] += a * ds[j];
+    z[j] += a * dz[j];
+    gap2_ref += s[j].dot(z[j]);
+    rd_ref -= f[j].transpose() * z[j];
+    const V rc = f[j] * q - s[j];
+    pres_ref = std::max(pres_ref, rc.cwiseAbs().maxCoeff() / (1 + s[j].cwiseAbs().maxCoeff()));
+    REQUIRE(w[j].set(s[j], z[j]));
+    Eigen::Matrix<double, M, 7> wf;
+    w[j].apply_inverse_to(f[j], wf);
+    h2_ref += wf.transpose() * wf;
+  }
+  bool ok = true;
+  const double gap2 = k.advance(a, q, rd, pres, h2, ok);
+  CHECK(ok);
+  CHECK(gap2 == doctest::Approx(gap2_ref).epsilon(1e-10));
+  CHECK(pres == doctest::Approx(pres_ref).epsilon(1e-10));
+  CHECK((rd - rd_ref).norm() <= grip_test::roundoff<double>(1024, 1, 1 + rd_ref.norm()));
+  CHECK((h2 - h2_ref).norm() <= 1e-10 * h2_ref.norm());
 }
 
 TEST_CASE("the lane-wise cone algebra agrees with the scalar one, partial packs included") {

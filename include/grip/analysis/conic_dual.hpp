@@ -15,7 +15,7 @@
 /// unknowns x_i = L_i^T z_i then lie in K_i. Both are solved together by a primal-dual
 /// interior-point method (Mehrotra predictor-corrector, Nesterov-Todd scaling of each cone,
 /// detail/cone_lanes.hpp), started from the strictly feasible q0 and z_i = e: each
-/// iteration is O(n) to form the 7x7 matrix H = sum F_i^T W_i^-2 F_i plus its pivoted LDL^T
+/// iteration is O(n) to form the 7x7 matrix H = sum F_i^T W_i^-2 F_i plus its LDL^T
 /// factorisation and two solves. The O(n) work runs on the contacts in SIMD lanes, 8 or 4 at
 /// a time. It stops when the dual residual, the primal residual, the complementarity
 /// gap sum s_i . z_i and the difference of the two objectives are below the tolerance
@@ -90,13 +90,16 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
   ConeLanes<S, D, GraspT::capacity> k(n);
   std::array<Eigen::Matrix<S, D, D>, GraspT::capacity> L;  // cone_map of each contact
   for (int i = 0; i < n; ++i) {
-    const Contact<S> ci = cast_contact<S>(grasp.contact(i));
-    Eigen::Matrix<S, D, 7> A;
-    A.template leftCols<6>() = -(M::basis(ci).transpose() * dsc.asDiagonal());
-    A.col(6) = cone_axis<M>(ci);
-    L[static_cast<std::size_t>(i)] = cone_map<M>(ci);
-    const Eigen::Matrix<S, D, 7> Fi = L[static_cast<std::size_t>(i)] * A;
-    for (int r = 0; r < D; ++r) k.set_map(i, r, Fi.row(r));
+    const auto& ci = wide_contact<S>(grasp.contact(i));
+    const Eigen::Matrix<S, D, 1> axis = cone_axis<M>(ci);
+    const Eigen::Matrix<S, D, D>& li = L[static_cast<std::size_t>(i)] = cone_map<M>(ci);
+    for (int r = 0; r < D; ++r) {  // row r of L_i [-(D G_i)^T, e_i]: (-(D G_i l_r)^T, l_r . e_i)
+      const Eigen::Matrix<S, D, 1> lr = li.row(r).transpose();
+      Eigen::Matrix<S, 7, 1> row;
+      row.template head<6>() = -dsc.cwiseProduct(M::wrench(ci, lr));
+      row(6) = lr.dot(axis);
+      k.set_map(i, r, row);
+    }
   }
   struct Half {  // the zeta >= 0 cone, scalars
     S s{1}, z{1}, rc{0}, ds{0}, dz{0}, dsa{0}, dza{0}, lambda{1}, d{0};
@@ -117,7 +120,7 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
   // Solves the Newton system for the complementarity right-hand sides d (per cone, in the
   // scaled space): W dz + W^-1 ds = d, F dq - ds = -rc, F^T dz + a dy = rd, a . dq = rp.
   // Eliminating ds and dz leaves H dq - a dy = r1, a . dq = rp with H = sum F^T W^-2 F.
-  SmallLdlt<7, S> ldlt;  // of H, diagonally pivoted
+  SmallLdlt<7, S> ldlt;  // of H, in natural order (pivoted as a fall-back)
   auto solve_h = [&](const V7& r) {
     S x[7];
     for (int j = 0; j < 7; ++j) x[j] = r(j);
@@ -136,11 +139,12 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
     t = (r2 - a.dot(hr)) / aha;
     x = hr + t * hia;
   };
+  S step_bound(0);  // the cones' largest step along the last directions (k.recover)
   // ds and dz from dq: ds = F dq + rc, dz = W^-1 (d - W^-1 ds) = g - W^-1 (W^-1 F) dq with
   // g = W^-1 (d - W^-1 rc); returns the dual equation's residual rd - F^T dz - a dy.
   auto recover = [&]() {
     V7 res = rd - dy * a;
-    k.recover(dq, res);
+    step_bound = k.recover(dq, res);
     if (zeta_nonneg) {
       const S om = std::sqrt(h.s / h.z);
       h.ds = dq(6) + h.rc;
@@ -149,9 +153,9 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
     }
     return res;
   };
-  auto newton = [&]() {
+  auto newton = [&](bool affine, S sm) {
     V7 r1 = -rd;
-    k.newton_rhs(r1);
+    k.newton_rhs(r1, affine, sm);
     if (zeta_nonneg) {
       const S om = std::sqrt(h.s / h.z);
       r1(6) += (h.d - h.rc / om) / om;
@@ -172,7 +176,7 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
   };
   // The largest step in [0, 1] keeping s and z in the cones (fraction `f` of the way).
   auto step = [&](S f) {
-    S t = k.max_step();
+    S t = step_bound;
     if (zeta_nonneg) {
       if (h.ds < S(0)) t = std::min(t, -h.s / h.ds);
       if (h.dz < S(0)) t = std::min(t, -h.z / h.dz);
@@ -182,13 +186,18 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
 
   out.status = Status::IterationLimit;
   int it = 0;
+  S alpha(0);  // the last step, taken by k.advance at the top of the next iteration
   for (;; ++it) {
-    // Residuals and the stopping test.
+    // The step, the residuals, the stopping test, and the scalings with H, in one pass.
     rd = c - y * a;
     S pres = std::abs(S(1) - a.dot(q));
     rp = S(1) - a.dot(q);
-    S gap = k.residuals(q, rd, pres);
+    M7 H = M7::Zero();
+    bool scaled = true;
+    S gap = k.advance(alpha, q, rd, pres, H, scaled);
     if (zeta_nonneg) {
+      h.s += alpha * h.ds;
+      h.z += alpha * h.dz;
       rd(6) -= h.z;
       h.rc = q(6) - h.s;
       gap += h.s * h.z;
@@ -203,31 +212,34 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
       out.status = Status::Infeasible;
       break;
     }
-    if (it >= max_iterations) break;
+    if (it >= max_iterations || !scaled) break;
 
-    // Scalings and the factorisation of H.
-    M7 H = M7::Zero();
-    if (!k.scale(H)) break;
+    // The factorisation of H.
     if (zeta_nonneg) {
       H(6, 6) += h.z / h.s;
       h.lambda = std::sqrt(h.s * h.z);
     }
-    H.diagonal().array() += S(1) * eps * H.diagonal().maxCoeff();
+    // Regularised by eps times its largest diagonal entry, or by sqrt(eps) when rounding
+    // leaves that indefinite near the optimum; the refinement in `newton` corrects for it.
+    const S hmax = H.diagonal().maxCoeff();
+    H.diagonal().array() += eps * hmax;
     const auto fill_h = [&H](S (&f)[7][7]) {
       for (int r = 0; r < 7; ++r)
         for (int j = 0; j < 7; ++j) f[r][j] = H(r, j);
     };
-    if (!ldlt.factor_pivoted(fill_h, S(0))) break;
+    if (!ldlt.factor(fill_h, hmax, S(0))) {
+      H.diagonal().array() += std::sqrt(eps) * hmax;
+      if (!ldlt.factor(fill_h, hmax, S(0))) break;
+    }
     hia = solve_h(a);
     aha = a.dot(hia);
     if (!(std::abs(aha) > S(0)) || !std::isfinite(aha)) break;
 
     // Predictor (affine scaling): d = -lambda.
-    k.set_affine();
     h.d = -h.lambda;
-    newton();
+    newton(true, S(0));
     const S alpha_a = step(S(1));
-    S gap_a = k.affine_gap(alpha_a);
+    S gap_a = k.affine_gap(alpha_a);  // also prepares the corrector's right-hand side
     if (zeta_nonneg) {
       gap_a += (h.s + alpha_a * h.ds) * (h.z + alpha_a * h.dz);
       h.dsa = h.ds;
@@ -238,18 +250,12 @@ ConicDualResult<GraspT> solve_conic_dual(const GraspT& grasp, typename GraspT::S
     const S sigma = ratio * ratio * ratio;
 
     // Corrector (Mehrotra): lambda o d = sigma mu e - lambda o lambda - (W^-1 ds_a) o (W dz_a).
-    k.set_corrector(sigma * mu);
     if (zeta_nonneg) h.d = (sigma * mu - h.lambda * h.lambda - h.dsa * h.dza) / h.lambda;
-    newton();
-    const S alpha = step(S(0.99));
+    newton(false, sigma * mu);
+    alpha = step(S(0.99));
     if (!(alpha > S(0))) break;
     q += alpha * dq;
     y += alpha * dy;
-    k.update(alpha);
-    if (zeta_nonneg) {
-      h.s += alpha * h.ds;
-      h.z += alpha * h.dz;
-    }
   }
   out.iterations = it;
   out.y = q.template head<6>().template cast<T>();

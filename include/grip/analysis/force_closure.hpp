@@ -23,6 +23,7 @@
 /// geometric test that the tests check this against.
 
 #include <cmath>
+#include <type_traits>
 
 #include "grip/analysis/conic_dual.hpp"
 #include "grip/core/scalar_traits.hpp"
@@ -103,20 +104,26 @@ ForceClosure<GraspT> force_closure(const GraspT& grasp,
   const int n = grasp.size();
   if (!grasp.complete() || n == 0 || !valid_settings(settings))
     return out;
-  auto contact = [&](int i) { return detail::cast_contact<W>(grasp.contact(i)); };
+  auto contact = [&](int i) -> decltype(auto) { return detail::wide_contact<W>(grasp.contact(i)); };
   const W rho = W(detail::internal_torque_scale(grasp));
   const Wrench<W> dsc = detail::row_scaling(rho);
 
-  // 1. Rank of G on the cone spans.
-  Matrix6<W> gram = Matrix6<W>::Zero();
+  // 1. Rank of G on the cone spans: gram = D (sum G_i P_i G_i^T) D, P_i the span projector
+  // (the closed forms of the model when P_i = I).
+  GramAccumulator<W> acc;
   Wrench<W> ge = Wrench<W>::Zero();  // D G e: sum of the scaled normal columns
   for (int i = 0; i < n; ++i) {
-    const Contact<W> c = contact(i);
-    const Eigen::Matrix<W, 6, D> b = dsc.asDiagonal() * M::basis(c);
-    const Eigen::Matrix<W, 6, D> bs = b * detail::cone_span<M>(c);
-    gram.noalias() += bs * b.transpose();
-    ge.noalias() += b * detail::cone_axis<M>(c);
+    const auto& c = contact(i);
+    if (detail::full_span<M>(c)) {
+      M::accumulate(acc, c, W(1));
+    } else {
+      const Eigen::Matrix<W, 6, D> b = M::basis(c);
+      acc.extra.noalias() += b * detail::cone_span<M>(c) * b.transpose();
+    }
+    ge += M::wrench(c, detail::cone_axis<M>(c));
   }
+  const Matrix6<W> gram = dsc.asDiagonal() * acc.matrix() * dsc.asDiagonal();
+  ge = dsc.cwiseProduct(ge);
   // Rank: the eigenvalues of gram above rank_tolerance times the largest. Full rank is
   // certain, and the eigen decomposition not needed, when the least eigenvalue's lower bound
   // 1 / tr(gram^-1) (from a pivoted LDL^T with positive pivots) exceeds the cut even against
@@ -169,22 +176,23 @@ ForceClosure<GraspT> force_closure(const GraspT& grasp,
   W margin = W(r.objective);  // below margin_floor when the solver stopped there (Infeasible)
   // Internal force x = s + t e with t = (1 - sum e.s) / n (s the cone multipliers).
   XW x = r.primal.template cast<W>();
+  if (!x.allFinite()) x.setZero(grasp.unknowns());
   W es(0);
   for (int i = 0; i < n; ++i) es += detail::cone_axis<M>(contact(i)).dot(x.template segment<D>(i * D));
   const W t = (W(1) - es) / W(n);
-  for (int i = 0; i < n; ++i) x.template segment<D>(i * D) += t * detail::cone_axis<M>(contact(i));
-  auto wrench = [&](const XW& f) {  // G f (N and N m)
-    Wrench<W> w = Wrench<W>::Zero();
-    for (int i = 0; i < n; ++i) w.noalias() += M::basis(contact(i)) * f.template segment<D>(i * D);
-    return w;
-  };
-  if (!x.allFinite()) x.setZero(grasp.unknowns());
+  Wrench<W> gx = Wrench<W>::Zero();  // G x
+  for (int i = 0; i < n; ++i) {
+    const auto& ci = contact(i);
+    x.template segment<D>(i * D) += t * detail::cone_axis<M>(ci);
+    gx += M::wrench(ci, Eigen::Matrix<W, D, 1>(x.template segment<D>(i * D)));
+  }
+  bool measured = false;  // out.residual set from x below
   if (r.status == Status::Ok) {
     // The multipliers balance only to the solver's tolerance; make x internal to round-off
     // by the least-squares correction on the cone spans, x_i -= P_i (D G_i)^T z with
     // (sum (D G_i) P_i (D G_i)^T) z = D G x (rank 6 here), then report the margin this x
     // achieves: a witnessed lower bound, within the tolerance of the dual's upper bound.
-    const Wrench<W> res = dsc.cwiseProduct(wrench(x));
+    const Wrench<W> res = dsc.cwiseProduct(gx);
     Wrench<W> z;
     if (full) {
       W col[6];
@@ -194,26 +202,40 @@ ForceClosure<GraspT> force_closure(const GraspT& grasp,
     } else {
       z = vecs * (vecs.transpose() * res).cwiseQuotient(ev);
     }
+    const Wrench<W> dz = dsc.cwiseProduct(z);  // (D G_i)^T z = G_i^T (D z)
     W sum(0), achieved(0);
     for (int i = 0; i < n; ++i) {
-      const Contact<W> ci = contact(i);
-      const Eigen::Matrix<W, 6, D> b = dsc.asDiagonal() * M::basis(ci);
-      x.template segment<D>(i * D) -= detail::cone_span<M>(ci) * (b.transpose() * z);
+      const auto& ci = contact(i);
+      Eigen::Matrix<W, D, 1> step = M::wrench_transpose(ci, dz);
+      if (!detail::full_span<M>(ci)) step = detail::cone_span<M>(ci) * step;
+      x.template segment<D>(i * D) -= step;
       sum += detail::cone_axis<M>(ci).dot(x.template segment<D>(i * D));
     }
     x /= sum;
+    gx.setZero();
     for (int i = 0; i < n; ++i) {
-      const W ti = detail::normal_margin<M>(contact(i), Eigen::Matrix<W, D, 1>(x.template segment<D>(i * D)));
+      const auto& ci = contact(i);
+      const Eigen::Matrix<W, D, 1> xi = x.template segment<D>(i * D);
+      const W ti = detail::normal_margin<M>(ci, xi);
       achieved = i == 0 ? ti : std::min(achieved, ti);
+      gx += M::wrench(ci, xi);
     }
-    if (x.allFinite() && std::isfinite(achieved))
+    measured = std::is_same<S, W>::value;
+    if (x.allFinite() && std::isfinite(achieved)) {
       margin = std::min(margin, achieved);
-    else
+    } else {
       x.setZero(grasp.unknowns());
+      measured = false;
+    }
   }
   out.margin = S(margin);
   out.internal_force = x.template cast<S>();
-  out.residual = S(wrench(out.internal_force.template cast<W>()).norm());
+  if (!measured) {  // |G x| of the reported (rounded) force
+    gx.setZero();
+    for (int i = 0; i < n; ++i)
+      gx += M::wrench(contact(i), Eigen::Matrix<W, D, 1>(out.internal_force.template segment<D>(i * D).template cast<W>()));
+  }
+  out.residual = S(gx.norm());
   out.status = r.status == Status::IterationLimit ? Status::IterationLimit : Status::Ok;
   out.closure = out.status == Status::Ok && out.margin > S(10) * settings.tolerance;
   if (!out.closure) {

@@ -18,17 +18,17 @@ namespace detail {
 
 /// LDL^T of a small symmetric N x N matrix `a` (full storage; the strict lower triangle is
 /// overwritten by L, unit lower triangular) in the order given by `perm` (P^T A P = L D L^T,
-/// perm[i] = the row of A that is row i of P^T A). With `pivot` true each step eliminates the largest
+/// perm[i] = the row of A that is row i of P^T A). With `Pivot` true each step eliminates the largest
 /// remaining diagonal entry, so |L| <= 1 and a pivot that is zero in exact arithmetic stays at
 /// round-off size (rank revealing, like LAPACK's pstrf); `perm` is then filled in. With
-/// `pivot` false `perm` must hold the identity and is kept. The diagonal of `a` keeps D and
+/// `Pivot` false `perm` must hold the identity and is kept. The diagonal of `a` keeps D and
 /// `inv_d` receives 1 / D.
 /// Returns false as soon as a pivot is not above `min_pivot` (or NaN). No square roots; one
 /// division per pivot.
-template <int N, class Scalar>
-bool ldlt_factor(Scalar (&a)[N][N], Scalar (&inv_d)[N], int (&perm)[N], Scalar min_pivot, bool pivot) {
+template <bool Pivot, int N, class Scalar>
+bool ldlt_factor(Scalar (&a)[N][N], Scalar (&inv_d)[N], int (&perm)[N], Scalar min_pivot) {
   for (int j = 0; j < N; ++j) {
-    if (pivot) {
+    if constexpr (Pivot) {
       int p = j;
       for (int i = j + 1; i < N; ++i)
         if (a[i][i] > a[p][p]) p = i;
@@ -45,7 +45,7 @@ bool ldlt_factor(Scalar (&a)[N][N], Scalar (&inv_d)[N], int (&perm)[N], Scalar m
       const Scalar lij = a[i][j] * inv;
       for (int k = j + 1; k <= i; ++k) {
         a[i][k] -= lij * a[k][j];
-        if (pivot) a[k][i] = a[i][k];  // keep both triangles for later swaps
+        if constexpr (Pivot) a[k][i] = a[i][k];  // keep both triangles for later swaps
       }
     }
     for (int i = j + 1; i < N; ++i) a[i][j] *= inv;  // column j of L
@@ -90,21 +90,21 @@ struct SmallLdlt {
   template <class Fill>
   bool factor(const Fill& fill, Scalar ref, Scalar tol) {
     reset(fill);
-    if (ldlt_factor<N>(f, inv_d, perm, Scalar(0), false)) {
+    if (ldlt_factor<false, N>(f, inv_d, perm, Scalar(0))) {
       const Scalar inv_ref = Scalar(1) / ref;
       Scalar det_ratio(1);
       for (int j = 0; j < N; ++j) det_ratio *= f[j][j] * inv_ref;
       if (det_ratio > tol) return true;
     }
     reset(fill);
-    return ldlt_factor<N>(f, inv_d, perm, tol * ref, true);
+    return ldlt_factor<true, N>(f, inv_d, perm, tol * ref);
   }
   /// The diagonally pivoted factorisation alone (no fast path) of the matrix `fill(f)` writes:
   /// false as soon as a pivot is not above `min_pivot` (ldlt_factor).
   template <class Fill>
   bool factor_pivoted(const Fill& fill, Scalar min_pivot) {
     reset(fill);
-    return ldlt_factor<N>(f, inv_d, perm, min_pivot, true);
+    return ldlt_factor<true, N>(f, inv_d, perm, min_pivot);
   }
   /// Factors the matrix `a` (full storage; not modified). False: rank deficient.
   bool factor(const Scalar (&a)[N][N], Scalar ref, Scalar tol) {

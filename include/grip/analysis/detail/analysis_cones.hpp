@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include <Eigen/Core>
 
@@ -60,6 +61,17 @@ Eigen::Matrix<S, Model::dim, Model::dim> cone_span(const Contact<S>& c) {
     if constexpr (Model::dim == 4) p(3, 3) = c.torsional_friction > S(0) ? S(1) : S(0);
   }
   return p;
+}
+
+/// True when cone_span<Model>(c) is the identity (every friction coefficient > 0).
+template <class Model, class S>
+bool full_span(const Contact<S>& c) {
+  if constexpr (Model::dim == 1)
+    return true;
+  else if constexpr (Model::dim == 4)
+    return c.friction > S(0) && c.torsional_friction > S(0);
+  else
+    return c.friction > S(0);
 }
 
 /// The exact cone of contact c for contact model Model.
@@ -156,6 +168,16 @@ Contact<To> cast_contact(const Contact<S>& c) {
   w.squeeze = To(c.squeeze);
   w.weight = To(c.weight);
   return w;
+}
+
+/// Contact c in the scalar To: c itself (a reference, no copy) when To is its scalar, else
+/// cast_contact<To>(c) (a value).
+template <class To, class S>
+decltype(auto) wide_contact(const Contact<S>& c) {
+  if constexpr (std::is_same<To, S>::value)
+    return (c);
+  else
+    return cast_contact<To>(c);
 }
 
 }  // namespace detail

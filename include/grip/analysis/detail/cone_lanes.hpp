@@ -52,7 +52,7 @@ struct ConeLanes {
   int n{0};       ///< contacts
   int blocks{0};  ///< packs of `width` contacts
   std::array<S, D * 7 * stride> F{}, WF{};  ///< F_i and W_i^-1 F_i, entry (r, c) at (7 r + c) stride + i
-  Field s{}, z{}, rc{}, ds{}, dz{}, dsa{}, dza{}, lambda{}, d{}, g{}, v{};
+  Field s{}, z{}, rc{}, ds{}, dz{}, lambda{}, d{}, el{}, g{}, v{};
   std::array<S, stride> beta{}, inv_beta{};
 
   /// n contacts, every lane at s = z = e, F = 0 (fill F with set_map, then start()).
@@ -83,30 +83,42 @@ struct ConeLanes {
     return ok;
   }
 
-  /// rd -= sum F_i^T z_i; rc_i = F_i q - s_i; returns sum s_i . z_i, and the largest
-  /// |rc_i|_inf / (1 + |s_i|_inf) in `pres` (if larger).
-  S residuals(const V7& q, V7& rd, S& pres) {
-    P acc[8], gap = P::set1(S(0));
-    for (int c = 0; c < 8; ++c) acc[c] = P::set1(S(0));
-    alignas(64) S rel[8];
+  /// The pass that opens an iteration: s_i += a ds_i and z_i += a dz_i (skipped for a = 0);
+  /// then at the new point rd -= sum F_i^T z_i, rc_i = F_i q - s_i, the largest
+  /// |rc_i|_inf / (1 + |s_i|_inf) into `pres` (if larger), and scale()'s work (H and `ok`).
+  /// Returns the gap sum s_i . z_i.
+  template <class M7>
+  S advance(S a, const V7& q, V7& rd, S& pres, M7& H, bool& ok) {
+    P acc[8], hacc[32], gap = P::set1(S(0)), rel = gap;
+    for (P& e : acc) e = gap;
+    for (P& e : hacc) e = gap;
+    const P pa = P::set1(a);
     for_blocks([&](int o, typename P::Mask valid) {
-      P fq[D], zr[D], big_r = P::set1(S(0)), big_s = P::set1(S(0)), sz = P::set1(S(0));
+      P su[D], zu[D], fq[D], big_r = P::set1(S(0)), big_s = P::set1(S(0)), sz = P::set1(S(0));
       map(F.data(), o, q, fq);
       for (int r = 0; r < D; ++r) {
-        const P sr = P::load(ptr(s, r, o));
-        zr[r] = P::load(ptr(z, r, o));
-        const P rr = select(valid, fq[r] - sr, P::set1(S(0)));
+        su[r] = P::load(ptr(s, r, o));
+        zu[r] = P::load(ptr(z, r, o));
+        if (a != S(0)) {
+          su[r] = mul_add(pa, P::load(ptr(ds, r, o)), su[r]);
+          zu[r] = mul_add(pa, P::load(ptr(dz, r, o)), zu[r]);
+          su[r].store(ptr(s, r, o));
+          zu[r].store(ptr(z, r, o));
+        }
+        const P rr = select(valid, fq[r] - su[r], P::set1(S(0)));
         rr.store(ptr(rc, r, o));
         big_r = max(big_r, abs(rr));
-        big_s = max(big_s, abs(sr));
-        sz = mul_add(sr, zr[r], sz);
+        big_s = max(big_s, abs(su[r]));
+        sz = mul_add(su[r], zu[r], sz);
       }
-      transpose_map(F.data(), o, zr, acc);
+      transpose_map(F.data(), o, zu, acc);
       gap = gap + select(valid, sz, P::set1(S(0)));
-      (big_r / (P::set1(S(1)) + big_s)).store(rel);
-      for (int l = 0; l < width; ++l) pres = std::max(pres, rel[l]);
+      rel = max(rel, big_r / (P::set1(S(1)) + big_s));
+      ok = scale_block(o, valid, su, zu, hacc) && ok;
     });
     rd -= sums(acc);
+    pres = std::max(pres, -least(P::set1(S(0)) - rel));  // the largest lane of rel
+    add_upper(hacc, H);
     return gap.sum();
   }
 
@@ -114,78 +126,36 @@ struct ConeLanes {
   /// H += sum WF_i^T WF_i; false if some pair is not interior (or a scaling not finite).
   template <class M7>
   bool scale(M7& H) {
-    P acc[32];  // the 28 entries of H's upper triangle (and 4 zeros: sum_each takes multiples of 8)
+    P acc[32];
     for (int e = 0; e < 32; ++e) acc[e] = P::set1(S(0));
     bool ok = true;
     for_blocks([&](int o, typename P::Mask valid) {
-      P su[D], zu[D], vv[D];
+      P su[D], zu[D];
       load(s, o, su);
       load(z, o, zu);
-      const P dsn = det(su), dzn = det(zu), zero = P::set1(S(0));
-      const typename P::Mask good = (dsn > zero) & (dzn > zero) & (su[0] > zero) & (zu[0] > zero);
-      const P rs = P::set1(S(1)) / sqrt(select(good, dsn, P::set1(S(1))));
-      const P rz = P::set1(S(1)) / sqrt(select(good, dzn, P::set1(S(1))));
-      P dot = su[0] * zu[0] * rs * rz;  // zn . sn
-      for (int r = 1; r < D; ++r) dot = mul_add(su[r] * rs, zu[r] * rz, dot);
-      const P gamma = sqrt((P::set1(S(1)) + dot) * P::set1(S(0.5)));
-      const P inv2g = P::set1(S(1)) / (P::set1(S(2)) * gamma);
-      const P w0 = (su[0] * rs + zu[0] * rz) * inv2g;
-      const P nv = P::set1(S(1)) / sqrt(P::set1(S(2)) * (w0 + P::set1(S(1))));
-      vv[0] = (w0 + P::set1(S(1))) * nv;
-      for (int r = 1; r < D; ++r) vv[r] = (su[r] * rs - zu[r] * rz) * inv2g * nv;
-      const P b = sqrt(sqrt(select(good, dsn / dzn, P::set1(S(1)))));
-      const P ib = P::set1(S(1)) / b;
-      P fin = b + ib;
-      for (int r = 0; r < D; ++r) fin = fin + vv[r];
-      ok = ok && and_not(valid, good & (abs(fin) < P::set1(std::numeric_limits<S>::infinity()))).bits() == 0u;
-      for (int r = 0; r < D; ++r) vv[r].store(ptr(v, r, o));
-      b.store(&beta[static_cast<std::size_t>(o)]);
-      ib.store(&inv_beta[static_cast<std::size_t>(o)]);
-      P lz[D];
-      apply(vv, b, zu, lz);
-      for (int r = 0; r < D; ++r) lz[r].store(ptr(lambda, r, o));
-      P col[D][7];
-      for (int c = 0; c < 7; ++c) {
-        P fc[D], wc[D];
-        for (int r = 0; r < D; ++r) fc[r] = P::load(&F[static_cast<std::size_t>((7 * r + c) * stride + o)]);
-        apply_inverse(vv, ib, fc, wc);
-        for (int r = 0; r < D; ++r) {
-          wc[r].store(&WF[static_cast<std::size_t>((7 * r + c) * stride + o)]);
-          col[r][c] = wc[r];
-        }
-      }
-      int e = 0;
-      for (int a = 0; a < 7; ++a)
-        for (int c = a; c < 7; ++c, ++e)
-          for (int r = 0; r < D; ++r) acc[e] = mul_add(col[r][a], col[r][c], acc[e]);
+      ok = scale_block(o, valid, su, zu, acc) && ok;
     });
-    S h[32];
-    P::sum_each(acc, 32, h);
-    int e = 0;
-    for (int a = 0; a < 7; ++a)
-      for (int c = a; c < 7; ++c, ++e) {
-        H(a, c) += h[e];
-        if (c != a) H(c, a) += h[e];
-      }
+    add_upper(acc, H);
     return ok;
   }
 
-  /// d_i = -lambda_i (the affine-scaling right-hand side).
-  void set_affine() {
-    for (std::size_t k = 0; k < d.size(); ++k) d[k] = -lambda[k];
-  }
-
-  /// g_i = W_i^-1 (d_i - W_i^-1 rc_i); r1 += sum F_i^T g_i.
-  void newton_rhs(V7& r1) {
+  /// g_i = W_i^-1 (d_i - W_i^-1 rc_i); r1 += sum F_i^T g_i. For the predictor (`affine`)
+  /// d_i = -lambda_i; for the corrector d_i = c_i + sm e'_i as prepared by affine_gap().
+  void newton_rhs(V7& r1, bool affine, S sm) {
     P acc[8];  // sum_each takes multiples of 8: acc[7] stays 0
     for (int c = 0; c < 8; ++c) acc[c] = P::set1(S(0));
+    const P psm = P::set1(sm);
     for_blocks([&](int o, typename P::Mask) {
       P vv[D], u[D], w[D];
       load(v, o, vv);
       const P ib = P::load(&inv_beta[static_cast<std::size_t>(o)]);
       load(rc, o, u);
       apply_inverse(vv, ib, u, w);
-      for (int r = 0; r < D; ++r) u[r] = P::load(ptr(d, r, o)) - w[r];
+      for (int r = 0; r < D; ++r) {
+        const P dr = affine ? P::set1(S(0)) - P::load(ptr(lambda, r, o))
+                            : mul_add(psm, P::load(ptr(el, r, o)), P::load(ptr(d, r, o)));
+        u[r] = dr - w[r];
+      }
       apply_inverse(vv, ib, u, w);
       for (int r = 0; r < D; ++r) w[r].store(ptr(g, r, o));
       transpose_map(F.data(), o, w, acc);
@@ -193,14 +163,19 @@ struct ConeLanes {
     r1 += sums(acc);
   }
 
-  /// ds_i = F_i dq + rc_i, dz_i = g_i - W_i^-1 (WF_i dq); res -= sum F_i^T dz_i.
-  void recover(const V7& dq, V7& res) {
+  /// ds_i = F_i dq + rc_i, dz_i = g_i - W_i^-1 (WF_i dq); res -= sum F_i^T dz_i. Returns the
+  /// largest a >= 0 keeping every s_i + a ds_i and z_i + a dz_i in Q, as max_step() would.
+  S recover(const V7& dq, V7& res) {
     P acc[8];  // sum_each takes multiples of 8: acc[7] stays 0
     for (int c = 0; c < 8; ++c) acc[c] = P::set1(S(0));
+    P t = P::set1(std::numeric_limits<S>::infinity());
     for_blocks([&](int o, typename P::Mask valid) {
-      P u[D], w[D], vv[D];
+      P u[D], w[D], vv[D], dsu[D], base[D];
       map(F.data(), o, dq, u);
-      for (int r = 0; r < D; ++r) select(valid, u[r] + P::load(ptr(rc, r, o)), P::set1(S(0))).store(ptr(ds, r, o));
+      for (int r = 0; r < D; ++r) {
+        dsu[r] = select(valid, u[r] + P::load(ptr(rc, r, o)), P::set1(S(0)));
+        dsu[r].store(ptr(ds, r, o));
+      }
       map(WF.data(), o, dq, u);
       load(v, o, vv);
       apply_inverse(vv, P::load(&inv_beta[static_cast<std::size_t>(o)]), u, w);
@@ -209,8 +184,13 @@ struct ConeLanes {
         w[r].store(ptr(dz, r, o));
       }
       transpose_map(F.data(), o, w, acc);
+      load(s, o, base);
+      t = min(t, select(valid, ray_step(base, dsu), t));
+      load(z, o, base);
+      t = min(t, select(valid, ray_step(base, w), t));
     });
     res -= sums(acc);
+    return least(t);
   }
 
   /// The largest a >= 0 keeping every s_i + a ds_i and z_i + a dz_i in Q (infinity if no bound).
@@ -225,61 +205,107 @@ struct ConeLanes {
       load(dz, o, du);
       t = min(t, select(valid, ray_step(u, du), t));
     });
-    alignas(64) S lanes[8];
-    t.store(lanes);
-    S best = lanes[0];
-    for (int l = 1; l < width; ++l) best = std::min(best, lanes[l]);
-    return best;
+    return least(t);
   }
 
-  /// sum (s_i + a ds_i) . (z_i + a dz_i), and keeps ds, dz as the affine directions.
+  /// sum (s_i + a ds_i) . (z_i + a dz_i), the predictor's gap; also prepares the corrector
+  /// (Mehrotra) from the predictor's directions ds, dz: the d_i with lambda_i o d_i = sm e -
+  /// lambda_i o lambda_i - (W^-1 ds_i) o (W dz_i) is linear in sm, d_i = c_i + sm e'_i with
+  /// e'_i = lambda_i \ e; c_i goes to d and e'_i to el, for newton_rhs(r1, false, sm).
   S affine_gap(S a) {
     P gap = P::set1(S(0));
     const P pa = P::set1(a);
     for_blocks([&](int o, typename P::Mask valid) {
-      P acc = P::set1(S(0));
+      P acc = P::set1(S(0)), dsr[D], dzr[D];
       for (int r = 0; r < D; ++r) {
-        const P dsr = P::load(ptr(ds, r, o)), dzr = P::load(ptr(dz, r, o));
-        acc = mul_add(mul_add(pa, dsr, P::load(ptr(s, r, o))), mul_add(pa, dzr, P::load(ptr(z, r, o))), acc);
-        dsr.store(ptr(dsa, r, o));
-        dzr.store(ptr(dza, r, o));
+        dsr[r] = P::load(ptr(ds, r, o));
+        dzr[r] = P::load(ptr(dz, r, o));
+        acc = mul_add(mul_add(pa, dsr[r], P::load(ptr(s, r, o))), mul_add(pa, dzr[r], P::load(ptr(z, r, o))), acc);
       }
       gap = gap + select(valid, acc, P::set1(S(0)));
+      P vv[D], l[D], x[D], y[D];
+      load(v, o, vv);
+      load(lambda, o, l);
+      apply_inverse(vv, P::load(&inv_beta[static_cast<std::size_t>(o)]), dsr, x);
+      apply(vv, P::load(&beta[static_cast<std::size_t>(o)]), dzr, y);
+      P r[D];
+      r[0] = P::set1(S(0)) - dot(l, l) - dot(x, y);
+      for (int k = 1; k < D; ++k) r[k] = P::set1(S(0)) - P::set1(S(2)) * l[0] * l[k] - (x[0] * y[k] + y[0] * x[k]);
+      // lambda \ r: d_0 = (lambda_0 r_0 - lambda_1 . r_1) / det(lambda), d_1 = (r_1 - d_0 lambda_1) / lambda_0;
+      // for r = e: d_0 = lambda_0 / det(lambda), d_1 = -d_0 lambda_1 / lambda_0.
+      P l1r1 = P::set1(S(0));
+      for (int k = 1; k < D; ++k) l1r1 = mul_add(l[k], r[k], l1r1);
+      const P idet = P::set1(S(1)) / det(l), il0 = P::set1(S(1)) / l[0];
+      const P d0 = (l[0] * r[0] - l1r1) * idet, e0 = l[0] * idet;
+      d0.store(ptr(d, 0, o));
+      e0.store(ptr(el, 0, o));
+      for (int k = 1; k < D; ++k) {
+        ((r[k] - d0 * l[k]) * il0).store(ptr(d, k, o));
+        (P::set1(S(0)) - e0 * l[k] * il0).store(ptr(el, k, o));
+      }
     });
     return gap.sum();
   }
 
-  /// Mehrotra's corrector: lambda_i o d_i = sm e - lambda_i o lambda_i - (W^-1 dsa_i) o (W dza_i).
-  void set_corrector(S sm) {
-    for_blocks([&](int o, typename P::Mask) {
-      P vv[D], l[D], a[D], b[D], x[D], y[D];
-      load(v, o, vv);
-      load(lambda, o, l);
-      load(dsa, o, a);
-      load(dza, o, b);
-      apply_inverse(vv, P::load(&inv_beta[static_cast<std::size_t>(o)]), a, x);
-      apply(vv, P::load(&beta[static_cast<std::size_t>(o)]), b, y);
-      P r[D];
-      r[0] = P::set1(sm) - dot(l, l) - dot(x, y);
-      for (int k = 1; k < D; ++k) r[k] = P::set1(S(0)) - P::set1(S(2)) * l[0] * l[k] - (x[0] * y[k] + y[0] * x[k]);
-      // d = lambda \ r: d_0 = (lambda_0 r_0 - lambda_1 . r_1) / det(lambda), d_1 = (r_1 - d_0 lambda_1) / lambda_0.
-      P l1r1 = P::set1(S(0));
-      for (int k = 1; k < D; ++k) l1r1 = mul_add(l[k], r[k], l1r1);
-      const P d0 = (l[0] * r[0] - l1r1) / det(l);
-      d0.store(ptr(d, 0, o));
-      for (int k = 1; k < D; ++k) ((r[k] - d0 * l[k]) / l[0]).store(ptr(d, k, o));
-    });
-  }
-
-  /// s_i += a ds_i, z_i += a dz_i.
-  void update(S a) {
-    for (std::size_t k = 0; k < s.size(); ++k) {
-      s[k] += a * ds[k];
-      z[k] += a * dz[k];
-    }
-  }
-
  private:
+  /// scale()'s work on the block at lane o, s and z given: false if a valid lane fails.
+  bool scale_block(int o, typename P::Mask valid, const P (&su)[D], const P (&zu)[D], P (&acc)[32]) {
+    P vv[D];
+    const P dsn = det(su), dzn = det(zu), zero = P::set1(S(0));
+    const typename P::Mask good = (dsn > zero) & (dzn > zero) & (su[0] > zero) & (zu[0] > zero);
+    const P rs = P::set1(S(1)) / sqrt(select(good, dsn, P::set1(S(1))));
+    const P rz = P::set1(S(1)) / sqrt(select(good, dzn, P::set1(S(1))));
+    P dot = su[0] * zu[0] * rs * rz;  // zn . sn
+    for (int r = 1; r < D; ++r) dot = mul_add(su[r] * rs, zu[r] * rz, dot);
+    const P gamma = sqrt((P::set1(S(1)) + dot) * P::set1(S(0.5)));
+    const P inv2g = P::set1(S(1)) / (P::set1(S(2)) * gamma);
+    const P w0 = (su[0] * rs + zu[0] * rz) * inv2g;
+    const P nv = P::set1(S(1)) / sqrt(P::set1(S(2)) * (w0 + P::set1(S(1))));
+    vv[0] = (w0 + P::set1(S(1))) * nv;
+    for (int r = 1; r < D; ++r) vv[r] = (su[r] * rs - zu[r] * rz) * inv2g * nv;
+    const P b = sqrt(sqrt(select(good, dsn / dzn, P::set1(S(1)))));
+    const P ib = P::set1(S(1)) / b;
+    P fin = b + ib;
+    for (int r = 0; r < D; ++r) fin = fin + vv[r];
+    const bool ok = and_not(valid, good & (abs(fin) < P::set1(std::numeric_limits<S>::infinity()))).bits() == 0u;
+    for (int r = 0; r < D; ++r) vv[r].store(ptr(v, r, o));
+    b.store(&beta[static_cast<std::size_t>(o)]);
+    ib.store(&inv_beta[static_cast<std::size_t>(o)]);
+    P lz[D];
+    apply(vv, b, zu, lz);
+    for (int r = 0; r < D; ++r) lz[r].store(ptr(lambda, r, o));
+    P col[D][7];
+    for (int c = 0; c < 7; ++c) {
+      P fc[D], wc[D];
+      for (int r = 0; r < D; ++r) fc[r] = P::load(&F[static_cast<std::size_t>((7 * r + c) * stride + o)]);
+      apply_inverse(vv, ib, fc, wc);
+      for (int r = 0; r < D; ++r) {
+        wc[r].store(&WF[static_cast<std::size_t>((7 * r + c) * stride + o)]);
+        col[r][c] = wc[r];
+      }
+    }
+    int e = 0;
+    for (int a = 0; a < 7; ++a)
+      for (int c = a; c < 7; ++c, ++e)
+        for (int r = 0; r < D; ++r) acc[e] = mul_add(col[r][a], col[r][c], acc[e]);
+    return ok;
+  }
+  template <class M7>
+  static void add_upper(const P (&acc)[32], M7& H) {
+    S h[32];
+    P::sum_each(acc, 32, h);
+    int e = 0;
+    for (int a = 0; a < 7; ++a)
+      for (int c = a; c < 7; ++c, ++e) {
+        H(a, c) += h[e];
+        if (c != a) H(c, a) += h[e];
+      }
+  }
+  static S least(P t) {  // the least lane
+    alignas(64) S lanes[8];
+    t.store(lanes);
+    return *std::min_element(lanes, lanes + width);
+  }
   template <class Fn>
   void for_blocks(Fn&& fn) const {
     for (int b = 0; b < blocks; ++b) fn(b * width, P::first(n - b * width));
