@@ -1,0 +1,115 @@
+#pragma once
+// NumPy arrays in, grip's types out: shape and value checks that raise ValueError naming the
+// field and the index, before anything reaches the library (whose own checks answer with a
+// Status, not a message).
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <grip/grip.hpp>
+
+namespace grip_python {
+
+namespace py = pybind11;
+
+/// Most contacts a grasp from Python holds (the bound of its fixed-capacity storage).
+constexpr int max_contacts = 64;
+
+using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+inline std::string shape_of(const Array& a) {
+  std::string s = "(";
+  for (py::ssize_t k = 0; k < a.ndim(); ++k) s += (k ? ", " : "") + std::to_string(a.shape(k));
+  return s + (a.ndim() == 1 ? ",)" : ")");
+}
+
+[[noreturn]] inline void invalid(const std::string& what) { throw py::value_error(what); }
+
+/// An (n, 3) array of finite numbers within grip's magnitude bound.
+inline Array rows3(const py::handle& obj, const char* name) {
+  Array a = Array::ensure(obj);
+  if (!a) invalid(std::string(name) + " must be an array of numbers of shape (n, 3)");
+  if (a.ndim() != 2 || a.shape(1) != 3) invalid(std::string(name) + " must have shape (n, 3), not " + shape_of(a));
+  for (py::ssize_t i = 0; i < a.shape(0); ++i)
+    for (int k = 0; k < 3; ++k) {
+      const double v = a.at(i, k);
+      if (!std::isfinite(v) || std::abs(v) > grip::ScalarTraits<double>::max_magnitude)
+        invalid(std::string(name) + "[" + std::to_string(i) + "] is not finite (or beyond 1e15)");
+    }
+  return a;
+}
+
+/// A number per contact: a scalar (the same for all) or an array of shape (n,), each finite
+/// and at least `least`.
+inline std::vector<double> per_contact(const py::handle& obj, py::ssize_t n, const char* name, double least,
+                                       const char* bound) {
+  std::vector<double> out(static_cast<std::size_t>(n));
+  Array a = Array::ensure(obj);
+  if (!a) invalid(std::string(name) + " must be a number or an array of shape (n,)");
+  if (a.ndim() == 0) {
+    for (double& v : out) v = a.at();
+  } else if (a.ndim() == 1 && a.shape(0) == n) {
+    for (py::ssize_t i = 0; i < n; ++i) out[static_cast<std::size_t>(i)] = a.at(i);
+  } else {
+    invalid(std::string(name) + " must be a number or have shape (" + std::to_string(n) + ",), not " + shape_of(a));
+  }
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const std::string at = a.ndim() == 0 ? std::string(name) : std::string(name) + "[" + std::to_string(i) + "]";
+    if (!std::isfinite(out[i]) || std::abs(out[i]) > grip::ScalarTraits<double>::max_magnitude)
+      invalid(at + " is not finite (or beyond 1e15)");
+    if (!(out[i] >= least)) invalid(at + " must be " + bound + ", not " + std::to_string(out[i]));
+  }
+  return out;
+}
+
+/// A wrench (force in N; moment in N m), shape (6,), finite.
+inline grip::Wrench<double> wrench(const py::handle& obj, const char* name) {
+  Array a = Array::ensure(obj);
+  if (!a || a.ndim() != 1 || a.shape(0) != 6)
+    invalid(std::string(name) + " must have shape (6,) (force; moment), not " + (a ? shape_of(a) : std::string("a non-array")));
+  grip::Wrench<double> w;
+  for (int k = 0; k < 6; ++k) {
+    w(k) = a.at(k);
+    if (!std::isfinite(w(k)) || std::abs(w(k)) > grip::ScalarTraits<double>::max_magnitude)
+      invalid(std::string(name) + "[" + std::to_string(k) + "] is not finite (or beyond 1e15)");
+  }
+  return w;
+}
+
+/// The contacts of a grasp from its arrays, each checked (see grip::validate for the rules).
+inline std::vector<grip::Contact<double>> contacts(const py::handle& positions, const py::handle& normals,
+                                                   const py::handle& friction, const py::handle& torsional_friction,
+                                                   const py::handle& squeeze, const py::handle& weights) {
+  const Array p = rows3(positions, "positions"), a = rows3(normals, "normals");
+  const py::ssize_t n = p.shape(0);
+  if (a.shape(0) != n)
+    invalid("normals must have as many rows as positions (" + std::to_string(n) + "), not " + std::to_string(a.shape(0)));
+  if (n < 1 || n > max_contacts)
+    invalid("a grasp has 1 to " + std::to_string(max_contacts) + " contacts, not " + std::to_string(n));
+  const auto mu = per_contact(friction, n, "friction", 0.0, ">= 0");
+  const auto mut = per_contact(torsional_friction, n, "torsional_friction", 0.0, ">= 0");
+  const auto s = per_contact(squeeze, n, "squeeze", 0.0, ">= 0");
+  const auto w = per_contact(weights, n, "weights", grip::ScalarTraits<double>::min_weight, ">= 1e-12");
+  std::vector<grip::Contact<double>> out(static_cast<std::size_t>(n));
+  for (py::ssize_t i = 0; i < n; ++i) {
+    grip::Contact<double>& c = out[static_cast<std::size_t>(i)];
+    const auto k = static_cast<std::size_t>(i);
+    c.position = grip::Vector3<double>(p.at(i, 0), p.at(i, 1), p.at(i, 2));
+    c.normal = grip::Vector3<double>(a.at(i, 0), a.at(i, 1), a.at(i, 2));
+    c.friction = mu[k];
+    c.torsional_friction = mut[k];
+    c.squeeze = s[k];
+    c.weight = w[k];
+    const double norm = c.normal.norm();
+    if (!(std::abs(norm * norm - 1) <= 2 * grip::ScalarTraits<double>::normal_tolerance))
+      invalid("normals[" + std::to_string(i) + "] must be a unit vector (to 1e-6), its norm is " + std::to_string(norm));
+    if (grip::validate(c) != grip::Status::Ok) invalid("contact " + std::to_string(i) + " is invalid");
+  }
+  return out;
+}
+
+}  // namespace grip_python

@@ -1,0 +1,298 @@
+// The Python module grip._grip: grasps from NumPy arrays, the grasp matrix and the paper's
+// KKT system, the three solvers and force closure, for double and the three contact models
+// with a run-time count of 1 to max_contacts contacts. Every solve releases the GIL.
+
+#include <sstream>
+#include <string>
+#include <utility>
+#include <variant>
+
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <grip/grip.hpp>
+
+#include "convert.hpp"
+
+namespace py = pybind11;
+
+namespace grip_python {
+
+using HardGrasp = grip::Grasp<grip::Dynamic, grip::HardFinger, double, max_contacts>;
+using SoftGrasp = grip::Grasp<grip::Dynamic, grip::SoftFinger, double, max_contacts>;
+using PointGrasp = grip::Grasp<grip::Dynamic, grip::FrictionlessPoint, double, max_contacts>;
+
+enum class Model { HardFinger, SoftFinger, FrictionlessPoint };
+
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+/// A grasp of one of the three models; immutable once made (so solves may run without the GIL).
+struct PyGrasp {
+  std::variant<HardGrasp, SoftGrasp, PointGrasp> g;
+  template <class F>
+  decltype(auto) visit(F&& f) const {
+    return std::visit(std::forward<F>(f), g);
+  }
+  int size() const {
+    return visit([](const auto& x) { return x.size(); });
+  }
+  int dim() const {
+    return visit([](const auto& x) { return std::decay_t<decltype(x)>::dim; });
+  }
+};
+
+/// A number as Python's repr would show it (shortest of %g's forms).
+inline std::string number(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+/// x (n * dim) as an (n, dim) array.
+template <class Vector>
+RowMatrix per_contact_rows(const Vector& x, int dim) {
+  return Eigen::Map<const RowMatrix>(x.data(), x.size() / dim, dim);
+}
+
+struct SolutionPy {
+  RowMatrix forces;  ///< (n, dim)
+  grip::Wrench<double> multipliers{grip::Wrench<double>::Zero()};
+  grip::Status status{grip::Status::InvalidInput};
+  double residual{0};
+  int iterations{0};
+};
+
+struct ConstrainedPy : SolutionPy {
+  grip::Wrench<double> certificate{grip::Wrench<double>::Zero()};
+  double objective{0}, dual_objective{0};
+  bool fast_path{false};
+  int passes{0};
+};
+
+struct ForceClosurePy {
+  bool closure{false};
+  double margin{0};
+  grip::Wrench<double> unresisted{grip::Wrench<double>::Zero()};
+  RowMatrix internal_force;
+  double residual{0};
+  int rank{0}, iterations{0};
+  grip::Status status{grip::Status::InvalidInput};
+};
+
+template <class S>
+void fill(SolutionPy& out, const S& s, int dim) {
+  out.forces = per_contact_rows(s.forces, dim);
+  out.multipliers = s.multipliers;
+  out.status = s.status;
+  out.residual = s.residual;
+  out.iterations = s.iterations;
+}
+
+/// The binding of a direct solver solve(grasp, w_ext): the wrench checked, then solved
+/// without the GIL.
+template <class Solve>
+auto direct_solver(Solve solve) {
+  return [solve](const PyGrasp& g, const py::handle& w) {
+    const auto we = wrench(w, "w_ext");
+    py::gil_scoped_release release;
+    SolutionPy out;
+    g.visit([&](const auto& x) { fill(out, solve(x, we), g.dim()); });
+    return out;
+  };
+}
+
+PyGrasp make_grasp(const py::handle& positions, const py::handle& normals, const py::handle& friction,
+                   const py::handle& torsional_friction, const py::handle& squeeze, const py::handle& weights,
+                   Model model) {
+  const auto cs = contacts(positions, normals, friction, torsional_friction, squeeze, weights);
+  PyGrasp out;
+  auto build = [&](auto g) {
+    for (const auto& c : cs)
+      if (g.add(c) != grip::Status::Ok) invalid("contact rejected by the grasp");
+    out.g = std::move(g);
+  };
+  switch (model) {
+    case Model::HardFinger: build(HardGrasp{}); break;
+    case Model::SoftFinger: build(SoftGrasp{}); break;
+    case Model::FrictionlessPoint: build(PointGrasp{}); break;
+  }
+  return out;
+}
+
+Eigen::VectorXd field(const PyGrasp& g, int which) {
+  return g.visit([which](const auto& x) {
+    Eigen::VectorXd v(x.size());
+    for (int i = 0; i < x.size(); ++i) {
+      const auto& c = x.contact(i);
+      v(i) = which == 0 ? c.friction : which == 1 ? c.torsional_friction : which == 2 ? c.squeeze : c.weight;
+    }
+    return v;
+  });
+}
+
+RowMatrix vectors(const PyGrasp& g, bool normals) {
+  return g.visit([normals](const auto& x) {
+    RowMatrix m(x.size(), 3);
+    for (int i = 0; i < x.size(); ++i) m.row(i) = (normals ? x.contact(i).normal : x.contact(i).position).transpose();
+    return m;
+  });
+}
+
+}  // namespace grip_python
+
+using namespace grip_python;
+
+PYBIND11_MODULE(_grip, m) {
+  m.doc() = "grip: grasp mechanics (the grasp matrix, optimal contact forces, friction cones, force closure).";
+  m.attr("max_contacts") = max_contacts;
+
+  py::enum_<grip::Status>(m, "Status", "The outcome of every grip computation.")
+      .value("Ok", grip::Status::Ok, "success: the answer, to round-off or the tolerance")
+      .value("InvalidInput", grip::Status::InvalidInput, "an input or setting out of its domain")
+      .value("Singular", grip::Status::Singular, "G has rank < 6: some wrench cannot be balanced at all")
+      .value("Infeasible", grip::Status::Infeasible, "no forces inside the friction cones balance the wrench")
+      .value("IterationLimit", grip::Status::IterationLimit, "an iterative solver stopped at its bound");
+
+  py::enum_<Model>(m, "Model", "The contact model: what one contact transmits.")
+      .value("HardFinger", Model::HardFinger, "a force f_i (3 unknowns) in a Coulomb cone")
+      .value("SoftFinger", Model::SoftFinger, "a force and a moment about the normal (4 unknowns)")
+      .value("FrictionlessPoint", Model::FrictionlessPoint, "a push along the normal (1 unknown)");
+
+  py::class_<PyGrasp>(m, "Grasp",
+                      "Contacts on one object. positions (n, 3) in m from the object's centre of mass; "
+                      "normals (n, 3), unit, pointing INTO the object; friction mu_i >= 0 (dimensionless); "
+                      "torsional_friction mu_t >= 0 (m, soft finger: |m| <= mu_t f_n); squeeze s_i >= 0 (N, "
+                      "the force the solvers pull each contact's normal component towards); weights w_i > 0 "
+                      "of the objective 1/2 sum w_i |x_i - t_i|^2. Numbers may be scalars (the same for every "
+                      "contact) or arrays of shape (n,). 1 to max_contacts contacts. Invalid input raises "
+                      "ValueError naming the field and the index.")
+      .def(py::init(&make_grasp), py::arg("positions"), py::arg("normals"), py::arg("friction"), py::kw_only(),
+           py::arg("torsional_friction") = 0.0, py::arg("squeeze") = 0.0, py::arg("weights") = 1.0,
+           py::arg("model") = Model::HardFinger)
+      .def_property_readonly("size", &PyGrasp::size, "number of contacts n")
+      .def_property_readonly("dim", &PyGrasp::dim, "unknowns per contact (3, 4 or 1)")
+      .def_property_readonly("model", [](const PyGrasp& g) { return static_cast<Model>(g.g.index()); })
+      .def_property_readonly("positions", [](const PyGrasp& g) { return vectors(g, false); }, "(n, 3), m")
+      .def_property_readonly("normals", [](const PyGrasp& g) { return vectors(g, true); }, "(n, 3), unit, into the object")
+      .def_property_readonly("friction", [](const PyGrasp& g) { return field(g, 0); })
+      .def_property_readonly("torsional_friction", [](const PyGrasp& g) { return field(g, 1); })
+      .def_property_readonly("squeeze", [](const PyGrasp& g) { return field(g, 2); })
+      .def_property_readonly("weights", [](const PyGrasp& g) { return field(g, 3); })
+      .def("grasp_matrix", [](const PyGrasp& g) { return g.visit([](const auto& x) { return Eigen::MatrixXd(x.grasp_matrix()); }); },
+           "G (6, n * dim): G x is the wrench (force in N; moment in N m about the centre of mass) that the contact "
+           "unknowns x apply on the object")
+      .def("target", [](const PyGrasp& g) { return g.visit([&](const auto& x) { return per_contact_rows(x.target(), g.dim()); }); },
+           "t (n, dim): the forces the objective pulls each contact towards (hard finger: s_i a_i, N)")
+      .def("kkt_matrix", [](const PyGrasp& g) { return g.visit([](const auto& x) { return Eigen::MatrixXd(x.kkt_matrix()); }); },
+           "the paper's H of eq. 9, (6 + n * dim) square: [[W, -G^T], [G, 0]] in grip's ordering (docs/conventions.md)")
+      .def("kkt_rhs",
+           [](const PyGrasp& g, const py::handle& w) {
+             const auto we = wrench(w, "w_ext");
+             return g.visit([&](const auto& x) { return Eigen::VectorXd(x.kkt_rhs(we)); });
+           },
+           py::arg("w_ext"), "the paper's b of eq. 9 for the external wrench w_ext (6,)")
+      .def("__repr__", [](const PyGrasp& g) {
+        static const char* names[] = {"HardFinger", "SoftFinger", "FrictionlessPoint"};
+        return "<grip.Grasp of " + std::to_string(g.size()) + " contacts, " + names[g.g.index()] + ">";
+      });
+
+  py::class_<SolutionPy>(m, "Solution", "Contact forces that balance w_ext (G x + w_ext = 0).")
+      .def_readonly("forces", &SolutionPy::forces, "(n, dim): the unknowns per contact (hard finger: f_i in N, ON the object; the hand feels -f_i)")
+      .def_readonly("multipliers", &SolutionPy::multipliers, "(6,): lambda of the equilibrium rows")
+      .def_readonly("status", &SolutionPy::status)
+      .def_readonly("residual", &SolutionPy::residual, "|G x + w_ext| (N and N m)")
+      .def_readonly("iterations", &SolutionPy::iterations)
+      .def("__repr__", [](const SolutionPy& s) {
+        return "<grip.Solution " + std::string(grip::to_string(s.status)) + ", residual " + number(s.residual) + ">";
+      });
+  py::class_<ConstrainedPy, SolutionPy>(m, "ConstrainedSolution", "The optimum inside the friction cones, or a certificate that none exists.")
+      .def_readonly("certificate", &ConstrainedPy::certificate,
+                    "(6,) when Infeasible: y with G_i^T y in every dual cone and y . w_ext > 0; zero otherwise")
+      .def_readonly("objective", &ConstrainedPy::objective, "1/2 sum w_i |x_i - t_i|^2 at forces")
+      .def_readonly("dual_objective", &ConstrainedPy::dual_objective)
+      .def_readonly("fast_path", &ConstrainedPy::fast_path, "the unconstrained optimum was inside every cone")
+      .def_readonly("passes", &ConstrainedPy::passes, "O(n) passes over the contacts (the unit of max_passes)");
+  py::class_<ForceClosurePy>(m, "ForceClosure", "Force closure of a grasp with its exact cones.")
+      .def_readonly("closure", &ForceClosurePy::closure)
+      .def_readonly("margin", &ForceClosurePy::margin,
+                    "largest t such that an internal force of total normal force 1 keeps x_i - t e_i in every cone")
+      .def_readonly("unresisted", &ForceClosurePy::unresisted, "(6,) a unit wrench that cannot be resisted (zero in closure)")
+      .def_readonly("internal_force", &ForceClosurePy::internal_force, "(n, dim) an internal force achieving the margin")
+      .def_readonly("residual", &ForceClosurePy::residual, "|G internal_force|")
+      .def_readonly("rank", &ForceClosurePy::rank)
+      .def_readonly("iterations", &ForceClosurePy::iterations)
+      .def_readonly("status", &ForceClosurePy::status)
+      .def("__repr__", [](const ForceClosurePy& f) {
+        return std::string("<grip.ForceClosure ") + (f.closure ? "closure" : "no closure") + ", margin " + number(f.margin) + ">";
+      });
+
+  using CS = grip::ConstrainedSettings<double>;
+  py::class_<CS>(m, "ConstrainedSettings", "Tolerances and bounds of solve_constrained (docs/solve.md names each).")
+      .def(py::init<>())
+      .def_readwrite("tolerance", &CS::tolerance)
+      .def_readwrite("gap_tolerance", &CS::gap_tolerance)
+      .def_readwrite("regularisation", &CS::regularisation)
+      .def_readwrite("certificate_tolerance", &CS::certificate_tolerance)
+      .def_readwrite("least_residual_weight", &CS::least_residual_weight)
+      .def_readwrite("max_iterations", &CS::max_iterations)
+      .def_readwrite("max_line_search", &CS::max_line_search)
+      .def_readwrite("max_passes", &CS::max_passes, "deadline: the most O(n) passes (IterationLimit when hit)");
+  using AS = grip::ConicAnalysisSettings<double>;
+  py::class_<AS>(m, "ConicAnalysisSettings", "Tolerance and bounds of force_closure.")
+      .def(py::init<>())
+      .def_readwrite("tolerance", &AS::tolerance)
+      .def_readwrite("max_newton_steps", &AS::max_newton_steps)
+      .def_readwrite("margin_floor", &AS::margin_floor);
+
+  m.def("solve_range_space",
+        direct_solver([](const auto& x, const grip::Wrench<double>& w) { return grip::solve_range_space(x, w); }),
+        py::arg("grasp"), py::arg("w_ext"),
+        "The forces nearest the targets (min 1/2 sum w_i |x_i - t_i|^2) with G x + w_ext = 0, no cones: "
+        "the paper's optimum, by the range-space method. Singular when G has rank < 6.");
+  m.def("solve_kkt", direct_solver([](const auto& x, const grip::Wrench<double>& w) { return grip::solve_kkt(x, w); }),
+        py::arg("grasp"), py::arg("w_ext"), "As solve_range_space, by the paper's KKT system of eq. 9 (H c = b).");
+  m.def("solve_constrained",
+        [](const PyGrasp& g, const py::handle& w, const CS* settings, const py::handle& warm) {
+          const auto we = wrench(w, "w_ext");
+          const CS s = settings ? *settings : CS{};
+          const bool warm_given = !warm.is_none();
+          const grip::Wrench<double> lw = warm_given ? wrench(warm, "warm_start") : grip::Wrench<double>::Zero();
+          py::gil_scoped_release release;
+          ConstrainedPy out;
+          g.visit([&](const auto& x) {
+            const auto r = warm_given ? grip::solve_constrained(x, we, s, lw) : grip::solve_constrained(x, we, s);
+            fill(out, r, g.dim());
+            out.certificate = r.certificate;
+            out.objective = r.objective;
+            out.dual_objective = r.dual_objective;
+            out.fast_path = r.fast_path;
+            out.passes = r.passes;
+          });
+          return out;
+        },
+        py::arg("grasp"), py::arg("w_ext"), py::arg("settings") = nullptr, py::arg("warm_start") = py::none(),
+        "The forces nearest the targets inside the exact friction cones with G x + w_ext = 0; Infeasible with a "
+        "certificate when the grasp cannot hold. warm_start: the previous solution's multipliers (6,).");
+  m.def("force_closure",
+        [](const PyGrasp& g, const AS* settings) {
+          const AS s = settings ? *settings : AS{};
+          py::gil_scoped_release release;
+          ForceClosurePy out;
+          g.visit([&](const auto& x) {
+            const auto r = grip::force_closure(x, s);
+            out.closure = r.closure;
+            out.margin = r.margin;
+            out.unresisted = r.unresisted;
+            out.internal_force = per_contact_rows(r.internal_force, g.dim());
+            out.residual = r.residual;
+            out.rank = r.rank;
+            out.iterations = r.iterations;
+            out.status = r.status;
+          });
+          return out;
+        },
+        py::arg("grasp"), py::arg("settings") = nullptr,
+        "Whether forces inside the cones can balance every wrench, with the margin and, when not, a wrench "
+        "direction that cannot be resisted.");
+}
