@@ -2,7 +2,8 @@
 
 The grasp matrix of a set of contacts, the contact forces nearest given squeezing forces
 that balance an object's external wrench (with or without Coulomb friction cones), and
-force closure, on the C++ library grip. Units: metres, newtons, newton metres; normals are
+force closure, grasp quality and epsilon, and batches of thousands of candidate grasps on
+all cores (grip.batch), on the C++ library grip. Units: metres, newtons, newton metres; normals are
 unit and point INTO the object; forces are those the contacts apply ON the object.
 """
 
@@ -10,29 +11,42 @@ from ._grip import (
     ConicAnalysisSettings,
     ConstrainedSettings,
     ConstrainedSolution,
+    Epsilon,
     ForceClosure,
     Grasp,
+    GraspQuality,
     Model,
     Solution,
     Status,
+    decompose_forces,
+    epsilon,
     force_closure,
+    grasp_quality,
     max_contacts,
     solve_constrained,
     solve_kkt,
     solve_range_space,
 )
+from .batch import evaluate_batch, solve_batch
 
 __all__ = [
     "ConicAnalysisSettings",
     "ConstrainedSettings",
     "ConstrainedSolution",
+    "Epsilon",
     "ForceClosure",
     "Grasp",
+    "GraspQuality",
     "Model",
     "Solution",
     "Status",
+    "decompose_forces",
+    "epsilon",
+    "evaluate_batch",
     "force_closure",
+    "grasp_quality",
     "max_contacts",
+    "solve_batch",
     "solve_constrained",
     "solve_kkt",
     "solve_range_space",

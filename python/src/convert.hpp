@@ -80,6 +80,39 @@ inline grip::Wrench<double> wrench(const py::handle& obj, const char* name) {
   return w;
 }
 
+/// One contact from its numbers, checked; label() names it in messages ("[3]" or "[12, 3]"),
+/// called only to raise.
+template <class Label>
+grip::Contact<double> contact(const double* p, const double* a, double mu, double mut, double s, double w,
+                              const Label& label) {
+  const auto finite = [&](double v, const char* field) {
+    if (!std::isfinite(v) || std::abs(v) > grip::ScalarTraits<double>::max_magnitude)
+      invalid(std::string(field) + label() + " is not finite (or beyond 1e15)");
+  };
+  for (int k = 0; k < 3; ++k) finite(p[k], "positions");
+  for (int k = 0; k < 3; ++k) finite(a[k], "normals");
+  finite(mu, "friction");
+  finite(mut, "torsional_friction");
+  finite(s, "squeeze");
+  finite(w, "weights");
+  if (!(mu >= 0)) invalid("friction" + label() + " must be >= 0, not " + std::to_string(mu));
+  if (!(mut >= 0)) invalid("torsional_friction" + label() + " must be >= 0, not " + std::to_string(mut));
+  if (!(s >= 0)) invalid("squeeze" + label() + " must be >= 0, not " + std::to_string(s));
+  if (!(w >= grip::ScalarTraits<double>::min_weight)) invalid("weights" + label() + " must be >= 1e-12, not " + std::to_string(w));
+  grip::Contact<double> c;
+  c.position = grip::Vector3<double>(p[0], p[1], p[2]);
+  c.normal = grip::Vector3<double>(a[0], a[1], a[2]);
+  c.friction = mu;
+  c.torsional_friction = mut;
+  c.squeeze = s;
+  c.weight = w;
+  const double norm = c.normal.norm();
+  if (!(std::abs(norm * norm - 1) <= 2 * grip::ScalarTraits<double>::normal_tolerance))
+    invalid("normals" + label() + " must be a unit vector (to 1e-6), its norm is " + std::to_string(norm));
+  if (grip::validate(c) != grip::Status::Ok) invalid("contact" + label() + " is invalid");
+  return c;
+}
+
 /// The contacts of a grasp from its arrays, each checked (see grip::validate for the rules).
 inline std::vector<grip::Contact<double>> contacts(const py::handle& positions, const py::handle& normals,
                                                    const py::handle& friction, const py::handle& torsional_friction,
@@ -94,20 +127,10 @@ inline std::vector<grip::Contact<double>> contacts(const py::handle& positions, 
   const auto mut = per_contact(torsional_friction, n, "torsional_friction", 0.0, ">= 0");
   const auto s = per_contact(squeeze, n, "squeeze", 0.0, ">= 0");
   const auto w = per_contact(weights, n, "weights", grip::ScalarTraits<double>::min_weight, ">= 1e-12");
-  std::vector<grip::Contact<double>> out(static_cast<std::size_t>(n));
+  std::vector<grip::Contact<double>> out;
   for (py::ssize_t i = 0; i < n; ++i) {
-    grip::Contact<double>& c = out[static_cast<std::size_t>(i)];
     const auto k = static_cast<std::size_t>(i);
-    c.position = grip::Vector3<double>(p.at(i, 0), p.at(i, 1), p.at(i, 2));
-    c.normal = grip::Vector3<double>(a.at(i, 0), a.at(i, 1), a.at(i, 2));
-    c.friction = mu[k];
-    c.torsional_friction = mut[k];
-    c.squeeze = s[k];
-    c.weight = w[k];
-    const double norm = c.normal.norm();
-    if (!(std::abs(norm * norm - 1) <= 2 * grip::ScalarTraits<double>::normal_tolerance))
-      invalid("normals[" + std::to_string(i) + "] must be a unit vector (to 1e-6), its norm is " + std::to_string(norm));
-    if (grip::validate(c) != grip::Status::Ok) invalid("contact " + std::to_string(i) + " is invalid");
+    out.push_back(contact(p.data(i, 0), a.data(i, 0), mu[k], mut[k], s[k], w[k], [i] { return "[" + std::to_string(i) + "]"; }));
   }
   return out;
 }

@@ -2,10 +2,8 @@
 // KKT system, the three solvers and force closure, for double and the three contact models
 // with a run-time count of 1 to max_contacts contacts. Every solve releases the GIL.
 
-#include <sstream>
 #include <string>
 #include <utility>
-#include <variant>
 
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
@@ -13,72 +11,11 @@
 
 #include <grip/grip.hpp>
 
-#include "convert.hpp"
+#include "grasp.hpp"
 
 namespace py = pybind11;
 
 namespace grip_python {
-
-using HardGrasp = grip::Grasp<grip::Dynamic, grip::HardFinger, double, max_contacts>;
-using SoftGrasp = grip::Grasp<grip::Dynamic, grip::SoftFinger, double, max_contacts>;
-using PointGrasp = grip::Grasp<grip::Dynamic, grip::FrictionlessPoint, double, max_contacts>;
-
-enum class Model { HardFinger, SoftFinger, FrictionlessPoint };
-
-using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-
-/// A grasp of one of the three models; immutable once made (so solves may run without the GIL).
-struct PyGrasp {
-  std::variant<HardGrasp, SoftGrasp, PointGrasp> g;
-  template <class F>
-  decltype(auto) visit(F&& f) const {
-    return std::visit(std::forward<F>(f), g);
-  }
-  int size() const {
-    return visit([](const auto& x) { return x.size(); });
-  }
-  int dim() const {
-    return visit([](const auto& x) { return std::decay_t<decltype(x)>::dim; });
-  }
-};
-
-/// A number as Python's repr would show it (shortest of %g's forms).
-inline std::string number(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
-/// x (n * dim) as an (n, dim) array.
-template <class Vector>
-RowMatrix per_contact_rows(const Vector& x, int dim) {
-  return Eigen::Map<const RowMatrix>(x.data(), x.size() / dim, dim);
-}
-
-struct SolutionPy {
-  RowMatrix forces;  ///< (n, dim)
-  grip::Wrench<double> multipliers{grip::Wrench<double>::Zero()};
-  grip::Status status{grip::Status::InvalidInput};
-  double residual{0};
-  int iterations{0};
-};
-
-struct ConstrainedPy : SolutionPy {
-  grip::Wrench<double> certificate{grip::Wrench<double>::Zero()};
-  double objective{0}, dual_objective{0};
-  bool fast_path{false};
-  int passes{0};
-};
-
-struct ForceClosurePy {
-  bool closure{false};
-  double margin{0};
-  grip::Wrench<double> unresisted{grip::Wrench<double>::Zero()};
-  RowMatrix internal_force;
-  double residual{0};
-  int rank{0}, iterations{0};
-  grip::Status status{grip::Status::InvalidInput};
-};
 
 template <class S>
 void fill(SolutionPy& out, const S& s, int dim) {
@@ -295,4 +232,6 @@ PYBIND11_MODULE(_grip, m) {
         py::arg("grasp"), py::arg("settings") = nullptr,
         "Whether forces inside the cones can balance every wrench, with the margin and, when not, a wrench "
         "direction that cannot be resisted.");
+
+  bind_analysis(m);
 }

@@ -1,0 +1,67 @@
+"""Thousands of candidate grasps at once: arrays in, arrays out, on all cores.
+
+Every candidate of a batch has the same number of contacts n and the same contact model.
+The per-contact numbers may be scalars, arrays of shape (n,) (the same for every
+candidate) or (k, n). Each candidate is evaluated by the same C++ code as a single call,
+on one thread, so results do not depend on the number of threads and equal the single
+calls' bit for bit.
+"""
+
+import numpy as np
+
+from . import _grip
+from ._grip import ConstrainedSettings, Model
+
+
+def _arrays(positions, normals, friction, torsional_friction, squeeze, weights):
+    positions = np.ascontiguousarray(positions, dtype=float)
+    normals = np.ascontiguousarray(normals, dtype=float)
+    if positions.ndim != 3 or positions.shape[2] != 3:
+        raise ValueError(f"positions must have shape (k, n, 3), not {positions.shape}")
+    k, n = positions.shape[:2]
+
+    def per_contact(value, name):
+        value = np.asarray(value, dtype=float)
+        try:
+            return np.ascontiguousarray(np.broadcast_to(value, (k, n)))
+        except ValueError:
+            raise ValueError(f"{name} must be a number or have shape (n,) or (k, n) = ({k}, {n}), not {value.shape}")
+
+    return (positions, normals, per_contact(friction, "friction"), per_contact(torsional_friction, "torsional_friction"),
+            per_contact(squeeze, "squeeze"), per_contact(weights, "weights"))
+
+
+def evaluate_batch(positions, normals, friction, *, torsional_friction=0.0, squeeze=0.0, weights=1.0,
+                   model=Model.HardFinger, torque_scale=1.0, force_closure=True, epsilon_l1=True,
+                   epsilon_linf=False, sides=8, threads=0):
+    """Quality metrics of k candidate grasps: positions and normals (k, n, 3).
+
+    Returns a dict of arrays: singular_values (k, 6), volume and isotropy (k,) (grasp_quality
+    with torque_scale, m), closure (k,) bool and closure_margin (k,) (force_closure, if
+    force_closure), epsilon_l1 and epsilon_linf (k,) (epsilon with `sides`-sided cones, if
+    requested; 0 otherwise), status (k,) int: Status values, Ok when every metric was Ok.
+    threads: 0 for every core. Invalid input raises ValueError naming the grasp and contact.
+    """
+    args = _arrays(positions, normals, friction, torsional_friction, squeeze, weights)
+    return _grip._evaluate_batch(*args, model, float(torque_scale), bool(force_closure), bool(epsilon_l1),
+                                 bool(epsilon_linf), int(sides), int(threads))
+
+
+def solve_batch(positions, normals, friction, w_ext, *, torsional_friction=0.0, squeeze=0.0, weights=1.0,
+                model=Model.HardFinger, method="range_space", settings=None, threads=0):
+    """Solves k candidate grasps: positions and normals (k, n, 3), w_ext (6,) or (k, 6).
+
+    method: 'range_space', 'kkt' or 'constrained' (with `settings`, a ConstrainedSettings).
+    Returns a dict of arrays: forces (k, n, dim), multipliers (k, 6), certificate (k, 6)
+    (constrained and Infeasible; else 0), residual (k,), status (k,) int (Status values),
+    iterations (k,). threads: 0 for every core.
+    """
+    args = _arrays(positions, normals, friction, torsional_friction, squeeze, weights)
+    k = args[0].shape[0]
+    w = np.asarray(w_ext, dtype=float)
+    try:
+        w = np.ascontiguousarray(np.broadcast_to(w, (k, 6)))
+    except ValueError:
+        raise ValueError(f"w_ext must have shape (6,) or (k, 6) = ({k}, 6), not {w.shape}")
+    return _grip._solve_batch(*args, model, w, str(method), settings if settings is not None else ConstrainedSettings(),
+                              int(threads))
