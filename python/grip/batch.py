@@ -33,7 +33,7 @@ def _arrays(positions, normals, friction, torsional_friction, squeeze, weights):
 
 def evaluate_batch(positions, normals, friction, *, torsional_friction=0.0, squeeze=0.0, weights=1.0,
                    model=Model.HardFinger, torque_scale=1.0, force_closure=True, epsilon_l1=True,
-                   epsilon_linf=False, sides=8, threads=0):
+                   epsilon_linf=False, sides=8, threads=0, _first=0):
     """Quality metrics of k candidate grasps: positions and normals (k, n, 3).
 
     Returns a dict of arrays: singular_values (k, 6), volume and isotropy (k,) (grasp_quality
@@ -44,17 +44,18 @@ def evaluate_batch(positions, normals, friction, *, torsional_friction=0.0, sque
     """
     args = _arrays(positions, normals, friction, torsional_friction, squeeze, weights)
     return _grip._evaluate_batch(*args, model, float(torque_scale), bool(force_closure), bool(epsilon_l1),
-                                 bool(epsilon_linf), int(sides), int(threads))
+                                 bool(epsilon_linf), int(sides), int(threads), int(_first))
 
 
 def solve_batch(positions, normals, friction, w_ext, *, torsional_friction=0.0, squeeze=0.0, weights=1.0,
-                model=Model.HardFinger, method="range_space", settings=None, threads=0):
+                model=Model.HardFinger, method="range_space", settings=None, threads=0, _first=0):
     """Solves k candidate grasps: positions and normals (k, n, 3), w_ext (6,) or (k, 6).
 
     method: 'range_space', 'kkt' or 'constrained' (with `settings`, a ConstrainedSettings).
     Returns a dict of arrays: forces (k, n, dim), multipliers (k, 6), certificate (k, 6)
     (constrained and Infeasible; else 0), residual (k,), status (k,) int (Status values),
-    iterations (k,). threads: 0 for every core.
+    iterations (k,). threads: 0 for every core. (_first: the index of the first candidate in
+    error messages, for chunks of a larger batch.)
     """
     args = _arrays(positions, normals, friction, torsional_friction, squeeze, weights)
     k = args[0].shape[0]
@@ -64,4 +65,4 @@ def solve_batch(positions, normals, friction, w_ext, *, torsional_friction=0.0, 
     except ValueError:
         raise ValueError(f"w_ext must have shape (6,) or (k, 6) = ({k}, 6), not {w.shape}")
     return _grip._solve_batch(*args, model, w, str(method), settings if settings is not None else ConstrainedSettings(),
-                              int(threads))
+                              int(threads), int(_first))

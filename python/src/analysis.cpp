@@ -73,17 +73,20 @@ struct EpsilonPy {
 struct Batch {
   Array p, a, mu, mut, s, w;
   py::ssize_t k{0}, n{0};
-  /// Contact i of grasp j (C-contiguous arrays), checked (ValueError naming [j, i]).
+  py::ssize_t first{0};  ///< the index of candidate 0 in messages (a chunk of a larger batch)
+  /// Contact i of grasp j (C-contiguous arrays), checked (ValueError naming [first + j, i]).
   grip::Contact<double> at(py::ssize_t j, py::ssize_t i) const {
     const py::ssize_t e = j * n + i;
     return contact(p.data() + 3 * e, a.data() + 3 * e, mu.data()[e], mut.data()[e], s.data()[e], w.data()[e],
-                   [j, i] { return "[" + std::to_string(j) + ", " + std::to_string(i) + "]"; });
+                   [this, j, i] { return "[" + std::to_string(first + j) + ", " + std::to_string(i) + "]"; });
   }
 };
 
 Batch batch(const py::handle& positions, const py::handle& normals, const py::handle& friction,
-            const py::handle& torsional_friction, const py::handle& squeeze, const py::handle& weights) {
+            const py::handle& torsional_friction, const py::handle& squeeze, const py::handle& weights,
+            py::ssize_t first) {
   Batch b;
+  b.first = first;
   auto get = [](const py::handle& h, const char* name, int ndim) {
     Array x = Array::ensure(h);
     if (!x || x.ndim() != ndim) invalid(std::string(name) + " must be an array of " + std::to_string(ndim) + " dimensions");
@@ -145,8 +148,8 @@ G build(const Batch& b, py::ssize_t j) {
 py::dict evaluate_batch(const py::handle& positions, const py::handle& normals, const py::handle& friction,
                         const py::handle& torsional_friction, const py::handle& squeeze, const py::handle& weights,
                         Model model, double torque_scale, bool closure, bool eps_l1, bool eps_linf, int sides,
-                        int threads) {
-  const Batch b = batch(positions, normals, friction, torsional_friction, squeeze, weights);
+                        int threads, py::ssize_t first) {
+  const Batch b = batch(positions, normals, friction, torsional_friction, squeeze, weights, first);
   grip::BatchSettings<double> settings;
   settings.torque_scale = positive(torque_scale, "torque_scale");
   settings.force_closure = closure;
@@ -196,8 +199,8 @@ py::dict evaluate_batch(const py::handle& positions, const py::handle& normals, 
 py::dict solve_batch(const py::handle& positions, const py::handle& normals, const py::handle& friction,
                      const py::handle& torsional_friction, const py::handle& squeeze, const py::handle& weights,
                      Model model, const py::handle& w_ext, const std::string& method,
-                     const grip::ConstrainedSettings<double>& settings, int threads) {
-  const Batch b = batch(positions, normals, friction, torsional_friction, squeeze, weights);
+                     const grip::ConstrainedSettings<double>& settings, int threads, py::ssize_t first) {
+  const Batch b = batch(positions, normals, friction, torsional_friction, squeeze, weights, first);
   if (method != "range_space" && method != "kkt" && method != "constrained")
     invalid("method must be 'range_space', 'kkt' or 'constrained', not '" + method + "'");
   const Array wa = Array::ensure(w_ext);
@@ -206,7 +209,7 @@ py::dict solve_batch(const py::handle& positions, const py::handle& normals, con
   for (py::ssize_t j = 0; j < b.k; ++j)
     for (int q = 0; q < 6; ++q)
       if (!std::isfinite(wa.at(j, q)) || std::abs(wa.at(j, q)) > grip::ScalarTraits<double>::max_magnitude)
-        invalid("w_ext[" + std::to_string(j) + ", " + std::to_string(q) + "] is not finite (or beyond 1e15)");
+        invalid("w_ext[" + std::to_string(first + j) + ", " + std::to_string(q) + "] is not finite (or beyond 1e15)");
   const py::ssize_t k = b.k;
   int dim = 0;
   dispatch(model, [&](auto tag) { dim = decltype(tag)::type::dim; });

@@ -269,6 +269,5 @@ def test_the_example_of_the_docs_runs():
     blocks = re.findall(r"```python\n(.*?)```", text, re.S)
     assert blocks
     scope = {}
-    for code in blocks:
-        exec(compile(code, "docs/python.md", "exec"), scope)
+    exec(compile(blocks[0], "docs/python.md", "exec"), scope)  # the "Use" section's example
     assert scope["held"].status == grip.Status.Ok and scope["held"].forces.shape == (3, 3)
