@@ -82,4 +82,5 @@ struct ForceClosurePy {
 
 namespace grip_python {
 void bind_analysis(py::module_& m);  // analysis.cpp
+void bind_monitor(py::module_& m);   // monitor.cpp
 }  // namespace grip_python

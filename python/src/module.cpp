@@ -234,4 +234,5 @@ PYBIND11_MODULE(_grip, m) {
         "direction that cannot be resisted.");
 
   bind_analysis(m);
+  bind_monitor(m);
 }
