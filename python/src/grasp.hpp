@@ -83,4 +83,5 @@ struct ForceClosurePy {
 namespace grip_python {
 void bind_analysis(py::module_& m);  // analysis.cpp
 void bind_monitor(py::module_& m);   // monitor.cpp
+void bind_hand(py::module_& m);      // hand.cpp
 }  // namespace grip_python

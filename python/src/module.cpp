@@ -235,4 +235,5 @@ PYBIND11_MODULE(_grip, m) {
 
   bind_analysis(m);
   bind_monitor(m);
+  bind_hand(m);
 }

@@ -1,0 +1,224 @@
+// The hand and collision from Python: hand dimensions, forward kinematics of the 14 flexion
+// joints, shapes (sphere, box, cylinder, capsule and unions of up to four) with their exact
+// signed distance, and the contacts of a posed hand with a shape (the exact narrow phase).
+
+#include <string>
+#include <vector>
+
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "grasp.hpp"
+
+namespace grip_python {
+namespace {
+
+using Dims = grip::HandDimensions<double>;
+using Iso = Eigen::Transform<double, 3, Eigen::Isometry>;
+using PyShape = grip::Shape<double, 4>;
+using Prim = grip::ShapePrimitive<double>;
+
+/// A rigid pose from a (4, 4) homogeneous matrix: rotation orthonormal to 1e-3, last row 0 0 0 1.
+Iso pose(const py::handle& obj, const char* name) {
+  const Array a = Array::ensure(obj);
+  if (!a || a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4)
+    invalid(std::string(name) + " must be a (4, 4) homogeneous matrix, not " + (a ? shape_of(a) : std::string("?")));
+  Eigen::Matrix4d m;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) m(r, c) = a.at(r, c);
+  if (!m.allFinite()) invalid(std::string(name) + " is not finite");
+  const Eigen::Matrix3d rot = m.topLeftCorner<3, 3>();
+  if (!((rot.transpose() * rot - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-3) ||
+      !(m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).isZero(0))
+    invalid(std::string(name) + " must be rigid: an orthonormal rotation (to 1e-3) and a last row 0 0 0 1");
+  Iso t = Iso::Identity();
+  t.linear() = rot;
+  t.translation() = m.topRightCorner<3, 1>();
+  return t;
+}
+
+grip::JointAngles<double> angles(const py::handle& obj) {
+  const Array a = Array::ensure(obj);
+  if (!a || a.ndim() != 1 || a.shape(0) != grip::hand_joint_count)
+    invalid("angles must have shape (14,) (rad, the joint order of docs/hand.md), not " + (a ? shape_of(a) : std::string("?")));
+  grip::JointAngles<double> q;
+  for (int k = 0; k < grip::hand_joint_count; ++k) {
+    q(k) = a.at(k);
+    if (!std::isfinite(q(k))) invalid("angles[" + std::to_string(k) + "] is not finite");
+  }
+  return q;
+}
+
+grip::Vector3<double> vec3(const py::handle& obj, const char* name) {
+  const Array a = Array::ensure(obj);
+  if (!a || a.ndim() != 1 || a.shape(0) != 3) invalid(std::string(name) + " must have shape (3,)");
+  const grip::Vector3<double> v(a.at(0), a.at(1), a.at(2));
+  if (!v.allFinite()) invalid(std::string(name) + " is not finite");
+  return v;
+}
+
+Eigen::Matrix3d rotation(const py::handle& obj) {
+  if (obj.is_none()) return Eigen::Matrix3d::Identity();
+  const Array a = Array::ensure(obj);
+  if (!a || a.ndim() != 2 || a.shape(0) != 3 || a.shape(1) != 3) invalid("rotation must have shape (3, 3)");
+  Eigen::Matrix3d r;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) r(i, j) = a.at(i, j);
+  return r;
+}
+
+Prim checked(const Prim& p, const char* what) {
+  if (grip::validate(p) != grip::Status::Ok)
+    invalid(std::string("invalid ") + what + ": sizes must be finite and > 0, the rotation orthonormal (to 1e-3)");
+  return p;
+}
+
+RowMatrix rows(const std::array<grip::Vector3<double>, 5>& v) {
+  RowMatrix m(5, 3);
+  for (int f = 0; f < 5; ++f) m.row(f) = v[static_cast<std::size_t>(f)].transpose();
+  return m;
+}
+
+grip::HandPosture<double> posture(const Dims& dims, const py::handle& wrist, const py::handle& q) {
+  grip::HandPosture<double> out;
+  if (grip::forward_kinematics(dims, pose(wrist, "wrist"), angles(q), out) != grip::Status::Ok)
+    invalid("the hand dimensions are invalid");
+  return out;
+}
+
+py::dict capsules(const grip::HandPosture<double>& p) {
+  RowMatrix base(grip::hand_phalanx_count, 3), tip(grip::hand_phalanx_count, 3);
+  Eigen::VectorXd radius(grip::hand_phalanx_count);
+  for (int k = 0; k < grip::hand_phalanx_count; ++k) {
+    const auto& c = p.phalanges[static_cast<std::size_t>(k)];
+    base.row(k) = c.base.transpose();
+    tip.row(k) = c.tip.transpose();
+    radius(k) = c.radius;
+  }
+  py::dict d;
+  d["base"] = base;
+  d["tip"] = tip;
+  d["radius"] = radius;
+  return d;
+}
+
+template <int PerPhalanx>
+py::dict contacts_of(const grip::HandCollisionModel<double, 8>& model, const PyShape& shape, const Iso& object) {
+  grip::HandContacts<double, PerPhalanx> out;
+  const grip::Status st = grip::detect_contacts_direct(model, shape, object, out);
+  const int m = out.count;
+  Eigen::VectorXi phalanx(m), sample(m);
+  Eigen::VectorXd depth(m), along(m);
+  RowMatrix point(m, 3), normal(m, 3);
+  for (int i = 0; i < m; ++i) {
+    const auto& c = out.items[static_cast<std::size_t>(i)];
+    phalanx(i) = grip::phalanx_index(c.finger, c.phalanx);
+    sample(i) = c.sample;
+    depth(i) = c.depth;
+    along(i) = c.axis_parameter;
+    point.row(i) = c.point.transpose();
+    normal.row(i) = c.normal.transpose();
+  }
+  py::dict d;
+  d["phalanx"] = phalanx;
+  d["point"] = point;
+  d["normal"] = normal;
+  d["depth"] = depth;
+  d["sample"] = sample;
+  d["axis_parameter"] = along;
+  d["status"] = st;
+  return d;
+}
+
+}  // namespace
+
+void bind_hand(py::module_& m) {
+  py::class_<Dims>(m, "HandDimensions", "The hand model's sizes (m) and joint axes, hand frame (docs/hand.md).")
+      .def_static("standard", [](double L) {
+        if (!(L > 0) || !std::isfinite(L)) invalid("hand_length must be finite and > 0");
+        return Dims::standard(L);
+      }, py::arg("hand_length") = 0.19, "anthropometric defaults (Buchholz 1992) for a hand of length L (m)")
+      .def_readonly("hand_length", &Dims::hand_length)
+      .def_property_readonly("length", [](const Dims& d) { return std::vector<double>(d.length.begin(), d.length.end()); })
+      .def_property_readonly("radius", [](const Dims& d) { return std::vector<double>(d.radius.begin(), d.radius.end()); })
+      .def_property_readonly("base", [](const Dims& d) { return rows(d.base); }, "(5, 3) first joint of each digit (m)")
+      .def_property_readonly("rest_direction", [](const Dims& d) { return rows(d.rest_direction); }, "(5, 3) unit")
+      .def_property_readonly("flexion_axis", [](const Dims& d) { return rows(d.flexion_axis); }, "(5, 3) unit")
+      .def_property_readonly("joint_upper_limit",
+                             [](const Dims& d) { return std::vector<double>(d.joint_upper_limit.begin(), d.joint_upper_limit.end()); });
+
+  m.def("forward_kinematics",
+        [](const py::handle& wrist, const py::handle& q, const Dims* dims) {
+          return capsules(posture(dims ? *dims : Dims::standard(), wrist, q));
+        },
+        py::arg("wrist"), py::arg("angles"), py::arg("dims") = nullptr,
+        "The 14 phalanges posed: wrist (4, 4) hand frame to world, angles (14,) flexion (rad). Returns a dict: "
+        "base and tip (14, 3) (m, world), radius (14,) of each phalanx's capsule, in the order of docs/hand.md.");
+
+  py::class_<Prim>(m, "Primitive", "A sphere, box, cylinder or capsule with its pose in the object frame.");
+  m.def("sphere", [](double r, const py::handle& c) { return checked(grip::make_sphere(r, vec3(c, "center")), "sphere"); },
+        py::arg("radius"), py::arg("center") = std::vector<double>{0, 0, 0});
+  m.def("box",
+        [](const py::handle& h, const py::handle& c, const py::handle& rot) {
+          return checked(grip::make_box(vec3(h, "half_extents"), vec3(c, "center"), rotation(rot)), "box");
+        },
+        py::arg("half_extents"), py::arg("center") = std::vector<double>{0, 0, 0}, py::arg("rotation") = py::none());
+  m.def("cylinder",
+        [](double r, double h, const py::handle& c, const py::handle& rot) {
+          return checked(grip::make_cylinder(r, h, vec3(c, "center"), rotation(rot)), "cylinder");
+        },
+        py::arg("radius"), py::arg("half_length"), py::arg("center") = std::vector<double>{0, 0, 0},
+        py::arg("rotation") = py::none(), "axis along the rotation's third column (object z by default)");
+  m.def("capsule",
+        [](double r, double h, const py::handle& c, const py::handle& rot) {
+          return checked(grip::make_capsule(r, h, vec3(c, "center"), rotation(rot)), "capsule");
+        },
+        py::arg("radius"), py::arg("half_length"), py::arg("center") = std::vector<double>{0, 0, 0},
+        py::arg("rotation") = py::none());
+
+  py::class_<PyShape>(m, "Shape", "The union of 1 to 4 primitives, with its exact signed distance (object frame).")
+      .def(py::init([](const std::vector<Prim>& prims) {
+             if (prims.empty() || prims.size() > 4) invalid("a shape has 1 to 4 primitives, not " + std::to_string(prims.size()));
+             PyShape s;
+             for (const Prim& p : prims) (void)s.add(p);
+             return s;
+           }),
+           py::arg("primitives"))
+      .def("distance",
+           [](const PyShape& s, const py::handle& points) {
+             const Array p = rows3(points, "points");
+             Eigen::VectorXd d(p.shape(0));
+             RowMatrix n(p.shape(0), 3);
+             for (py::ssize_t i = 0; i < p.shape(0); ++i) {
+               grip::Vector3<double> g;
+               d(i) = s.distance(grip::Vector3<double>(p.at(i, 0), p.at(i, 1), p.at(i, 2)), g);
+               n.row(i) = g.transpose();
+             }
+             return py::make_tuple(d, n);
+           },
+           py::arg("points"), "(distance (m,), outward normal (m, 3)) at points (m, 3): negative inside");
+
+  m.def("hand_contacts",
+        [](const PyShape& shape, const py::handle& wrist, const py::handle& q, const py::handle& object_pose,
+           const Dims* dims, int per_phalanx) {
+          const grip::HandPosture<double> p = posture(dims ? *dims : Dims::standard(), wrist, q);
+          const Iso object = object_pose.is_none() ? Iso::Identity() : pose(object_pose, "object_pose");
+          grip::HandCollisionModel<double, 8> model;
+          if (model.set_posture(p) != grip::Status::Ok) invalid("the posed hand is invalid");
+          switch (per_phalanx) {
+            case 1: return contacts_of<1>(model, shape, object);
+            case 2: return contacts_of<2>(model, shape, object);
+            case 4: return contacts_of<4>(model, shape, object);
+            default: invalid("per_phalanx must be 1, 2 or 4, not " + std::to_string(per_phalanx));
+          }
+        },
+        py::arg("shape"), py::arg("wrist"), py::arg("angles"), py::arg("object_pose") = py::none(),
+        py::arg("dims") = nullptr, py::arg("per_phalanx") = 1,
+        "Contacts of the posed hand with `shape` placed by object_pose (4, 4) (identity by default): a dict of "
+        "phalanx (m,) (0..13), point (m, 3) on the surface and normal (m, 3) into the object (world), depth (m,) "
+        "(m, > 0), sample, axis_parameter and status. Exact at faces, edges and corners (docs/geometry.md).");
+}
+
+}  // namespace grip_python

@@ -1,0 +1,107 @@
+"""The hand's kinematics, the shapes' distances and the hand's contacts, against their
+definitions evaluated in NumPy."""
+
+import numpy as np
+import pytest
+
+import grip
+
+FIRST = [0, 2, 5, 8, 11]  # first phalanx of each digit (thumb: 2 phalanges, fingers: 3)
+COUNT = [2, 3, 3, 3, 3]
+
+
+def rodrigues(axis, angle):
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    return np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * k @ k
+
+
+def random_pose(rng):
+    q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    q *= np.sign(np.linalg.det(q))
+    t = np.eye(4)
+    t[:3, :3], t[:3, 3] = q, rng.normal(scale=0.2, size=3)
+    return t
+
+
+def test_forward_kinematics_chains_the_rotations_of_each_digit():
+    rng = np.random.default_rng(14)
+    d = grip.HandDimensions.standard(0.18)
+    for _ in range(5):
+        wrist = random_pose(rng)
+        q = rng.uniform(0, 1.2, 14)
+        fk = grip.forward_kinematics(wrist, q, d)
+        for f in range(5):
+            p = d.base[f].copy()
+            total = 0.0
+            for j in range(COUNT[f]):
+                k = FIRST[f] + j
+                total += q[k]
+                tip = p + d.length[k] * rodrigues(d.flexion_axis[f], total) @ d.rest_direction[f]
+                for got, want in ((fk["base"][k], p), (fk["tip"][k], tip)):
+                    assert np.allclose(got, wrist[:3, :3] @ want + wrist[:3, 3], rtol=0, atol=1e-14)
+                assert fk["radius"][k] == d.radius[k]
+                p = tip
+
+
+def test_shape_distances_are_the_primitives_exact_distances():
+    rng = np.random.default_rng(15)
+    pts = rng.uniform(-0.1, 0.1, size=(500, 3))
+    c = np.array([0.01, -0.02, 0.005])
+    d, n = grip.Shape([grip.sphere(0.04, c)]).distance(pts)
+    r = np.linalg.norm(pts - c, axis=1)
+    assert np.allclose(d, r - 0.04, atol=1e-15) and np.allclose(n, (pts - c) / r[:, None], atol=1e-12)
+    h = np.array([0.03, 0.02, 0.05])
+    d, _ = grip.Shape([grip.box(h)]).distance(pts)
+    q = np.abs(pts) - h
+    box = np.linalg.norm(np.maximum(q, 0), axis=1) + np.minimum(q.max(axis=1), 0)
+    assert np.allclose(d, box, atol=1e-15)
+    d, _ = grip.Shape([grip.cylinder(0.035, 0.06)]).distance(pts)
+    q = np.stack([np.linalg.norm(pts[:, :2], axis=1) - 0.035, np.abs(pts[:, 2]) - 0.06], axis=1)
+    cyl = np.linalg.norm(np.maximum(q, 0), axis=1) + np.minimum(q.max(axis=1), 0)
+    assert np.allclose(d, cyl, atol=1e-15)
+    d, _ = grip.Shape([grip.capsule(0.02, 0.03)]).distance(pts)
+    seg = np.stack([np.zeros(500), np.zeros(500), np.clip(pts[:, 2], -0.03, 0.03)], axis=1)
+    assert np.allclose(d, np.linalg.norm(pts - seg, axis=1) - 0.02, atol=1e-15)
+    # A union is the least of its parts.
+    u, _ = grip.Shape([grip.sphere(0.04, c), grip.box(h)]).distance(pts)
+    assert np.allclose(u, np.minimum(r - 0.04, box), atol=1e-15)
+
+
+@pytest.mark.parametrize("depth", [0.0005, 0.002, 0.004])
+def test_a_sphere_pressed_on_a_phalanx_gives_its_depth_point_and_normal(depth):
+    rng = np.random.default_rng(16)
+    wrist = random_pose(rng)
+    q = np.zeros(14)
+    fk = grip.forward_kinematics(wrist, q)
+    k = 4  # index distal
+    mid = 0.5 * (fk["base"][k] + fk["tip"][k])
+    down = -wrist[:3, 2]  # the hand frame's -z: palmar side
+    R = 0.05
+    centre = mid + (fk["radius"][k] + R - depth) * down
+    pose = np.eye(4)
+    pose[:3, 3] = centre  # the sphere's frame: centred at its centre
+    got = grip.hand_contacts(grip.Shape([grip.sphere(R)]), wrist, q, pose)
+    assert got["status"] == grip.Status.Ok
+    mine = np.flatnonzero(got["phalanx"] == k)
+    assert len(mine) == 1
+    i = mine[0]
+    # The deepest point of the capsule: its axis point nearest the centre, at depth r + R - |c - x|.
+    assert got["depth"][i] == pytest.approx(depth, abs=1e-7)
+    assert np.allclose(got["normal"][i], down, atol=1e-6)  # into the object: from the finger towards the centre
+    assert np.allclose(got["point"][i], centre - R * down, atol=1e-6)
+    assert abs(got["axis_parameter"][i] - 0.5) < 1e-3
+
+
+def test_hand_and_shape_inputs_are_checked():
+    with pytest.raises(ValueError, match=r"angles must have shape \(14,\)"):
+        grip.forward_kinematics(np.eye(4), np.zeros(13))
+    bad = np.eye(4)
+    bad[0, 0] = 2
+    with pytest.raises(ValueError, match="wrist must be rigid"):
+        grip.forward_kinematics(bad, np.zeros(14))
+    with pytest.raises(ValueError, match="invalid sphere"):
+        grip.sphere(-1.0)
+    with pytest.raises(ValueError, match="a shape has 1 to 4 primitives"):
+        grip.Shape([])
+    with pytest.raises(ValueError, match="per_phalanx must be 1, 2 or 4"):
+        grip.hand_contacts(grip.Shape([grip.sphere(0.05)]), np.eye(4), np.zeros(14), per_phalanx=3)
