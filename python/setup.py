@@ -6,8 +6,11 @@ read from include/grip/core/version.hpp, the one place it is written."""
 import os
 import re
 
-from pybind11.setup_helpers import Pybind11Extension, build_ext
+from pybind11.setup_helpers import ParallelCompile, Pybind11Extension, build_ext
 from setuptools import setup
+
+# The translation units compile in parallel: GRIP_BUILD_JOBS of them (default: every core).
+ParallelCompile("GRIP_BUILD_JOBS").install()
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 INCLUDE = os.path.join(os.path.dirname(HERE), "include")
@@ -25,7 +28,7 @@ setup(
     ext_modules=[
         Pybind11Extension(
             "grip._grip",
-            ["src/module.cpp", "src/analysis.cpp", "src/monitor.cpp", "src/hand.cpp"],
+            ["src/module.cpp", "src/analysis.cpp", "src/monitor.cpp", "src/hand.cpp", "src/pipeline.cpp"],
             include_dirs=[INCLUDE, os.environ.get("GRIP_EIGEN_INCLUDE", "/usr/include/eigen3")],
             define_macros=[("EIGEN_STACK_ALLOCATION_LIMIT", "1048576")],
             cxx_std=17,

@@ -84,4 +84,5 @@ namespace grip_python {
 void bind_analysis(py::module_& m);  // analysis.cpp
 void bind_monitor(py::module_& m);   // monitor.cpp
 void bind_hand(py::module_& m);      // hand.cpp
+void bind_pipeline(py::module_& m);  // pipeline.cpp
 }  // namespace grip_python

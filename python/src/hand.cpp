@@ -143,7 +143,15 @@ void bind_hand(py::module_& m) {
       .def_readonly("hand_length", &Dims::hand_length)
       .def_property_readonly("length", [](const Dims& d) { return std::vector<double>(d.length.begin(), d.length.end()); })
       .def_property_readonly("radius", [](const Dims& d) { return std::vector<double>(d.radius.begin(), d.radius.end()); })
-      .def_property_readonly("base", [](const Dims& d) { return rows(d.base); }, "(5, 3) first joint of each digit (m)")
+      .def_property("base", [](const Dims& d) { return rows(d.base); },
+                    [](Dims& d, const py::handle& v) {
+                      const Array a = Array::ensure(v);
+                      if (!a || a.ndim() != 2 || a.shape(0) != 5 || a.shape(1) != 3) invalid("base must have shape (5, 3)");
+                      for (int f = 0; f < 5; ++f) d.base[static_cast<std::size_t>(f)] = grip::Vector3<double>(a.at(f, 0), a.at(f, 1), a.at(f, 2));
+                    },
+                    "(5, 3) first joint of each digit (m); settable (forward_kinematics checks the dimensions)")
+      .def_property("thumb_cmc", [](const Dims& d) { return grip::Vector3<double>(d.thumb_cmc); },
+                    [](Dims& d, const py::handle& v) { d.thumb_cmc = vec3(v, "thumb_cmc"); }, "(3,) the thumb's CMC joint (m)")
       .def_property_readonly("rest_direction", [](const Dims& d) { return rows(d.rest_direction); }, "(5, 3) unit")
       .def_property_readonly("flexion_axis", [](const Dims& d) { return rows(d.flexion_axis); }, "(5, 3) unit")
       .def_property_readonly("joint_upper_limit",

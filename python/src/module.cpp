@@ -236,4 +236,5 @@ PYBIND11_MODULE(_grip, m) {
   bind_analysis(m);
   bind_monitor(m);
   bind_hand(m);
+  bind_pipeline(m);
 }

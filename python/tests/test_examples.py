@@ -18,7 +18,8 @@ def run(script, *args, cwd):
                           capture_output=True, text=True, timeout=600).stdout
 
 
-@pytest.mark.parametrize("script,args", [("table1_forces.py", ()), ("cones_3d.py", ()), ("closure_map.py", ("31",))])
+@pytest.mark.parametrize("script,args", [("table1_forces.py", ()), ("cones_3d.py", ()), ("closure_map.py", ("31",)),
+                                         ("haptic_forces.py", ())])
 def test_plot_examples_write_their_images(script, args, tmp_path):
     out = str(tmp_path / "figure.png")
     text = run(script, out, *args, cwd=tmp_path)

@@ -1,0 +1,231 @@
+// The haptic loop from Python: grip's per-frame pipeline (contacts, squeeze, external wrench,
+// the optimum inside the friction cones warm-started frame to frame, the monitor, per-phalanx
+// feedback) over a cylinder scene with box obstacles, and the scripted closing of the hand.
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "grasp.hpp"
+
+namespace grip_python {
+namespace {
+
+using Scene = grip::CylinderScene<double>;
+using Loop = grip::HapticPipeline<double, Scene, grip::ConstrainedFrameSolver<double>>;
+using Iso = Eigen::Transform<double, 3, Eigen::Isometry>;
+constexpr int phalanges = grip::hand_phalanx_count;
+
+grip::Vector3<double> vec3(const py::handle& obj, const char* name) {
+  const Array a = Array::ensure(obj);
+  if (!a || a.ndim() != 1 || a.shape(0) != 3) invalid(std::string(name) + " must have shape (3,)");
+  const grip::Vector3<double> v(a.at(0), a.at(1), a.at(2));
+  if (!v.allFinite()) invalid(std::string(name) + " is not finite");
+  return v;
+}
+
+/// A number per phalanx: a scalar or (14,), finite and >= least.
+std::array<double, phalanges> per_phalanx(const py::handle& obj, const char* name, double least) {
+  const std::vector<double> v = per_contact(obj, phalanges, name, least, least > 0 ? "> 0" : ">= 0");
+  std::array<double, phalanges> out{};
+  for (int k = 0; k < phalanges; ++k) out[static_cast<std::size_t>(k)] = v[static_cast<std::size_t>(k)];
+  return out;
+}
+
+Iso rigid(const py::handle& obj, const char* name) {
+  const Array a = Array::ensure(obj);
+  if (!a || a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4) invalid(std::string(name) + " must be a (4, 4) matrix");
+  Eigen::Matrix4d m;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) m(r, c) = a.at(r, c);
+  const Eigen::Matrix3d rot = m.topLeftCorner<3, 3>();
+  if (!m.allFinite() || !((rot.transpose() * rot - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-3))
+    invalid(std::string(name) + " must be finite and rigid (an orthonormal rotation, to 1e-3)");
+  Iso t = Iso::Identity();
+  t.linear() = rot;
+  t.translation() = m.topRightCorner<3, 1>();
+  return t;
+}
+
+grip::JointAngles<double> joint_angles(const py::handle& obj) {
+  const Array a = Array::ensure(obj);
+  if (!a || a.ndim() != 1 || a.shape(0) != grip::hand_joint_count) invalid("angles must have shape (14,)");
+  grip::JointAngles<double> q;
+  for (int k = 0; k < grip::hand_joint_count; ++k) q(k) = a.at(k);
+  if (!q.allFinite()) invalid("angles are not finite");
+  return q;
+}
+
+struct FramePy {
+  RowMatrix force, actuation_direction;  ///< (14, 3)
+  Eigen::VectorXd actuated, command;      ///< (14,)
+  std::vector<bool> in_contact, clamped, sliding;
+  grip::Wrench<double> unbalanced{grip::Wrench<double>::Zero()};
+  grip::Status status{grip::Status::InvalidInput}, solve_status{grip::Status::InvalidInput};
+  int contacts{0}, obstacles{0}, sliding_count{0}, separating{0}, clamped_count{0}, solves{0}, iterations{0};
+  bool held{false};
+  double min_margin{0};
+  grip::Vector3<double> object_position{grip::Vector3<double>::Zero()};
+  Eigen::Matrix3d object_rotation{Eigen::Matrix3d::Identity()};
+};
+
+class PyHapticLoop {
+ public:
+  PyHapticLoop(double radius, double half_length, double mass, const py::handle& position, const py::handle& rotation,
+               const std::vector<std::pair<py::object, py::object>>& boxes, const grip::HandDimensions<double>& hand,
+               double friction, const py::handle& stiffness, const py::handle& device_limit,
+               const std::pair<double, double>& thumb, double dt, int max_passes, double obstacle_stiffness,
+               double obstacle_damping) {
+    if (!(radius > 0) || !(half_length > 0) || !(mass > 0) || !std::isfinite(radius + half_length + mass))
+      invalid("radius, half_length and mass must be finite and > 0");
+    scene_.radius = radius;
+    scene_.half_length = half_length;
+    for (const auto& b : boxes)
+      if (scene_.obstacles.add_box(vec3(b.first, "box lower corner"), vec3(b.second, "box upper corner")) != grip::Status::Ok)
+        invalid("an obstacle box needs lower < upper and room in the scene");
+    grip::HapticSettings<double> s;
+    s.hand = hand;
+    if (!(friction >= 0) || !std::isfinite(friction)) invalid("friction must be finite and >= 0");
+    s.friction = friction;
+    s.stiffness = per_phalanx(stiffness, "stiffness", 1e-9);
+    s.device_limit = per_phalanx(device_limit, "device_limit", 0.0);
+    s.thumb_contribution = {{thumb.first, thumb.second}};
+    s.obstacle_material.stiffness = obstacle_stiffness;
+    s.obstacle_material.damping = obstacle_damping;
+    if (!(obstacle_stiffness >= 0) || !(obstacle_damping >= 0) || !std::isfinite(obstacle_stiffness + obstacle_damping))
+      invalid("obstacle_stiffness and obstacle_damping must be finite and >= 0");
+    if (!(dt > 0) || !std::isfinite(dt)) invalid("dt must be finite and > 0");
+    s.dt = dt;
+    object_.mass = mass;
+    object_.principal_inertia = grip::solid_cylinder_inertia<double>(mass, radius, half_length);
+    object_.position = vec3(position, "position");
+    const Array r = Array::ensure(rotation);
+    if (!r || r.ndim() != 2 || r.shape(0) != 3 || r.shape(1) != 3) invalid("rotation must have shape (3, 3)");
+    Eigen::Matrix3d m;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) m(i, j) = r.at(i, j);
+    if (!m.allFinite() || !((m.transpose() * m - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-9) || m.determinant() < 0)
+      invalid("rotation must be a rotation matrix (orthonormal to 1e-9, determinant 1)");
+    object_.orientation = Eigen::Quaterniond(m);
+    if (grip::validate(object_) != grip::Status::Ok) invalid("the object is invalid");
+    loop_ = std::make_unique<Loop>(s, scene_, object_);
+    loop_->solver().settings.max_passes = max_passes;
+  }
+
+  FramePy step(const py::handle& wrist, const py::handle& angles, const py::handle& v, const py::handle& w,
+               const py::handle& a, const py::handle& alpha) {
+    grip::WristState<double> ws;
+    ws.pose = rigid(wrist, "wrist");
+    ws.linear_velocity = vec3(v, "linear_velocity");
+    ws.angular_velocity = vec3(w, "angular_velocity");
+    ws.linear_acceleration = vec3(a, "linear_acceleration");
+    ws.angular_acceleration = vec3(alpha, "angular_acceleration");
+    const grip::JointAngles<double> q = joint_angles(angles);
+    grip::HapticFrame<double> f;
+    {
+      py::gil_scoped_release release;
+      (void)loop_->step(ws, q, f);
+    }
+    FramePy out;
+    out.force.resize(phalanges, 3);
+    out.actuation_direction.resize(phalanges, 3);
+    out.actuated.resize(phalanges);
+    out.command.resize(phalanges);
+    for (int k = 0; k < phalanges; ++k) {
+      const auto& p = f.phalanges[static_cast<std::size_t>(k)];
+      out.force.row(k) = p.force.transpose();
+      out.actuation_direction.row(k) = p.actuation_direction.transpose();
+      out.actuated(k) = p.actuated;
+      out.command(k) = p.command;
+      out.in_contact.push_back(p.in_contact);
+      out.clamped.push_back(p.clamped);
+      out.sliding.push_back(p.sliding);
+    }
+    out.unbalanced = f.unbalanced;
+    out.status = f.status;
+    out.solve_status = f.solve_status;
+    out.contacts = f.contacts;
+    out.obstacles = f.obstacles;
+    out.sliding_count = f.sliding;
+    out.separating = f.separating;
+    out.clamped_count = f.clamped;
+    out.solves = f.solves;
+    out.iterations = f.iterations;
+    out.held = f.held;
+    out.min_margin = f.min_margin;
+    out.object_position = loop_->object().position;
+    out.object_rotation = loop_->object().rotation();
+    return out;
+  }
+
+  /// The joint angles at which the hand posed at `wrist` closes on the object (see close_hand_in_scene).
+  py::tuple close_hand(const py::handle& wrist, double depth) const {
+    if (!(depth >= 0) || !std::isfinite(depth)) invalid("depth must be finite and >= 0");
+    const auto c = grip::close_hand_in_scene<double>(scene_, loop_->settings().hand, rigid(wrist, "wrist"), loop_->object(), depth);
+    return py::make_tuple(Eigen::VectorXd(c.angles), c.touching, c.status);
+  }
+
+ private:
+  Scene scene_;
+  grip::RigidBody<double> object_;
+  std::unique_ptr<Loop> loop_;
+};
+
+}  // namespace
+
+void bind_pipeline(py::module_& m) {
+  py::class_<FramePy>(m, "HapticFrame", "What one frame of the haptic loop computed (world frame, SI units).")
+      .def_readonly("force", &FramePy::force, "(14, 3) what each phalanx feels, -f summed over its contacts (N)")
+      .def_readonly("actuation_direction", &FramePy::actuation_direction, "(14, 3) unit, the device's push direction")
+      .def_readonly("actuated", &FramePy::actuated, "(14,) force . actuation_direction (N)")
+      .def_readonly("command", &FramePy::command, "(14,) what the device renders: actuated clamped to [0, limit] (N)")
+      .def_readonly("in_contact", &FramePy::in_contact)
+      .def_readonly("clamped", &FramePy::clamped)
+      .def_readonly("sliding", &FramePy::sliding)
+      .def_readonly("unbalanced", &FramePy::unbalanced, "(6,) w_ext + G f' left unbalanced (zero when held)")
+      .def_readonly("status", &FramePy::status)
+      .def_readonly("solve_status", &FramePy::solve_status)
+      .def_readonly("contacts", &FramePy::contacts)
+      .def_readonly("obstacles", &FramePy::obstacles)
+      .def_readonly("sliding_count", &FramePy::sliding_count)
+      .def_readonly("separating", &FramePy::separating)
+      .def_readonly("clamped_count", &FramePy::clamped_count)
+      .def_readonly("solves", &FramePy::solves)
+      .def_readonly("iterations", &FramePy::iterations)
+      .def_readonly("held", &FramePy::held, "the grasp is stable: the object moves with the hand")
+      .def_readonly("min_margin", &FramePy::min_margin)
+      .def_readonly("object_position", &FramePy::object_position, "(3,) the object's centre of mass after the frame (m)")
+      .def_readonly("object_rotation", &FramePy::object_rotation, "(3, 3) body to world after the frame");
+  py::class_<PyHapticLoop>(m, "HapticLoop",
+                           "grip's per-frame haptic pipeline over a solid cylinder (its axis the body's z) with box "
+                           "obstacles; forces by the optimum inside the exact friction cones, warm-started frame to "
+                           "frame (max_passes: the deadline, none by default). Table 1's shares for the fingers, thumb_contribution "
+                           "for the thumb; obstacle_stiffness (N/m) and obstacle_damping (N s/m) per obstacle contact point.")
+      .def(py::init<double, double, double, const py::handle&, const py::handle&,
+                    const std::vector<std::pair<py::object, py::object>>&, const grip::HandDimensions<double>&, double,
+                    const py::handle&, const py::handle&, const std::pair<double, double>&, double, int, double, double>(),
+           py::kw_only(), py::arg("radius") = 0.035, py::arg("half_length") = 0.06, py::arg("mass") = 0.4,
+           py::arg("position"), py::arg("rotation") = Eigen::Matrix3d::Identity(),
+           py::arg("boxes") = std::vector<std::pair<py::object, py::object>>{},
+           py::arg("hand") = grip::HandDimensions<double>::standard(), py::arg("friction") = 0.8,
+           py::arg("stiffness") = 3e4, py::arg("device_limit") = 10.0,
+           py::arg("thumb_contribution") = std::pair<double, double>(0.15, 0.25), py::arg("dt") = 1e-3,
+           py::arg("max_passes") = grip::ConstrainedSettings<double>{}.max_passes, py::arg("obstacle_stiffness") = 2e4, py::arg("obstacle_damping") = 50.0)
+      .def("step", &PyHapticLoop::step, py::arg("wrist"), py::arg("angles"),
+           py::arg("linear_velocity") = std::vector<double>{0, 0, 0}, py::arg("angular_velocity") = std::vector<double>{0, 0, 0},
+           py::arg("linear_acceleration") = std::vector<double>{0, 0, 0},
+           py::arg("angular_acceleration") = std::vector<double>{0, 0, 0},
+           "One frame: the wrist's pose (4, 4) and motion (world, m/s, m/s^2, rad/s, rad/s^2) and the 14 joint "
+           "angles in; a HapticFrame out. The GIL is released during the frame.")
+      .def("close_hand", &PyHapticLoop::close_hand, py::arg("wrist"), py::arg("depth") = 0.002,
+           "(angles (14,), touching, status): the posture at which the hand posed at `wrist` closes on the object, "
+           "each joint flexing from the palm outwards until a phalanx penetrates by `depth` (m).");
+}
+
+}  // namespace grip_python

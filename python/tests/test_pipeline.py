@@ -1,0 +1,82 @@
+"""The haptic loop from Python on the scripted session of examples/python/haptic_forces.py
+(the C++ example 06's script): the physics of the frames, checked from their own numbers."""
+
+import os
+import sys
+
+import numpy as np
+import pytest
+
+import grip
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "examples", "python"))
+import haptic_forces  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def run():
+    return haptic_forces.session()
+
+
+def test_every_frame_is_ok_and_the_grasp_holds_from_closing_to_letting_go(run):
+    times, frames = run
+    assert all(f.status == grip.Status.Ok for f in frames)
+    held = np.array([f.held for f in frames])
+    assert held[(times > 0.65) & (times < 5.7)].all()
+    assert not held[times > 6.1].any()  # (before closing, the 5 contacts of the open hand and the table may hold it)
+
+
+def test_holding_still_the_phalanges_feel_the_weight(run):
+    times, frames = run
+    g = np.array([0.0, 0.0, -9.81])
+    for t, f in zip(times, frames):
+        if 1.6 <= t <= 2.1:  # the hold phase: the wrist does not accelerate
+            felt = f.force.sum(axis=0)  # sum of -f_i; equilibrium: sum f_i + m g = 0
+            assert np.allclose(felt, haptic_forces.MASS * g, atol=1e-6), (t, felt)
+            assert np.allclose(f.unbalanced, 0, atol=1e-9)
+            assert f.sliding_count == 0 and f.contacts >= 10
+
+
+def test_the_table_edge_pushes_during_the_impact_and_nothing_is_felt_after_release(run):
+    times, frames = run
+    assert max(f.obstacles for t, f in zip(times, frames) if 4.4 <= t <= 4.8) > 0
+    assert all(f.obstacles == 0 for t, f in zip(times, frames) if 1.0 <= t <= 3.3)
+    for t, f in zip(times, frames):
+        if t > 6.1:
+            assert f.contacts == 0 and np.all(f.force == 0) and np.all(f.command == 0)
+    # Commands stay within the device's limits (25 N thumb, 12 N fingers).
+    commands = np.array([f.command for f in frames])
+    assert commands.min() >= 0 and commands[:, :2].max() <= 25 and commands[:, 2:].max() <= 12
+
+
+def test_the_loop_checks_its_input():
+    with pytest.raises(ValueError, match="radius, half_length and mass must be finite and > 0"):
+        grip.HapticLoop(position=(0, 0, 0), radius=-1.0)
+    loop = grip.HapticLoop(position=(0.0, 0.0, 0.0))
+    with pytest.raises(ValueError, match=r"angles must have shape \(14,\)"):
+        loop.step(np.eye(4), np.zeros(3))
+    with pytest.raises(ValueError, match="wrist must be finite and rigid"):
+        loop.step(np.full((4, 4), np.nan), np.zeros(14))
+    with pytest.raises(ValueError, match=r"stiffness\[3\] must be > 0"):
+        grip.HapticLoop(position=(0, 0, 0), stiffness=np.r_[np.ones(3), 0.0, np.ones(10)])
+
+
+def test_the_python_session_matches_the_cpp_example(run, tmp_path):
+    """The same script through the C++ example 06_haptic_loop (its CSV: 4 decimals)."""
+    exe = os.environ.get("GRIP_HAPTIC_LOOP")
+    if not exe:
+        pytest.skip("GRIP_HAPTIC_LOOP (the C++ haptic_loop example) not given")
+    import csv
+    import subprocess
+
+    subprocess.run([exe, str(tmp_path)], check=True, capture_output=True, timeout=300)
+    rows = list(csv.reader(open(tmp_path / "haptic_loop.csv")))
+    header = rows[0]
+    cols = [header.index(f"F{k}_norm") for k in range(14)]
+    cpp = np.array([[float(r[c]) for c in cols] for r in rows[1:]])
+    cpp_held = np.array([r[header.index("held")] == "1" for r in rows[1:]])
+    times, frames = run
+    py = np.array([np.linalg.norm(f.force, axis=1) for f in frames])
+    assert cpp.shape == py.shape
+    assert np.abs(py - cpp).max() <= 1e-3  # the CSV's rounding, and a few ulps grown over 6 500 frames
+    assert np.mean(cpp_held == np.array([f.held for f in frames])) >= 0.995
