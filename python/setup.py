@@ -28,7 +28,7 @@ setup(
     ext_modules=[
         Pybind11Extension(
             "grip._grip",
-            ["src/module.cpp", "src/analysis.cpp", "src/monitor.cpp", "src/hand.cpp", "src/pipeline.cpp"],
+            ["src/module.cpp", "src/analysis.cpp", "src/monitor.cpp", "src/hand.cpp", "src/pipeline.cpp", "src/mesh.cpp"],
             include_dirs=[INCLUDE, os.environ.get("GRIP_EIGEN_INCLUDE", "/usr/include/eigen3")],
             define_macros=[("EIGEN_STACK_ALLOCATION_LIMIT", "1048576")],
             cxx_std=17,

@@ -85,4 +85,5 @@ void bind_analysis(py::module_& m);  // analysis.cpp
 void bind_monitor(py::module_& m);   // monitor.cpp
 void bind_hand(py::module_& m);      // hand.cpp
 void bind_pipeline(py::module_& m);  // pipeline.cpp
+void bind_mesh(py::module_& m);      // mesh.cpp
 }  // namespace grip_python

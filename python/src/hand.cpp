@@ -10,7 +10,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include "grasp.hpp"
+#include "mesh.hpp"
 
 namespace grip_python {
 namespace {
@@ -104,10 +104,14 @@ py::dict capsules(const grip::HandPosture<double>& p) {
   return d;
 }
 
-template <int PerPhalanx>
-py::dict contacts_of(const grip::HandCollisionModel<double, 8>& model, const PyShape& shape, const Iso& object) {
+/// The contacts of the posed `model` with `field` placed by `object`: by the octree's broad
+/// phase when one is given, else directly (every sample in reach of the field's box).
+template <int PerPhalanx, class Field>
+py::dict contacts_of(const grip::HandCollisionModel<double, 8>& model, const Field& field, const Octree* octree,
+                     const Iso& object) {
   grip::HandContacts<double, PerPhalanx> out;
-  const grip::Status st = grip::detect_contacts_direct(model, shape, object, out);
+  const grip::Status st = octree != nullptr ? grip::detect_contacts(model, *octree, field, object, out)
+                                            : grip::detect_contacts_direct(model, field, object, out);
   const int m = out.count;
   Eigen::VectorXi phalanx(m), sample(m);
   Eigen::VectorXd depth(m), along(m);
@@ -130,6 +134,17 @@ py::dict contacts_of(const grip::HandCollisionModel<double, 8>& model, const PyS
   d["axis_parameter"] = along;
   d["status"] = st;
   return d;
+}
+
+template <class Field>
+py::dict contacts_with(const grip::HandCollisionModel<double, 8>& model, const Field& field, const Octree* octree,
+                       const Iso& object, int per_phalanx) {
+  switch (per_phalanx) {
+    case 1: return contacts_of<1>(model, field, octree, object);
+    case 2: return contacts_of<2>(model, field, octree, object);
+    case 4: return contacts_of<4>(model, field, octree, object);
+    default: invalid("per_phalanx must be 1, 2 or 4, not " + std::to_string(per_phalanx));
+  }
 }
 
 }  // namespace
@@ -209,24 +224,30 @@ void bind_hand(py::module_& m) {
            py::arg("points"), "(distance (m,), outward normal (m, 3)) at points (m, 3): negative inside");
 
   m.def("hand_contacts",
-        [](const PyShape& shape, const py::handle& wrist, const py::handle& q, const py::handle& object_pose,
-           const Dims* dims, int per_phalanx) {
+        [](const py::object& field, const py::handle& wrist, const py::handle& q, const py::handle& object_pose,
+           const Dims* dims, int per_phalanx, const py::object& octree) {
           const grip::HandPosture<double> p = posture(dims ? *dims : Dims::standard(), wrist, q);
           const Iso object = object_pose.is_none() ? Iso::Identity() : pose(object_pose, "object_pose");
           grip::HandCollisionModel<double, 8> model;
           if (model.set_posture(p) != grip::Status::Ok) invalid("the posed hand is invalid");
-          switch (per_phalanx) {
-            case 1: return contacts_of<1>(model, shape, object);
-            case 2: return contacts_of<2>(model, shape, object);
-            case 4: return contacts_of<4>(model, shape, object);
-            default: invalid("per_phalanx must be 1, 2 or 4, not " + std::to_string(per_phalanx));
+          const Octree* tree = nullptr;
+          if (!octree.is_none()) {
+            if (!py::isinstance<PyOctree>(octree)) invalid("octree must be a grip.SphericalOctree");
+            const PyOctree& o = octree.cast<const PyOctree&>();
+            if (!o.field.is(field)) invalid("the octree must be the one built from this field");
+            tree = o.tree.get();
           }
+          if (py::isinstance<PyShape>(field)) return contacts_with(model, field.cast<const PyShape&>(), tree, object, per_phalanx);
+          if (py::isinstance<PyMesh>(field))
+            return contacts_with(model, *field.cast<const PyMesh&>().shape, tree, object, per_phalanx);
+          invalid("field must be a grip.Shape or a grip.Mesh");
         },
-        py::arg("shape"), py::arg("wrist"), py::arg("angles"), py::arg("object_pose") = py::none(),
-        py::arg("dims") = nullptr, py::arg("per_phalanx") = 1,
-        "Contacts of the posed hand with `shape` placed by object_pose (4, 4) (identity by default): a dict of "
-        "phalanx (m,) (0..13), point (m, 3) on the surface and normal (m, 3) into the object (world), depth (m,) "
-        "(m, > 0), sample, axis_parameter and status. Exact at faces, edges and corners (docs/geometry.md).");
+        py::arg("field"), py::arg("wrist"), py::arg("angles"), py::arg("object_pose") = py::none(),
+        py::arg("dims") = nullptr, py::arg("per_phalanx") = 1, py::arg("octree") = py::none(),
+        "Contacts of the posed hand with `field` (a Shape or a Mesh, object frame) placed by object_pose (4, 4) "
+        "(identity by default), through `octree` (a SphericalOctree of the same field) when given, else directly: "
+        "a dict of phalanx (m,) (0..13), point (m, 3) on the surface and normal (m, 3) into the object (world), "
+        "depth (m,) (m, > 0), sample, axis_parameter and status. Exact at faces, edges and corners (docs/geometry.md).");
 }
 
 }  // namespace grip_python

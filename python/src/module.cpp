@@ -237,4 +237,5 @@ PYBIND11_MODULE(_grip, m) {
   bind_monitor(m);
   bind_hand(m);
   bind_pipeline(m);
+  bind_mesh(m);
 }
