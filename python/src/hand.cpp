@@ -210,17 +210,7 @@ void bind_hand(py::module_& m) {
            }),
            py::arg("primitives"))
       .def("distance",
-           [](const PyShape& s, const py::handle& points) {
-             const Array p = rows3(points, "points");
-             Eigen::VectorXd d(p.shape(0));
-             RowMatrix n(p.shape(0), 3);
-             for (py::ssize_t i = 0; i < p.shape(0); ++i) {
-               grip::Vector3<double> g;
-               d(i) = s.distance(grip::Vector3<double>(p.at(i, 0), p.at(i, 1), p.at(i, 2)), g);
-               n.row(i) = g.transpose();
-             }
-             return py::make_tuple(d, n);
-           },
+           [](const PyShape& s, const py::handle& points) { return distances(s, points); },
            py::arg("points"), "(distance (m,), outward normal (m, 3)) at points (m, 3): negative inside");
 
   m.def("hand_contacts",

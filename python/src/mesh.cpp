@@ -17,18 +17,6 @@
 namespace grip_python {
 namespace {
 
-template <class Field>
-py::tuple distances(const Field& f, const py::handle& points) {
-  const Array p = rows3(points, "points");
-  Eigen::VectorXd d(p.shape(0));
-  RowMatrix n(p.shape(0), 3);
-  for (py::ssize_t i = 0; i < p.shape(0); ++i) {
-    grip::Vector3<double> g;
-    d(i) = f.distance(grip::Vector3<double>(p.at(i, 0), p.at(i, 1), p.at(i, 2)), g);
-    n.row(i) = g.transpose();
-  }
-  return py::make_tuple(d, n);
-}
 
 PyMesh load(const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "rb");

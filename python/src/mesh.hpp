@@ -4,6 +4,7 @@
 #include <memory>
 #include <string>
 
+#include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 
 #include "grasp.hpp"
@@ -37,5 +38,19 @@ struct PyOctree {
   std::unique_ptr<Octree> tree{new Octree()};
   py::object field;  ///< the Shape or Mesh it was built from (kept alive)
 };
+
+/// (distance (m,), outward normal (m, 3)) of `f` (a Shape or a MeshShape) at points (m, 3).
+template <class Field>
+py::tuple distances(const Field& f, const py::handle& points) {
+  const Array p = rows3(points, "points");
+  Eigen::VectorXd d(p.shape(0));
+  RowMatrix n(p.shape(0), 3);
+  for (py::ssize_t i = 0; i < p.shape(0); ++i) {
+    grip::Vector3<double> g;
+    d(i) = f.distance(grip::Vector3<double>(p.at(i, 0), p.at(i, 1), p.at(i, 2)), g);
+    n.row(i) = g.transpose();
+  }
+  return py::make_tuple(d, n);
+}
 
 }  // namespace grip_python
