@@ -135,4 +135,46 @@ inline std::vector<grip::Contact<double>> contacts(const py::handle& positions, 
   return out;
 }
 
+/// A (3,) vector of finite numbers.
+inline grip::Vector3<double> vec3(const py::handle& obj, const char* name) {
+  const Array a = Array::ensure(obj);
+  if (!a || a.ndim() != 1 || a.shape(0) != 3) invalid(std::string(name) + " must have shape (3,)");
+  const grip::Vector3<double> v(a.at(0), a.at(1), a.at(2));
+  if (!v.allFinite()) invalid(std::string(name) + " is not finite");
+  return v;
+}
+
+/// A rigid pose from a (4, 4) homogeneous matrix: finite, the rotation orthonormal to 1e-3,
+/// the last row 0 0 0 1.
+inline grip::Isometry3<double> pose(const py::handle& obj, const char* name) {
+  const Array a = Array::ensure(obj);
+  if (!a || a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4)
+    invalid(std::string(name) + " must be a (4, 4) homogeneous matrix, not " + (a ? shape_of(a) : std::string("?")));
+  Eigen::Matrix4d m;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) m(r, c) = a.at(r, c);
+  if (!m.allFinite()) invalid(std::string(name) + " must be finite and rigid (an orthonormal rotation, to 1e-3)");
+  const Eigen::Matrix3d rot = m.topLeftCorner<3, 3>();
+  if (!((rot.transpose() * rot - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-3) ||
+      !(m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).isZero(0))
+    invalid(std::string(name) + " must be rigid: an orthonormal rotation (to 1e-3) and a last row 0 0 0 1");
+  grip::Isometry3<double> t = grip::Isometry3<double>::Identity();
+  t.linear() = rot;
+  t.translation() = m.topRightCorner<3, 1>();
+  return t;
+}
+
+/// The 14 joint angles (rad), finite.
+inline grip::JointAngles<double> angles(const py::handle& obj) {
+  const Array a = Array::ensure(obj);
+  if (!a || a.ndim() != 1 || a.shape(0) != grip::hand_joint_count)
+    invalid("angles must have shape (14,) (rad, the joint order of docs/hand.md), not " + (a ? shape_of(a) : std::string("?")));
+  grip::JointAngles<double> q;
+  for (int k = 0; k < grip::hand_joint_count; ++k) {
+    q(k) = a.at(k);
+    if (!std::isfinite(q(k))) invalid("angles[" + std::to_string(k) + "] is not finite");
+  }
+  return q;
+}
+
 }  // namespace grip_python

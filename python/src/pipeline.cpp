@@ -22,44 +22,12 @@ using Loop = grip::HapticPipeline<double, Scene, grip::ConstrainedFrameSolver<do
 using Iso = Eigen::Transform<double, 3, Eigen::Isometry>;
 constexpr int phalanges = grip::hand_phalanx_count;
 
-grip::Vector3<double> vec3(const py::handle& obj, const char* name) {
-  const Array a = Array::ensure(obj);
-  if (!a || a.ndim() != 1 || a.shape(0) != 3) invalid(std::string(name) + " must have shape (3,)");
-  const grip::Vector3<double> v(a.at(0), a.at(1), a.at(2));
-  if (!v.allFinite()) invalid(std::string(name) + " is not finite");
-  return v;
-}
-
 /// A number per phalanx: a scalar or (14,), finite and >= least.
 std::array<double, phalanges> per_phalanx(const py::handle& obj, const char* name, double least) {
   const std::vector<double> v = per_contact(obj, phalanges, name, least, least > 0 ? "> 0" : ">= 0");
   std::array<double, phalanges> out{};
   for (int k = 0; k < phalanges; ++k) out[static_cast<std::size_t>(k)] = v[static_cast<std::size_t>(k)];
   return out;
-}
-
-Iso rigid(const py::handle& obj, const char* name) {
-  const Array a = Array::ensure(obj);
-  if (!a || a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4) invalid(std::string(name) + " must be a (4, 4) matrix");
-  Eigen::Matrix4d m;
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) m(r, c) = a.at(r, c);
-  const Eigen::Matrix3d rot = m.topLeftCorner<3, 3>();
-  if (!m.allFinite() || !((rot.transpose() * rot - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-3))
-    invalid(std::string(name) + " must be finite and rigid (an orthonormal rotation, to 1e-3)");
-  Iso t = Iso::Identity();
-  t.linear() = rot;
-  t.translation() = m.topRightCorner<3, 1>();
-  return t;
-}
-
-grip::JointAngles<double> joint_angles(const py::handle& obj) {
-  const Array a = Array::ensure(obj);
-  if (!a || a.ndim() != 1 || a.shape(0) != grip::hand_joint_count) invalid("angles must have shape (14,)");
-  grip::JointAngles<double> q;
-  for (int k = 0; k < grip::hand_joint_count; ++k) q(k) = a.at(k);
-  if (!q.allFinite()) invalid("angles are not finite");
-  return q;
 }
 
 struct FramePy {
@@ -121,12 +89,12 @@ class PyHapticLoop {
   FramePy step(const py::handle& wrist, const py::handle& angles, const py::handle& v, const py::handle& w,
                const py::handle& a, const py::handle& alpha) {
     grip::WristState<double> ws;
-    ws.pose = rigid(wrist, "wrist");
+    ws.pose = pose(wrist, "wrist");
     ws.linear_velocity = vec3(v, "linear_velocity");
     ws.angular_velocity = vec3(w, "angular_velocity");
     ws.linear_acceleration = vec3(a, "linear_acceleration");
     ws.angular_acceleration = vec3(alpha, "angular_acceleration");
-    const grip::JointAngles<double> q = joint_angles(angles);
+    const grip::JointAngles<double> q = grip_python::angles(angles);
     grip::HapticFrame<double> f;
     {
       py::gil_scoped_release release;
@@ -167,7 +135,7 @@ class PyHapticLoop {
   /// The joint angles at which the hand posed at `wrist` closes on the object (see close_hand_in_scene).
   py::tuple close_hand(const py::handle& wrist, double depth) const {
     if (!(depth >= 0) || !std::isfinite(depth)) invalid("depth must be finite and >= 0");
-    const auto c = grip::close_hand_in_scene<double>(scene_, loop_->settings().hand, rigid(wrist, "wrist"), loop_->object(), depth);
+    const auto c = grip::close_hand_in_scene<double>(scene_, loop_->settings().hand, pose(wrist, "wrist"), loop_->object(), depth);
     return py::make_tuple(Eigen::VectorXd(c.angles), c.touching, c.status);
   }
 
