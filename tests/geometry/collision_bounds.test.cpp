@@ -55,6 +55,7 @@ double bound(double) {
 
 struct Tally {
   int contacts = 0, apart = 0, deep = 0, near = 0;
+  int reached = 0;  // contacts within 1 um of the capsule's true depth (dense sampling)
 };
 
 // Checks the contacts of one phalanx [a, b] (object frame) of radius r against the exact
@@ -95,6 +96,7 @@ void check_phalanx(const Field& field, const Exact& exact, const OffSurface& off
   const double depth = double(c.depth);
   CHECK(depth <= depth_true + tol);  // a true penetration of the capsule
   CHECK(depth >= lower);
+  if (depth >= depth_true - 1e-6) ++tally.reached;
   // The contact's axis point x, its distance r - depth, and the surface point nearest it.
   const V3 x = a + double(c.axis_parameter) * (b - a);
   const double phi = exact(x);
@@ -560,6 +562,20 @@ using MugShape = MeshShape<S, 2048, 4096>;
 const V3 box_half(0.05, 0.04, 0.03);
 const grip_test::ExactBox exact_box{V3::Zero(), box_half, Eigen::Matrix3d::Identity()};
 
+// The mug of tests/data/meshes (handle and cavity: not convex).
+template <class S>
+const MugShape<S>& mug_shape() {
+  static Mug<S> mug;
+  static MugShape<S> shape;
+  static const bool loaded = [] {
+    static char buffer[1 << 19];
+    return read_mesh_file(GRIP_TEST_DATA_DIR "/meshes/mug.stl", buffer, sizeof buffer, mug).status == Status::Ok &&
+           shape.build(mug) == Status::Ok;
+  }();
+  REQUIRE(loaded);
+  return shape;
+}
+
 // A 12-triangle mesh of that box (a convex field equal to the box's exact distance,
 // mesh_shape.test.cpp), with octree<double>() built from it at depth 3.
 const MeshShape<double, 16, 16>& box_mesh_shape() {
@@ -635,14 +651,8 @@ TEST_CASE_TEMPLATE("a mesh with cavities and a handle (the mug): the bounds of a
   // the true depth minus half a spacing, points and normals exact for their axis point. The
   // field (MeshShape::distance, checked against every triangle in mesh_shape.test.cpp) is the
   // reference; the axis minimum is found by dense sampling.
-  static Mug<S> mug;
-  static MugShape<S> shape;
-  static const bool loaded = [] {
-    static char buffer[1 << 19];
-    return read_mesh_file(GRIP_TEST_DATA_DIR "/meshes/mug.stl", buffer, sizeof buffer, mug).status == Status::Ok &&
-           shape.build(mug) == Status::Ok;
-  }();
-  REQUIRE(loaded);
+  const MugShape<S>& shape = mug_shape<S>();
+  const Mug<S>& mug = *shape.mesh();
   REQUIRE(octree<S>().build(winding_signed(shape), 3) == Status::Ok);
   const auto exact = [&](const V3& p) { return double(shape.distance(p.cast<S>())); };
   std::mt19937 rng(20);
@@ -659,6 +669,17 @@ TEST_CASE_TEMPLATE("a mesh with cavities and a handle (the mug): the bounds of a
   }
   CHECK(tally.contacts > grip_test::scaled_bound(25, trials, 60));
   CHECK(tally.apart > grip_test::scaled_bound(3, trials, 60));
+  // Refinement by triangles (narrow_phase.hpp) promises no more than the bounds above, but on
+  // this smooth mesh it reaches the capsule's true depth (within 1 um) nine times in ten.
+  CHECK(10 * tally.reached >= 9 * tally.contacts);
+}
+
+TEST_CASE_TEMPLATE("a mesh's own hierarchy as stage 2: the contacts of every sample evaluated", S, double, float) {
+  // For a field with a bounded query the octree answers only stage 1 and the inside test
+  // (collision.hpp): the contacts must be those of the direct loop over every sample.
+  std::mt19937 rng(21);
+  const int trials = grip_test::scaled(40, 5);
+  CHECK(compare_broad_phase<S>(mug_shape<S>(), 3, rng, trials) > grip_test::scaled_bound(10, trials, 40));
 }
 
 }  // namespace collision_bounds_test

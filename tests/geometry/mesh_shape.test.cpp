@@ -316,6 +316,59 @@ TEST_CASE_TEMPLATE("the hierarchy's distance equals a loop over all triangles, i
   CHECK(outside > 30);
 }
 
+TEST_CASE_TEMPLATE("the narrow phase's queries: bounded distance with any hint, segment to a hinted triangle", S, double,
+                   float) {
+  Mesh<S>& m = mesh_a<S>();
+  Field<S>& f = field_a<S>();
+  REQUIRE(load(grip_mesh_test::sphere_soup(2, 0, V3::Zero(), true), m).ok());
+  REQUIRE(f.build(m) == Status::Ok);
+  std::mt19937 g(35);
+  const std::vector<std::array<double, 9>> tris = grip_mesh_test::plain_triangles(m);
+  const double size = extent(tris);
+  int hits = 0, misses = 0;
+  int hint = -1;
+  for (int i = 0; i < 600; ++i) {
+    int t = 0;
+    const Vector3<S> p = surface_point(m, g, t) + (unit_vector(g) * uniform(g, 0, 0.02)).cast<S>();
+    const double exact = brute_distance(tris, p.template cast<double>());
+    const double limit = uniform(g, 0, 0.02);
+    if (std::abs(limit - exact) < 1e-6) continue;  // too near the limit to say which side
+    if (i % 3 == 0) hint = -1;  // no hint, a stale one, or (every 7th) one naming no triangle
+    if (i % 7 == 0) hint = 1 << 20;
+    S phi = S(7);
+    Vector3<S> n = Vector3<S>::Zero(), n_full;
+    const bool found = f.distance_within(p, S(limit), phi, n, hint);
+    CHECK(found == (exact < limit));  // the surface within the limit, whatever the hint
+    if (!found) {
+      CHECK(phi == S(7));  // untouched
+      ++misses;
+      continue;
+    }
+    ++hits;
+    const double M = double(p.norm()) + size;
+    CHECK(std::abs(double(phi) - double(f.distance(p, n_full))) <= grip_test::roundoff<S>(4, 1, M));
+    CHECK(std::abs(std::abs(double(phi)) - exact) <= grip_test::roundoff<S>(4, 1, M));
+    // The hint now names p's nearest triangle: the segment from p to a point 5 mm away starts
+    // on p's distance, and its least squared distance to that triangle is no larger.
+    REQUIRE(hint >= 0);
+    const Vector3<S> q = p + (unit_vector(g) * 0.005).cast<S>();
+    S u = S(-1);
+    const S d2 = f.segment_distance2(hint, p, q, u);
+    CHECK(double(d2) <= double(phi * phi) + grip_test::roundoff<S>(16, 1, M * M));
+    CHECK(u >= S(0));
+    CHECK(u <= S(1));
+    CHECK(std::sqrt(double(d2)) >= brute_distance(tris, (p + u * (q - p)).template cast<double>()) -
+                                       grip_test::roundoff<S>(16, 1, M));  // a triangle's distance bounds the mesh's
+  }
+  CHECK(hits > 100);
+  CHECK(misses > 100);
+  S u = S(3);
+  CHECK(f.segment_distance2(-1, Vector3<S>::Zero(), Vector3<S>::UnitX(), u) == std::numeric_limits<S>::infinity());
+  CHECK(u == S(0));
+  CHECK(f.segment_distance2(m.triangle_count(), Vector3<S>::Zero(), Vector3<S>::UnitX(), u) ==
+        std::numeric_limits<S>::infinity());
+}
+
 TEST_CASE_TEMPLATE("the fast winding number stays within its error bound, and the winding view agrees", S, double, float) {
   Mesh<S>& m = mesh_a<S>();
   Field<S>& f = field_a<S>();

@@ -176,6 +176,66 @@ TEST_CASE_TEMPLATE("closest point on a triangle against a brute-force barycentri
   for (int k = 0; k < 7; ++k) CHECK(regions[k] > 0);  // random points reach every region
 }
 
+TEST_CASE_TEMPLATE("segment and triangle: the closed form against a search along the segment", S, double, float) {
+  // The squared distance from p0 + t (p1 - p0) to the triangle is convex in t (a convex set's
+  // distance along a line), so a ternary search in double over t with the point distance
+  // (checked above) finds its least value independently of the closed form's case analysis.
+  std::mt19937 g(31);
+  int ends = 0, inner = 0, crossing = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    V3 v[3];
+    for (V3& x : v) x = V3(uniform(g, -1, 1), uniform(g, -1, 1), uniform(g, -1, 1));
+    if ((v[1] - v[0]).cross(v[2] - v[0]).norm() < 0.05) continue;
+    V3 p0(uniform(g, -2, 2), uniform(g, -2, 2), uniform(g, -2, 2)), p1(uniform(g, -2, 2), uniform(g, -2, 2), uniform(g, -2, 2));
+    const int kind = trial % 5;
+    if (kind == 3) {  // parallel to the plane, above the face
+      const V3 n = (v[1] - v[0]).cross(v[2] - v[0]).normalized(), in = (v[0] + v[1] + v[2]) / 3;
+      const V3 along = (p1 - p0 - n * n.dot(p1 - p0)).normalized();
+      p0 = in + 0.3 * n - 0.2 * along;
+      p1 = in + 0.3 * n + 0.2 * along;
+    } else if (kind == 4) {  // through the triangle
+      const double w0 = grip_mesh_test::u01(g), w1 = (1 - w0) * grip_mesh_test::u01(g);
+      const V3 in = w0 * v[0] + w1 * v[1] + (1 - w0 - w1) * v[2];
+      p1 = in + 0.7 * (in - p0);
+    }
+    auto point_d2 = [&](double t) {
+      V3 q;
+      TriangleFeature f = TriangleFeature::Face;
+      return closest_point_on_triangle<double>(p0 + t * (p1 - p0), v[0], v[1], v[2], q, f);
+    };
+    double lo = 0, hi = 1;
+    for (int it = 0; it < 200; ++it) {
+      const double m1 = lo + (hi - lo) / 3, m2 = hi - (hi - lo) / 3;
+      if (point_d2(m1) < point_d2(m2)) hi = m2;
+      else lo = m1;
+    }
+    const double search = std::min({point_d2(0), point_d2(1), point_d2(0.5 * (lo + hi))});
+    S u = S(-1);
+    const S d2 = segment_triangle_distance2(cv<S>(p0), cv<S>(p1), cv<S>(v[0]), cv<S>(v[1]), cv<S>(v[2]), u);
+    // 64 roundings of values of size M^2 (the endpoint and edge cases' dot products); the
+    // search's own error is of second order at the minimum.
+    double M = std::max(p0.norm(), p1.norm());
+    for (const V3& x : v) M = std::max(M, x.norm());
+    const double tol = grip_test::roundoff<S>(64, 1, M * M);
+    CHECK(std::abs(double(d2) - search) <= tol);
+    REQUIRE(u >= S(0));
+    REQUIRE(u <= S(1));
+    CHECK(std::abs(point_d2(double(u)) - double(d2)) <= tol);  // u attains it
+    if (kind == 4) CHECK(d2 == S(0));
+    if (d2 == S(0)) ++crossing;
+    else if (u == S(0) || u == S(1)) ++ends;
+    else ++inner;
+  }
+  CHECK(ends > 20);  // an end nearest, an edge nearest, and crossings all occur
+  CHECK(inner > 20);
+  CHECK(crossing > 20);
+  // A segment of zero length is a point.
+  const Vector3<S> a(S(0), S(0), S(0)), b(S(1), S(0), S(0)), c(S(0), S(1), S(0)), p(S(0.2), S(0.2), S(0.5));
+  S u = S(-1);
+  CHECK(segment_triangle_distance2(p, p, a, b, c, u) == doctest::Approx(0.25));
+  CHECK(u == S(0));
+}
+
 TEST_CASE_TEMPLATE("closest point on degenerate triangles: finite, the nearest segment point", S, double, float) {
   const Vector3<S> a(S(0), S(0), S(0)), b(S(1), S(0), S(0)), mid(S(0.5), S(0), S(0));
   Vector3<S> q = Vector3<S>::Zero();

@@ -9,7 +9,9 @@
 /// descends the octree against each remaining phalanx (detail/octree_descent.hpp). A sample
 /// sphere is "in reach" when, inflated by half the sample spacing, it overlaps a solid leaf.
 /// The leaves cover the object, so a sample farther than that from the object is the only
-/// kind ever skipped.
+/// kind ever skipped. A field with a bounded query (a MeshShape) is its own, finer stage 2:
+/// every sample of a phalanx that passes stage 1 asks it, with the band as the limit, and the
+/// octree answers only whether a missed sample's centre may lie inside (the same contacts).
 ///
 /// Narrow phase (detail/narrow_phase.hpp). The field gives each sample in reach its exact
 /// signed distance phi_j and outward normal n_j; each local minimum of phi_j within half a
@@ -25,6 +27,9 @@
 ///   r - min_t phi(t) within ContactSettings::refine_tolerance (0.1 um by default), the
 ///   point and normal those of its axis point exactly; no contact unless the capsule
 ///   penetrates by more than that tolerance, and none missed where it penetrates by more.
+/// - Meshes are refined triangle by triangle (detail/narrow_phase.hpp): exact for a convex
+///   mesh as above; on others the search stops at a point whose nearest triangle is the one
+///   it minimised, and the bounds of any field below hold.
 /// - Any field (meshes, unions): every depth is a true penetration of the capsule (never
 ///   more than its deepest), at least that of the deepest sample, and at least the capsule's
 ///   true depth minus s / 2 (phi is 1-Lipschitz); each contact's point and normal are exact
@@ -243,9 +248,14 @@ Status detect_contacts(const HandCollisionModel<Scalar, Samples>& hand, const Sp
     const detail::PhalanxAxis<Scalar> ax = detail::object_axis(hand, k, to_object);
     detail::SampleField<Scalar, Samples> s;
     detail::MarkReach<Scalar, Samples> mark{&s};
-    const auto seg = detail::SegmentQuery<Scalar>::make(ax.a, ax.b, ax.radius + detail::reach_margin(hand, k, settings),
-                                                         Samples);
-    detail::descend_from_root(seg, octree, mark);
+    if constexpr (detail::has_bounded_query<Field, Scalar>::value) {  // stage 2: the field's own hierarchy
+      s.reach.fill(true);
+      mark.marked = Samples;
+    } else {
+      detail::descend_from_root(
+          detail::SegmentQuery<Scalar>::make(ax.a, ax.b, ax.radius + detail::reach_margin(hand, k, settings), Samples),
+          octree, mark);
+    }
     if (mark.marked > 0)
       detail::emit_contacts(field, ax, s, k, settings, object_pose, out,
                             [&octree](const Vector3<Scalar>& x) { return detail::in_solid_leaf(octree, x); });

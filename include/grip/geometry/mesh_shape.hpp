@@ -6,7 +6,7 @@
 ///
 /// Hierarchy. build() sorts the triangles into a binary tree of axis-aligned boxes: each node
 /// is split at the median (rounded to a multiple of 4) of its triangles' centroids along the
-/// longest extent of the centroids, down to leaves of 4 triangles (one leaf may hold fewer),
+/// axis whose two halves have the least total box surface, down to leaves of 4 triangles (one leaf may hold fewer),
 /// breadth first without recursion. The tree is then collapsed into a 4-wide one (each node
 /// holds its grandchildren's boxes) for distance queries; the binary one serves winding numbers.
 ///
@@ -120,6 +120,11 @@ class MeshShape {
   /// search: pass -1, or the value a query of a nearby point left (an opaque slot of the
   /// hierarchy); it receives p's. A good hint and a small limit prune most of the hierarchy.
   bool distance_within(const Vector3<Scalar>& p, Scalar limit, Scalar& phi, Vector3<Scalar>& normal, int& hint) const;
+  /// The narrow phase's refinement: the least squared distance between segment [p0, p1] and
+  /// the triangle that `hint` (a value distance_within() left) names, with `u` the segment
+  /// parameter in [0, 1] of a point attaining it (segment_triangle_distance2()); +infinity and
+  /// u = 0 for a hint that names no triangle, or before build().
+  Scalar segment_distance2(int hint, const Vector3<Scalar>& p0, const Vector3<Scalar>& p1, Scalar& u) const;
   /// Unsigned distance (m) to the surface; writes the closest point q, its mesh triangle and
   /// the feature of that triangle holding q. Returns +max_magnitude and triangle -1 before
   /// build() or for a point not finite or beyond max_magnitude.

@@ -33,7 +33,7 @@ Status MeshShape<Scalar, MaxVertices, MaxTriangles>::build(const Mesh& mesh) {
     MeshBoxNode<Scalar>& nd = nodes_[detail::idx(i)];
     MeshWindingNode<Scalar>& wn = wnodes_[detail::idx(i)];
     const int b = nd.first, e = nd.first + nd.count;
-    Scalar lo[3] = {big, big, big}, hi[3] = {-big, -big, -big}, clo[3] = {big, big, big}, chi[3] = {-big, -big, -big};
+    Scalar lo[3] = {big, big, big}, hi[3] = {-big, -big, -big};
     Scalar nsum[3] = {0, 0, 0}, wsum[3] = {0, 0, 0}, area = Scalar(0);
     for (int s = b; s < e; ++s) {
       const int t = slot_id_[detail::idx(s)];
@@ -47,8 +47,6 @@ Status MeshShape<Scalar, MaxVertices, MaxTriangles>::build(const Mesh& mesh) {
         lo[d] = std::min(lo[d], std::min(p0[d], std::min(p1[d], p2[d])));
         hi[d] = std::max(hi[d], std::max(p0[d], std::max(p1[d], p2[d])));
         const Scalar c = (p0[d] + p1[d] + p2[d]) / Scalar(3);
-        clo[d] = std::min(clo[d], c);
-        chi[d] = std::max(chi[d], c);
         nsum[d] += n[d] / Scalar(2);
         wsum[d] += half_area * c;
       }
@@ -70,15 +68,38 @@ Status MeshShape<Scalar, MaxVertices, MaxTriangles>::build(const Mesh& mesh) {
       nd.first = b / 4;
       continue;
     }
-    const int axis = chi[0] - clo[0] >= chi[1] - clo[1] ? (chi[0] - clo[0] >= chi[2] - clo[2] ? 0 : 2)
-                                                         : (chi[1] - clo[1] >= chi[2] - clo[2] ? 1 : 2);
-    // The median, rounded to a multiple of 4 so that every leaf but one is a full block.
+    // The median, rounded to a multiple of 4 so that every leaf but one is a full block, along
+    // the axis whose two halves have the least total box surface (the smaller the boxes, the
+    // fewer a distance query must open).
     const int left_count = std::max(4, (nd.count / 2 + 2) / 4 * 4);
     const int mid = b + left_count;
-    std::nth_element(slot_id_.begin() + b, slot_id_.begin() + mid, slot_id_.begin() + e, [&](int x, int y) {
-      return corner(x, 0)[axis] + corner(x, 1)[axis] + corner(x, 2)[axis] <
-             corner(y, 0)[axis] + corner(y, 1)[axis] + corner(y, 2)[axis];
-    });
+    auto split = [&](int axis) {
+      std::nth_element(slot_id_.begin() + b, slot_id_.begin() + mid, slot_id_.begin() + e, [&](int x, int y) {
+        return corner(x, 0)[axis] + corner(x, 1)[axis] + corner(x, 2)[axis] <
+               corner(y, 0)[axis] + corner(y, 1)[axis] + corner(y, 2)[axis];
+      });
+    };
+    auto surface = [&](int from, int to) {
+      Scalar l[3] = {big, big, big}, h[3] = {-big, -big, -big};
+      for (int s = from; s < to; ++s)
+        for (int k = 0; k < 3; ++k)
+          for (int d = 0; d < 3; ++d) {
+            l[d] = std::min(l[d], corner(slot_id_[detail::idx(s)], k)[d]);
+            h[d] = std::max(h[d], corner(slot_id_[detail::idx(s)], k)[d]);
+          }
+      return (h[0] - l[0]) * (h[1] - l[1]) + (h[1] - l[1]) * (h[2] - l[2]) + (h[2] - l[2]) * (h[0] - l[0]);
+    };
+    int axis = 0;
+    Scalar least = big;
+    for (int a = 0; a < 3; ++a) {
+      split(a);
+      const Scalar area_sum = surface(b, mid) + surface(mid, e);
+      if (area_sum < least) {
+        least = area_sum;
+        axis = a;
+      }
+    }
+    if (axis != 2) split(axis);
     const int left = node_count_;
     nodes_[detail::idx(left)].first = b;
     nodes_[detail::idx(left)].count = mid - b;
@@ -275,6 +296,15 @@ bool MeshShape<Scalar, MaxVertices, MaxTriangles>::distance_within(const Vector3
   hint = slot;
   phi = signed_distance(p, slot, normal);
   return true;
+}
+
+template <class Scalar, int MaxVertices, int MaxTriangles>
+Scalar MeshShape<Scalar, MaxVertices, MaxTriangles>::segment_distance2(int hint, const Vector3<Scalar>& p0,
+                                                                       const Vector3<Scalar>& p1, Scalar& u) const {
+  u = Scalar(0);
+  if (!built() || hint < 0 || hint >= mesh_->triangle_count()) return std::numeric_limits<Scalar>::infinity();
+  const std::array<int, 3>& tri = mesh_->triangle(blocks_[detail::idx(hint / 4)].id[hint % 4]);
+  return segment_triangle_distance2(p0, p1, mesh_->vertex(tri[0]), mesh_->vertex(tri[1]), mesh_->vertex(tri[2]), u);
 }
 
 template <class Scalar, int MaxVertices, int MaxTriangles>

@@ -15,6 +15,12 @@
 /// vertices) has no face region: its closest point is the best of its three edges as
 /// segments, so no division by a vanishing area ever happens and no NaN can come out.
 ///
+/// Segment and triangle. Unless the segment crosses the triangle (distance 0), a closest pair
+/// has a segment end or a point of a triangle edge in it (were both points interior to their
+/// sets, the segment would be parallel to the face and could slide to an end or an edge at
+/// the same distance), so the least of the two ends' closest points and the three edge-segment
+/// distances is exact.
+///
 /// Solid angle. Van Oosterom and Strackee (1983): with x = a - p, y = b - p, z = c - p,
 ///   tan(Omega / 2) = x . (y x z) / (|x||y||z| + (x . y)|z| + (x . z)|y| + (y . z)|x|),
 /// evaluated with atan2, so Omega is in [-2 pi, 2 pi], positive when p sees the triangle's
@@ -61,6 +67,14 @@ template <class Scalar>
 Scalar closest_point_on_triangle(const Vector3<Scalar>& p, const Vector3<Scalar>& a, const Vector3<Scalar>& b,
                                  const Vector3<Scalar>& c, Vector3<Scalar>& q, TriangleFeature& feature);
 
+/// The least squared distance between segment [p0, p1] and triangle (a, b, c); `u` receives
+/// the segment parameter in [0, 1] of a point that attains it (p0 + u (p1 - p0)). 0 when the
+/// segment meets the triangle (u then at a meeting point). Exact to rounding for any finite
+/// input (see the file comment).
+template <class Scalar>
+Scalar segment_triangle_distance2(const Vector3<Scalar>& p0, const Vector3<Scalar>& p1, const Vector3<Scalar>& a,
+                                  const Vector3<Scalar>& b, const Vector3<Scalar>& c, Scalar& u);
+
 /// The signed solid angle (sr, in [-2 pi, 2 pi]) that triangle (a, b, c) subtends at p:
 /// positive when p lies behind the triangle (against its outward normal).
 template <class Scalar>
@@ -98,6 +112,32 @@ void face_point(const Vector3<Scalar>& a, const Vector3<Scalar>& ab, const Vecto
     w /= s;
   }
   q = a + v * ab + w * ac;
+}
+
+/// Closest points of segments [p, p + d] and [q, q + e]: their squared distance, with `s` and
+/// `t` the parameters (in [0, 1]) of a closest pair. The unconstrained minimiser of
+/// |p + s d - q - t e|^2 is clamped to [0, 1] in s, t is the best for that s, and s is
+/// recomputed once if t had to be clamped: exact for convex quadratics over the unit square.
+/// A zero-length segment is a point.
+template <class Scalar>
+Scalar closest_points_of_segments(const Vector3<Scalar>& p, const Vector3<Scalar>& d, const Vector3<Scalar>& q,
+                                  const Vector3<Scalar>& e, Scalar& s, Scalar& t) {
+  auto clamp01 = [](Scalar x) { return x < Scalar(0) ? Scalar(0) : (x > Scalar(1) ? Scalar(1) : x); };
+  const Vector3<Scalar> r = p - q;
+  const Scalar dd = d.dot(d), ee = e.dot(e), de = d.dot(e), dr = d.dot(r), er = e.dot(r);
+  const Scalar den = dd * ee - de * de;  // >= 0 (Cauchy-Schwarz); 0 when parallel or degenerate
+  s = den > Scalar(0) ? clamp01((de * er - dr * ee) / den) : Scalar(0);
+  if (!(ee > Scalar(0))) {
+    t = Scalar(0);
+    s = dd > Scalar(0) ? clamp01(-dr / dd) : Scalar(0);
+  } else {
+    t = (de * s + er) / ee;
+    if (t < Scalar(0) || t > Scalar(1)) {
+      t = clamp01(t);
+      s = dd > Scalar(0) ? clamp01((t * de - dr) / dd) : Scalar(0);
+    }
+  }
+  return (r + s * d - t * e).squaredNorm();
 }
 
 /// The zero-area fallback: best of the three edges as segments.
@@ -183,6 +223,46 @@ Scalar closest_point_on_triangle(const Vector3<Scalar>& p, const Vector3<Scalar>
   detail::face_point(a, ab, ac, vb / den, vc / den, q);
   feature = TriangleFeature::Face;
   return (p - q).squaredNorm();
+}
+
+template <class Scalar>
+Scalar segment_triangle_distance2(const Vector3<Scalar>& p0, const Vector3<Scalar>& p1, const Vector3<Scalar>& a,
+                                  const Vector3<Scalar>& b, const Vector3<Scalar>& c, Scalar& u) {
+  // Crossing: the endpoints' heights over the plane differ in sign and the crossing point lies
+  // in the triangle (barycentric coordinates of its projection, all >= 0).
+  const Vector3<Scalar> d = p1 - p0, n = (b - a).cross(c - a);
+  const Scalar h0 = n.dot(p0 - a), h1 = n.dot(p1 - a);
+  if ((h0 <= Scalar(0)) != (h1 <= Scalar(0)) || (h0 == Scalar(0) && h1 == Scalar(0))) {
+    const Scalar w = h0 == h1 ? Scalar(0) : h0 / (h0 - h1);
+    const Vector3<Scalar> x = p0 + w * d;
+    if (n.dot((b - a).cross(x - a)) >= Scalar(0) && n.dot((c - b).cross(x - b)) >= Scalar(0) &&
+        n.dot((a - c).cross(x - c)) >= Scalar(0) && n.squaredNorm() > Scalar(0)) {
+      u = w;
+      return Scalar(0);
+    }
+  }
+  // Otherwise the least distance is attained with a segment end or a triangle edge holding one
+  // of the two points: the best of the two ends against the triangle and the segment against
+  // the three edges.
+  Vector3<Scalar> q;
+  TriangleFeature f = TriangleFeature::Face;
+  Scalar best = closest_point_on_triangle(p0, a, b, c, q, f);
+  u = Scalar(0);
+  const Scalar end = closest_point_on_triangle(p1, a, b, c, q, f);
+  if (end < best) {
+    best = end;
+    u = Scalar(1);
+  }
+  const Vector3<Scalar>* v[3] = {&a, &b, &c};
+  for (int k = 0; k < 3; ++k) {
+    Scalar s = Scalar(0), t = Scalar(0);
+    const Scalar e2 = detail::closest_points_of_segments(p0, d, *v[k], Vector3<Scalar>(*v[(k + 1) % 3] - *v[k]), s, t);
+    if (e2 < best) {
+      best = e2;
+      u = s;
+    }
+  }
+  return best;
 }
 
 template <class Scalar>

@@ -18,6 +18,7 @@
 #include <cmath>
 #include <limits>
 
+#include "grip/core/simd.hpp"
 #include "grip/core/types.hpp"
 
 namespace grip {
@@ -61,7 +62,7 @@ struct TriangleBlock {
   }
 
   /// Squared distances from p to the 4 lanes' triangles.
-  void distances(const Vector3<Scalar>& p, Scalar out[4]) const {
+  GRIP_ALWAYS_INLINE void distances(const Vector3<Scalar>& p, Scalar out[4]) const {
     // Eigen arrays of 4 lanes: min, max, +, -, * only, which Eigen maps to SIMD instructions
     // (no select, no branch). Outside the triangle the plane's distance is pushed beyond the
     // edges' by big times the violated barycentric numerators (0 inside, so exact there).
@@ -109,7 +110,7 @@ struct MeshQuadNode {
   int count[4];     ///< triangles of a leaf; 0 for an inner node; -1 for empty
 
   /// Squared distances from (px, py, pz) to the 4 boxes (branch-free, SIMD through Eigen).
-  void distances(Scalar px, Scalar py, Scalar pz, Scalar out[4]) const {
+  GRIP_ALWAYS_INLINE void distances(Scalar px, Scalar py, Scalar pz, Scalar out[4]) const {
     using A = Eigen::Array<Scalar, 4, 1>;
     using M = Eigen::Map<const A>;
     const A dx = (M(lo[0]) - px).max(px - M(hi[0])).max(Scalar(0));

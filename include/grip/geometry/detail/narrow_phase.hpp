@@ -12,74 +12,22 @@
 /// (refine()); the deepest point evaluated is kept. For a convex field phi(t) is convex, so
 /// the minimiser of phi over [0, 1] lies within one spacing of the best sample and the search
 /// brackets it: the phalanx's depth is its capsule's, r - min_t phi(t), within the search's
-/// certified tolerance.
+/// certified tolerance. Meshes (fields with a segment query) are refined by triangles instead
+/// (refine_by_triangles()): each step minimises one triangle's distance over the bracket in
+/// closed form, where slopes would creep along the mesh's kinks.
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
-#include <type_traits>
-#include <utility>
 
 #include "grip/core/index.hpp"
-#include "grip/core/scalar_traits.hpp"
 #include "grip/core/types.hpp"
+#include "grip/geometry/detail/field_probe.hpp"
 #include "grip/geometry/hand_contact.hpp"
 
 namespace grip {
 namespace detail {
-
-/// Fields made of parts (a Shape's primitives) give each sample one candidate per part with
-/// PerPhalanx > 1, so that a phalanx lying in a groove between two parts touches both walls.
-/// A field opts in with `static constexpr int max_parts`, `int part_count() const` and
-/// `Scalar part_distance(int, const Vector3&, Vector3&) const`.
-template <class Field, class = void>
-struct field_parts {
-  static constexpr int max = 1;
-};
-template <class Field>
-struct field_parts<Field, std::void_t<decltype(Field::max_parts), decltype(std::declval<const Field&>().part_count())>> {
-  static constexpr int max = Field::max_parts;
-};
-
-/// Fields with a bounded, warm-started query (MeshShape::distance_within) let the narrow
-/// phase skip, cheaply, the samples farther than its band from the surface:
-///   bool distance_within(const Vector3& p, Scalar limit, Scalar& phi, Vector3& normal, int& hint) const;
-template <class Field, class Scalar, class = void>
-struct has_bounded_query : std::false_type {};
-template <class Field, class Scalar>
-struct has_bounded_query<Field, Scalar,
-                         std::void_t<decltype(std::declval<const Field&>().distance_within(
-                             std::declval<const Vector3<Scalar>&>(), Scalar(0), std::declval<Scalar&>(),
-                             std::declval<Vector3<Scalar>&>(), std::declval<int&>()))>> : std::true_type {};
-
-/// The field as the narrow phase queries it, per phalanx: exact(p) is the field's distance;
-/// within(p, limit) may answer false for a point farther than limit from the surface (only
-/// fields with a bounded query do; the others always answer, exactly).
-template <class Scalar, class Field, bool Bounded = has_bounded_query<Field, Scalar>::value>
-struct FieldProbe {
-  static constexpr bool bounded = false;
-  const Field& field;
-  Scalar exact(const Vector3<Scalar>& p, Vector3<Scalar>& n) { return field.distance(p, n); }
-  bool within(const Vector3<Scalar>& p, Scalar, Scalar& phi, Vector3<Scalar>& n) {
-    phi = field.distance(p, n);
-    return true;
-  }
-};
-template <class Scalar, class Field>
-struct FieldProbe<Scalar, Field, true> {
-  static constexpr bool bounded = true;
-  const Field& field;
-  int hint{-1};  // the previous answer's place in the field: successive points are near
-  Scalar exact(const Vector3<Scalar>& p, Vector3<Scalar>& n) {
-    Scalar phi = Scalar(0);
-    if (field.distance_within(p, ScalarTraits<Scalar>::max_magnitude, phi, n, hint)) return phi;
-    return field.distance(p, n);
-  }
-  bool within(const Vector3<Scalar>& p, Scalar limit, Scalar& phi, Vector3<Scalar>& n) {
-    return field.distance_within(p, limit, phi, n, hint);
-  }
-};
 
 /// A phalanx's axis in the object frame: points a + t (b - a), t in [0, 1], and its radius.
 template <class Scalar>
@@ -98,6 +46,7 @@ struct SampleField {
   std::array<Scalar, Samples> phi{};
   std::array<Vector3<Scalar>, Samples> normal{};
   std::array<bool, Samples> reach{};
+  std::array<int, Samples> place{};  // the probe's place() after each evaluation (-1: none)
 };
 
 /// The band of a phalanx: a sample whose distance is below it may start a contact (its
@@ -145,12 +94,14 @@ void evaluate_samples(Probe& probe, const PhalanxAxis<Scalar>& ax, Scalar band, 
     }
     const Vector3<Scalar> x = ax.at(Scalar(j) / Scalar(Samples - 1));
     if (probe.within(x, band, s.phi[sj], s.normal[sj])) {
+      s.place[sj] = probe.place();
       far = s.phi[sj] >= skip;
       below = s.phi[sj];
       continue;
     }
     if (!(below - spacing > -band) && may_be_inside(x)) {  // deep inside, or in a solid leaf
       s.phi[sj] = probe.exact(x, s.normal[sj]);
+      s.place[sj] = probe.place();
       far = s.phi[sj] >= skip;
       below = s.phi[sj];
     } else {
@@ -158,6 +109,46 @@ void evaluate_samples(Probe& probe, const PhalanxAxis<Scalar>& ax, Scalar band, 
       below = band;
     }
   }
+}
+
+/// Refinement by triangles (fields with a segment query: meshes), for sample j outside the
+/// object (phi_j > 0). The distance to one triangle is convex along the axis, and its least
+/// value over the axis points within a spacing of sample j is exact (segment_distance2()):
+/// starting from sample j's nearest triangle, the field is evaluated at that least point, and
+/// again from the triangle nearest there, until a point's nearest triangle is the one that
+/// chose it, the value stops falling, or `settings.refine_iterations` evaluations. False
+/// (nothing evaluated) when the axis meets sample j's triangle: the slopes decide then.
+template <class Scalar, int Samples, class Probe>
+bool refine_by_triangles(Probe& probe, const PhalanxAxis<Scalar>& ax, const SampleField<Scalar, Samples>& s, int j,
+                         Scalar band, const ContactSettings<Scalar>& settings, Penetration<Scalar>& best) {
+  const Scalar h = Scalar(1) / Scalar(Samples - 1);
+  const Scalar lo = std::max(Scalar(0), Scalar(j - 1) * h), hi = std::min(Scalar(1), Scalar(j + 1) * h);
+  const Vector3<Scalar> p0 = ax.at(lo), p1 = ax.at(hi);
+  const Scalar limit = band + (ax.b - ax.a).norm() * h;  // (every point within a spacing of sample j)
+  int place = s.place[detail::idx(j)];
+  Scalar last = best.phi;
+  for (int it = 0; it < settings.refine_iterations && place >= 0; ++it) {
+    Scalar u = Scalar(0);
+    if (!(probe.field.segment_distance2(place, p0, p1, u) > Scalar(0))) {
+      if (it == 0) return false;
+      break;
+    }
+    const Scalar t = lo + u * (hi - lo);
+    probe.hint = place;
+    Scalar phi = Scalar(0);
+    Vector3<Scalar> n;
+    if (!probe.within(ax.at(t), limit, phi, n)) phi = probe.exact(ax.at(t), n);
+    if (phi < best.phi) {
+      best.phi = phi;
+      best.t = t;
+      best.normal = n;
+    }
+    if (probe.place() == place || !(phi < last)) break;
+    last = phi;
+    place = probe.place();
+  }
+  best.depth = ax.radius - best.phi;
+  return true;
 }
 
 /// The deepest point of the axis near sample j (see the file comment). The bracket runs from
@@ -177,6 +168,9 @@ Penetration<Scalar> refine(Probe& probe, const PhalanxAxis<Scalar>& ax, const Sa
   const auto sj = detail::idx(j);
   const Scalar h = Scalar(1) / Scalar(Samples - 1);
   Penetration<Scalar> best{ax.radius - s.phi[sj], Scalar(j) * h, s.phi[sj], s.normal[sj], j, false};
+  if constexpr (Probe::segments) {
+    if (s.phi[sj] > Scalar(0) && refine_by_triangles(probe, ax, s, j, band, settings, best)) return best;
+  }
   const Vector3<Scalar> d = ax.b - ax.a;
   const Scalar slope = s.normal[sj].dot(d);
   const int k = slope > Scalar(0) ? j - 1 : j + 1;
