@@ -71,14 +71,15 @@ class HandCollisionModel {
     for (int k = 0; k < hand_phalanx_count; ++k) {
       const PhalanxCapsule<Scalar>& c = posture.phalanges[detail::idx(k)];
       capsules_[detail::idx(k)] = c;
+      // Node i covers the samples of its subtree, all on the axis with one radius: the smallest
+      // sphere around them is centred halfway, its radius r plus half their spread (what
+      // enclose() gives, without a square root per node).
       auto& nodes = nodes_[detail::idx(k)];
-      for (int j = 0; j < Samples; ++j) {
-        const Scalar t = Scalar(j) / Scalar(Samples - 1);
-        nodes[detail::idx(first_leaf + j)] = BoundingSphere<Scalar>{c.base + t * (c.tip - c.base), c.radius};
-      }
-      for (int i = first_leaf - 1; i >= 0; --i)
-        nodes[detail::idx(i)] =
-            enclose(nodes[detail::idx(2 * i + 1)], nodes[detail::idx(2 * i + 2)]);
+      const Vector3<Scalar> axis = c.tip - c.base;
+      const Scalar length = axis.norm();
+      for (int i = 0; i < nodes_per_phalanx; ++i)
+        nodes[detail::idx(i)] = BoundingSphere<Scalar>{c.base + Scalar(spans.middle[i]) * axis,
+                                                       c.radius + Scalar(spans.half_spread[i]) * length};
     }
     for (int f = 0; f < 5; ++f) {
       const int first = first_phalanx(f);
@@ -118,6 +119,29 @@ class HandCollisionModel {
   static constexpr int phalanges_of(int f) { return f == 0 ? 2 : 3; }
 
  private:
+  /// Per node of a phalanx tree: the axis parameter of its samples' midpoint and half their
+  /// spread (samples j0 .. j1 of the subtree: (t0 + t1) / 2 and (t1 - t0) / 2).
+  struct Spans {
+    double middle[nodes_per_phalanx];
+    double half_spread[nodes_per_phalanx];
+  };
+  static constexpr Spans make_spans() {
+    Spans t{};
+    for (int i = 0; i < nodes_per_phalanx; ++i) {
+      int first = i, width = 1;  // leftmost leaf below node i, and the leaves below it
+      while (first < first_leaf) {
+        first = 2 * first + 1;
+        width *= 2;
+      }
+      const double t0 = double(first - first_leaf) / double(Samples - 1);
+      const double t1 = double(first - first_leaf + width - 1) / double(Samples - 1);
+      t.middle[i] = width == 1 ? t0 : 0.5 * (t0 + t1);
+      t.half_spread[i] = 0.5 * (t1 - t0);
+    }
+    return t;
+  }
+  static constexpr Spans spans = make_spans();
+
   std::array<std::array<BoundingSphere<Scalar>, detail::idx(nodes_per_phalanx)>,
              hand_phalanx_count> nodes_{};
   std::array<PhalanxCapsule<Scalar>, hand_phalanx_count> capsules_{};

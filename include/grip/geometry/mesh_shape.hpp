@@ -177,8 +177,9 @@ class MeshShape {
   /// +max_magnitude and the direction of p for a point out of range; false if p is fine.
   static bool out_of_range(const Vector3<Scalar>& p, Scalar& d, Vector3<Scalar>& normal);
   /// The slot (4 block + lane) of the triangle nearest p among those nearer than sqrt(best2),
-  /// or `slot` unchanged if none is; best2 is lowered to its squared distance.
-  int nearest_slot(const Vector3<Scalar>& p, Scalar& best2, int slot) const;
+  /// or `slot` unchanged if none is; best2 is lowered to its squared distance. Block `done`
+  /// (-1: none) has been searched already and is skipped.
+  int nearest_slot(const Vector3<Scalar>& p, Scalar& best2, int slot, int done = -1) const;
   /// The signed distance of p and its outward normal from the triangle of `slot`.
   Scalar signed_distance(const Vector3<Scalar>& p, int slot, Vector3<Scalar>& normal) const;
 

@@ -184,22 +184,23 @@ bool MeshShape<Scalar, MaxVertices, MaxTriangles>::out_of_range(const Vector3<Sc
 }
 
 template <class Scalar, int MaxVertices, int MaxTriangles>
-int MeshShape<Scalar, MaxVertices, MaxTriangles>::nearest_slot(const Vector3<Scalar>& p, Scalar& best2, int slot) const {
+int MeshShape<Scalar, MaxVertices, MaxTriangles>::nearest_slot(const Vector3<Scalar>& p, Scalar& best2, int slot,
+                                                               int done) const {
   struct Entry {
     int index;  // a quad (count == 0) or a block (count > 0)
     int count;
     Scalar d2;
   };
-  // Depth first over the 4-wide tree: at each node the 4 box distances together; the
-  // children nearer than the best so far are visited nearest first: the nearest at once, the
-  // others pushed (farthest first) for later, when the best may have dropped below them.
-  // Leaves are tested as they are reached.
+  // Depth first over the 4-wide tree: at each node the 4 box distances together; of the
+  // children nearer than the best so far, the nearest is visited at once and the others are
+  // pushed for later, when the best may have dropped below them. Leaves are tested as they
+  // are reached.
   const Scalar px = p.x(), py = p.y(), pz = p.z();
   Entry stack[stack_size];
   int sp = 0;
   Entry en{0, 0, Scalar(0)};
   for (;;) {
-    if (en.count > 0) {
+    if (en.count > 0 && en.index != done) {
       Scalar d2[4];
       blocks_[detail::idx(en.index)].distances(p, d2);
       for (int l = 0; l < en.count; ++l)
@@ -207,26 +208,18 @@ int MeshShape<Scalar, MaxVertices, MaxTriangles>::nearest_slot(const Vector3<Sca
           best2 = d2[l];
           slot = 4 * en.index + l;
         }
-    } else {
+    } else if (en.count == 0) {
       const detail::MeshQuadNode<Scalar>& qn = quads_[detail::idx(en.index)];
       Scalar d2[4];
       qn.distances(px, py, pz, d2);
-      int near[4];
-      int n = 0;
-      for (int k = 0; k < 4; ++k)
-        if (d2[k] < best2) near[n++] = k;
-      if (n > 0) {
-        for (int i = 1; i < n; ++i) {  // nearest first (at most 4: insertion)
-          const int k = near[i];
-          int j = i;
-          for (; j > 0 && d2[near[j - 1]] > d2[k]; --j) near[j] = near[j - 1];
-          near[j] = k;
-        }
-        for (int i = n - 1; i > 0 && sp < stack_size; --i) {
-          const int k = near[i];
-          stack[sp++] = Entry{qn.child[k], qn.count[k], d2[k]};
-        }
-        en = Entry{qn.child[near[0]], qn.count[near[0]], d2[near[0]]};
+      // The nearest child at once, the others in reach pushed (in any order: the best so far
+      // rarely falls much once the nearest has been searched).
+      const int k01 = d2[1] < d2[0] ? 1 : 0, k23 = d2[3] < d2[2] ? 3 : 2;
+      const int nearest = d2[k23] < d2[k01] ? k23 : k01;
+      if (d2[nearest] < best2) {
+        for (int k = 0; k < 4; ++k)
+          if (k != nearest && d2[k] < best2 && sp < stack_size) stack[sp++] = Entry{qn.child[k], qn.count[k], d2[k]};
+        en = Entry{qn.child[nearest], qn.count[nearest], d2[nearest]};
         continue;
       }
     }
@@ -282,16 +275,20 @@ bool MeshShape<Scalar, MaxVertices, MaxTriangles>::distance_within(const Vector3
   Vector3<Scalar> unused = Vector3<Scalar>::UnitZ();
   if (!built() || out_of_range(p, far, unused) || !(limit > Scalar(0))) return false;
   Scalar best2 = limit * limit;
-  int slot = -1;
+  int slot = -1, done = -1;
   if (hint >= 0 && hint < mesh_->triangle_count()) {  // slots 0 .. T - 1 hold the triangles
+    // The hint's whole block first (padded lanes repeat lane 0 and never win), then the
+    // descent skips it.
+    done = hint / 4;
     Scalar d2[4];
-    blocks_[detail::idx(hint / 4)].distances(p, d2);
-    if (d2[hint % 4] < best2) {
-      best2 = d2[hint % 4];
-      slot = hint;
-    }
+    blocks_[detail::idx(done)].distances(p, d2);
+    for (int l = 0; l < 4; ++l)
+      if (d2[l] < best2) {
+        best2 = d2[l];
+        slot = 4 * done + l;
+      }
   }
-  slot = nearest_slot(p, best2, slot);
+  slot = nearest_slot(p, best2, slot, done);
   if (slot < 0) return false;
   hint = slot;
   phi = signed_distance(p, slot, normal);
