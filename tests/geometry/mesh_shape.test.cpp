@@ -316,6 +316,48 @@ TEST_CASE_TEMPLATE("the hierarchy's distance equals a loop over all triangles, i
   CHECK(outside > 30);
 }
 
+TEST_CASE_TEMPLATE("a lane's closest point is closest_point_on_triangle's, to rounding, with its feature", S, double,
+                   float) {
+  // The hierarchy's closest point comes from the lane formulas of its leaf blocks
+  // (TriangleBlock::closest); the reference is the region-by-region closest_point_on_triangle
+  // (triangle.test.cpp). Points are drawn around each triangle, every region reached.
+  std::mt19937 g(36);
+  int features[7] = {0, 0, 0, 0, 0, 0, 0};
+  for (int trial = 0; trial < 400; ++trial) {
+    V3 v[3];
+    for (V3& x : v) x = V3(uniform(g, -0.05, 0.05), uniform(g, -0.05, 0.05), uniform(g, -0.05, 0.05));
+    if ((v[1] - v[0]).cross(v[2] - v[0]).norm() < 1e-4) continue;
+    const Vector3<S> a = v[0].cast<S>(), b = v[1].cast<S>(), c = v[2].cast<S>();
+    detail::TriangleBlock<S> block;
+    block.set(0, a, b, c, 7);
+    block.pad(1);
+    const Vector3<S> p = V3(uniform(g, -0.08, 0.08), uniform(g, -0.08, 0.08), uniform(g, -0.08, 0.08)).cast<S>();
+    Vector3<S> q, r;
+    TriangleFeature f = TriangleFeature::Face, h = TriangleFeature::Face;
+    const S d2 = block.closest(0, p, q, f);
+    const S e2 = closest_point_on_triangle(p, a, b, c, r, h);
+    // Both from the same data, k = 8 roundings of values of size M (the coordinates).
+    const double M = 0.2, tol = grip_test::roundoff<S>(8, 1, M);
+    CHECK((q - r).template cast<double>().norm() <= tol);
+    CHECK(std::abs(double(d2) - double(e2)) <= tol * M);
+    CHECK(std::abs(double((p - q).squaredNorm()) - double(d2)) <= tol * M);
+    CHECK(f == h);  // random points lie off the regions' boundaries
+    ++features[static_cast<int>(f)];
+  }
+  for (int k = 0; k < 7; ++k) CHECK(features[k] > 5);
+  // On a vertex and on an edge: that feature, not the face (the sign needs its pseudo-normal).
+  detail::TriangleBlock<S> block;
+  const Vector3<S> a(S(0), S(0), S(0)), b(S(0.01), S(0), S(0)), c(S(0), S(0.01), S(0));
+  block.set(0, a, b, c, 0);
+  block.pad(1);
+  Vector3<S> q;
+  TriangleFeature f = TriangleFeature::Face;
+  CHECK(block.closest(0, b, q, f) == S(0));
+  CHECK(f == TriangleFeature::VertexB);
+  CHECK(block.closest(0, Vector3<S>(S(0.005), S(0.005), S(0)), q, f) == doctest::Approx(0.0).epsilon(1e-12));
+  CHECK(f == TriangleFeature::EdgeBC);
+}
+
 TEST_CASE_TEMPLATE("the narrow phase's queries: bounded distance with any hint, segment to a hinted triangle", S, double,
                    float) {
   Mesh<S>& m = mesh_a<S>();

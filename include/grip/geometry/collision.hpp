@@ -192,10 +192,10 @@ bool in_solid_leaf(const SphericalOctree<Scalar, Capacity>& octree, const Vector
 template <class Scalar, int Samples, class Field, int PerPhalanx, class Inside>
 void emit_contacts(const Field& field, const PhalanxAxis<Scalar>& ax, SampleField<Scalar, Samples>& s, int k,
                    const ContactSettings<Scalar>& settings, const Isometry3<Scalar>& pose,
-                   HandContacts<Scalar, PerPhalanx>& out, Inside&& may_be_inside) {
+                   HandContacts<Scalar, PerPhalanx>& out, Inside&& may_be_inside, JointSample<Scalar>& joint) {
   FieldProbe<Scalar, Field> probe{field};
   const Scalar band = band_of<Scalar, Samples>(ax, settings);
-  evaluate_samples(probe, ax, band, s, may_be_inside);
+  evaluate_samples(probe, ax, band, s, may_be_inside, joint);
   std::array<Penetration<Scalar>, PerPhalanx> found;
   std::array<int, PerPhalanx> members{};
   const int n = phalanx_contacts<PerPhalanx>(field, probe, ax, s, band, settings, found, members);
@@ -243,6 +243,7 @@ Status detect_contacts(const HandCollisionModel<Scalar, Samples>& hand, const Sp
     return Status::InvalidInput;
   Scalar margin = Scalar(0);
   for (int k = 0; k < hand_phalanx_count; ++k) margin = std::max(margin, detail::reach_margin(hand, k, settings));
+  detail::JointSample<Scalar> joint;
   detail::for_phalanges_in_reach(hand, octree, object_pose, margin, phalanx_mask,
                                  [&](int k, const Isometry3<Scalar>& to_object) {
     const detail::PhalanxAxis<Scalar> ax = detail::object_axis(hand, k, to_object);
@@ -257,8 +258,9 @@ Status detect_contacts(const HandCollisionModel<Scalar, Samples>& hand, const Sp
           octree, mark);
     }
     if (mark.marked > 0)
-      detail::emit_contacts(field, ax, s, k, settings, object_pose, out,
-                            [&octree](const Vector3<Scalar>& x) { return detail::in_solid_leaf(octree, x); });
+      detail::emit_contacts(
+          field, ax, s, k, settings, object_pose, out,
+          [&octree](const Vector3<Scalar>& x) { return detail::in_solid_leaf(octree, x); }, joint);
   });
   return Status::Ok;
 }
@@ -274,6 +276,7 @@ Status detect_contacts_direct(const HandCollisionModel<Scalar, Samples>& hand, c
     return Status::InvalidInput;
   const Isometry3<Scalar> to_object = object_pose.inverse(Eigen::Isometry);
   const BoundingSphere<Scalar> bounds{object_pose * Vector3<Scalar>((lo + hi) / Scalar(2)), (hi - lo).norm() / Scalar(2)};
+  detail::JointSample<Scalar> joint;
   for (int k = 0; k < hand_phalanx_count; ++k) {
     if (!((phalanx_mask >> k) & 1u)) continue;
     BoundingSphere<Scalar> root = hand.phalanx_node(k, 0);
@@ -281,8 +284,9 @@ Status detect_contacts_direct(const HandCollisionModel<Scalar, Samples>& hand, c
     if (!overlap(root, bounds)) continue;
     detail::SampleField<Scalar, Samples> s;
     s.reach.fill(true);
-    detail::emit_contacts(field, detail::object_axis(hand, k, to_object), s, k, settings, object_pose, out,
-                          [](const Vector3<Scalar>&) { return true; });
+    detail::emit_contacts(
+        field, detail::object_axis(hand, k, to_object), s, k, settings, object_pose, out,
+        [](const Vector3<Scalar>&) { return true; }, joint);
   }
   return Status::Ok;
 }

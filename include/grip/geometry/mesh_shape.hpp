@@ -16,7 +16,8 @@
 /// log2 T). Each node's 4 box distances, and each leaf's 4 triangle distances (projection onto
 /// the plane when it falls inside, else the nearest of the three edges), are computed
 /// together without branches in SIMD lanes. The best triangle's closest point and feature are
-/// then computed by closest_point_on_triangle(): the distance is exact (to rounding).
+/// then those of its lane's formulas (the face's projection or the nearest point of an edge):
+/// the distance is exact (to rounding).
 ///
 /// Sign: that of (p - q) . n, n the angle-weighted pseudo-normal of the feature holding q
 /// (face normal, the sum of an edge's two face normals, or the vertex pseudo-normal), which

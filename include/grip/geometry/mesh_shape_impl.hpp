@@ -242,20 +242,16 @@ Scalar MeshShape<Scalar, MaxVertices, MaxTriangles>::closest_point(const Vector3
   Scalar best2 = std::numeric_limits<Scalar>::infinity();
   const int slot = nearest_slot(p, best2, 0);
   triangle = blocks_[detail::idx(slot / 4)].id[slot % 4];
-  const std::array<int, 3>& tri = mesh_->triangle(triangle);
-  const Scalar d2 = closest_point_on_triangle(p, mesh_->vertex(tri[0]), mesh_->vertex(tri[1]), mesh_->vertex(tri[2]), q, feature);
-  return std::sqrt(d2);
+  return std::sqrt(blocks_[detail::idx(slot / 4)].closest(slot % 4, p, q, feature));
 }
 
 template <class Scalar, int MaxVertices, int MaxTriangles>
 Scalar MeshShape<Scalar, MaxVertices, MaxTriangles>::signed_distance(const Vector3<Scalar>& p, int slot,
                                                                      Vector3<Scalar>& normal) const {
   const int t = blocks_[detail::idx(slot / 4)].id[slot % 4];
-  const std::array<int, 3>& tri = mesh_->triangle(t);
   Vector3<Scalar> q;
   TriangleFeature f = TriangleFeature::Face;
-  const Scalar d = std::sqrt(
-      closest_point_on_triangle(p, mesh_->vertex(tri[0]), mesh_->vertex(tri[1]), mesh_->vertex(tri[2]), q, f));
+  const Scalar d = std::sqrt(blocks_[detail::idx(slot / 4)].closest(slot % 4, p, q, f));
   const Vector3<Scalar> diff = p - q;
   // The pseudo-normal, unnormalised where only its sign matters.
   const int e = feature_edge(f), v = feature_vertex(f);

@@ -20,6 +20,7 @@
 
 #include "grip/core/simd.hpp"
 #include "grip/core/types.hpp"
+#include "grip/geometry/triangle.hpp"
 
 namespace grip {
 namespace detail {
@@ -88,6 +89,36 @@ struct TriangleBlock {
     const A e2 = (bx - k * wx).square() + (by - k * wy).square() + (bz - k * wz).square();
     Eigen::Map<A> result(out);
     result = face.min(e0).min(e1.min(e2));
+  }
+
+  /// Lane l's closest point q to p by the formulas of distances() (the least of the face and
+  /// the three edges), with the feature that holds it: |p - q|^2. Equal to
+  /// closest_point_on_triangle()'s answer to rounding, without its branches on regions.
+  Scalar closest(int l, const Vector3<Scalar>& p, Vector3<Scalar>& q, TriangleFeature& feature) const {
+    const Vector3<Scalar> a(ax[l], ay[l], az[l]), u(ux[l], uy[l], uz[l]), v(vx[l], vy[l], vz[l]);
+    const Vector3<Scalar> ap = p - a;
+    const Scalar d1 = u.dot(ap), d2 = v.dot(ap);
+    const Scalar s = d1 * vv[l] - d2 * uv[l], t = d2 * uu[l] - d1 * uv[l];
+    if (s > Scalar(0) && t > Scalar(0) && s + t < det[l]) {  // the open face: boundaries are edges
+      const Vector3<Scalar> n(nx[l], ny[l], nz[l]);
+      const Scalar h = n.dot(ap);
+      q = p - (h * inv_nn[l]) * n;
+      feature = TriangleFeature::Face;
+      return h * h * inv_nn[l];
+    }
+    auto clamp01 = [](Scalar x) { return x < Scalar(0) ? Scalar(0) : (x > Scalar(1) ? Scalar(1) : x); };
+    // Each edge from its first vertex: (origin, direction, parameter, its edge, its two vertices).
+    const Vector3<Scalar> w = v - u, bp = ap - u;
+    const Scalar k[3] = {clamp01(d1 * inv_uu[l]), clamp01(d2 * inv_vv[l]), clamp01(w.dot(bp) * inv_ww[l])};
+    const Vector3<Scalar> r[3] = {ap - k[0] * u, ap - k[1] * v, bp - k[2] * w};
+    const Scalar e[3] = {r[0].squaredNorm(), r[1].squaredNorm(), r[2].squaredNorm()};
+    const int i = e[1] < e[0] ? (e[2] < e[1] ? 2 : 1) : (e[2] < e[0] ? 2 : 0);
+    static constexpr TriangleFeature edge[3] = {TriangleFeature::EdgeAB, TriangleFeature::EdgeCA, TriangleFeature::EdgeBC};
+    static constexpr TriangleFeature start[3] = {TriangleFeature::VertexA, TriangleFeature::VertexA, TriangleFeature::VertexB};
+    static constexpr TriangleFeature end[3] = {TriangleFeature::VertexB, TriangleFeature::VertexC, TriangleFeature::VertexC};
+    q = p - r[i];
+    feature = k[i] <= Scalar(0) ? start[i] : (k[i] >= Scalar(1) ? end[i] : edge[i]);
+    return e[i];
   }
 
   /// Vertices of lane l.

@@ -58,6 +58,7 @@ struct FieldProbe {
   static constexpr bool segments = false;
   const Field& field;
   int place() const { return -1; }
+  void start_at(int) {}
   Scalar exact(const Vector3<Scalar>& p, Vector3<Scalar>& n) { return field.distance(p, n); }
   bool within(const Vector3<Scalar>& p, Scalar, Scalar& phi, Vector3<Scalar>& n) {
     phi = field.distance(p, n);
@@ -71,6 +72,7 @@ struct FieldProbe<Scalar, Field, true> {
   const Field& field;
   int hint{-1};  // the previous answer's place in the field: successive points are near
   int place() const { return hint; }
+  void start_at(int place) { hint = place; }
   Scalar exact(const Vector3<Scalar>& p, Vector3<Scalar>& n) {
     Scalar phi = Scalar(0);
     if (field.distance_within(p, ScalarTraits<Scalar>::max_magnitude, phi, n, hint)) return phi;

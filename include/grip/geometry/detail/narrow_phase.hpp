@@ -36,7 +36,20 @@ struct PhalanxAxis {
   Vector3<Scalar> b{Vector3<Scalar>::Zero()};  ///< tip
   Scalar radius{0};                            ///< capsule radius
 
-  Vector3<Scalar> at(Scalar t) const { return a + t * (b - a); }
+  /// The axis point at t; exactly b at t = 1 (the next phalanx's base).
+  Vector3<Scalar> at(Scalar t) const { return t == Scalar(1) ? b : Vector3<Scalar>(a + t * (b - a)); }
+};
+
+/// The last sample of a phalanx, which is the first of the next one of its digit (the tip of
+/// one is the base of the next): its field value is evaluated once. x is NaN when there is none.
+template <class Scalar>
+struct JointSample {
+  Vector3<Scalar> x{Vector3<Scalar>::Constant(std::numeric_limits<Scalar>::quiet_NaN())};
+  Vector3<Scalar> normal{Vector3<Scalar>::UnitZ()};
+  Scalar phi{0};    // the exact distance, when found
+  Scalar limit{0};  // the band it was asked with
+  int place{-1};    // the probe's place() after it
+  bool found{false};  // phi known; else no surface within limit
 };
 
 /// The exact distances of a phalanx's samples (object frame), and which ones the broad
@@ -79,7 +92,7 @@ struct Penetration {
 /// solid octree leaf holds it), true when the exact distance is needed.
 template <class Scalar, int Samples, class Probe, class Inside>
 void evaluate_samples(Probe& probe, const PhalanxAxis<Scalar>& ax, Scalar band, SampleField<Scalar, Samples>& s,
-                      Inside&& may_be_inside) {
+                      Inside&& may_be_inside, JointSample<Scalar>& joint) {
   const Scalar spacing = (ax.b - ax.a).norm() / Scalar(Samples - 1);
   const Scalar skip = band + spacing;
   bool far = false;  // the previous sample is at least a spacing beyond the band
@@ -93,22 +106,32 @@ void evaluate_samples(Probe& probe, const PhalanxAxis<Scalar>& ax, Scalar band, 
       continue;
     }
     const Vector3<Scalar> x = ax.at(Scalar(j) / Scalar(Samples - 1));
-    if (probe.within(x, band, s.phi[sj], s.normal[sj])) {
+    bool found = false;
+    if (j == 0 && x == joint.x && (joint.found || !(joint.limit < band))) {  // the previous tip
+      found = joint.found && (!Probe::bounded || std::abs(joint.phi) < band);
+      s.phi[sj] = joint.phi;
+      s.normal[sj] = joint.normal;
+      probe.start_at(joint.place);
+    } else {
+      found = probe.within(x, band, s.phi[sj], s.normal[sj]);
+    }
+    if (found) {
       s.place[sj] = probe.place();
       far = s.phi[sj] >= skip;
       below = s.phi[sj];
-      continue;
-    }
-    if (!(below - spacing > -band) && may_be_inside(x)) {  // deep inside, or in a solid leaf
+    } else if (!(below - spacing > -band) && may_be_inside(x)) {  // deep inside, or in a solid leaf
       s.phi[sj] = probe.exact(x, s.normal[sj]);
       s.place[sj] = probe.place();
       far = s.phi[sj] >= skip;
       below = s.phi[sj];
+      found = true;
     } else {
       s.reach[sj] = false;
       below = band;
     }
+    if (j == Samples - 1) joint = JointSample<Scalar>{x, s.normal[sj], s.phi[sj], band, probe.place(), found};
   }
+  if (!s.reach[Samples - 1]) joint = JointSample<Scalar>{};
 }
 
 /// Refinement by triangles (fields with a segment query: meshes), for sample j outside the
@@ -133,19 +156,29 @@ bool refine_by_triangles(Probe& probe, const PhalanxAxis<Scalar>& ax, const Samp
       if (it == 0) return false;
       break;
     }
-    const Scalar t = lo + u * (hi - lo);
-    probe.hint = place;
-    Scalar phi = Scalar(0);
+    // At an end of the bracket: a sample, known already if it was evaluated.
+    const int m = u == Scalar(0) ? std::max(0, j - 1) : (u == Scalar(1) ? std::min(Samples - 1, j + 1) : -1);
+    Scalar t = lo + u * (hi - lo), phi = Scalar(0);
     Vector3<Scalar> n;
-    if (!probe.within(ax.at(t), limit, phi, n)) phi = probe.exact(ax.at(t), n);
+    int at = -1;
+    if (m >= 0 && s.reach[detail::idx(m)]) {
+      t = Scalar(m) / Scalar(Samples - 1);
+      phi = s.phi[detail::idx(m)];
+      n = s.normal[detail::idx(m)];
+      at = s.place[detail::idx(m)];
+    } else {
+      probe.hint = place;
+      if (!probe.within(ax.at(t), limit, phi, n)) phi = probe.exact(ax.at(t), n);
+      at = probe.place();
+    }
     if (phi < best.phi) {
       best.phi = phi;
       best.t = t;
       best.normal = n;
     }
-    if (probe.place() == place || !(phi < last)) break;
+    if (at == place || !(phi < last)) break;
     last = phi;
-    place = probe.place();
+    place = at;
   }
   best.depth = ax.radius - best.phi;
   return true;
