@@ -114,6 +114,7 @@ Status MeshShape<Scalar, MaxVertices, MaxTriangles>::build(const Mesh& mesh) {
     blocks_[detail::idx(s / 4)].set(s % 4, vertex(t, 0), vertex(t, 1), vertex(t, 2), t);
   }
   if (nt % 4 != 0) blocks_[detail::idx(nt / 4)].pad(nt % 4);
+  for (int k = 0; k < (nt + 3) / 4; ++k) set_leaf_box(k, std::min(4, nt - 4 * k));
   build_quads();
   Vector3<Scalar> lo = Vector3<Scalar>::Zero(), hi = lo;
   mesh.bounding_box(lo, hi);
@@ -173,6 +174,43 @@ void MeshShape<Scalar, MaxVertices, MaxTriangles>::build_quads() {
 }
 
 template <class Scalar, int MaxVertices, int MaxTriangles>
+void MeshShape<Scalar, MaxVertices, MaxTriangles>::set_leaf_box(int k, int count) {
+  // Third axis: the block's area-weighted normal; first: the coordinate axis least along it.
+  const Block& bl = blocks_[detail::idx(k)];
+  Vector3<Scalar> m = Vector3<Scalar>::Zero();
+  for (int l = 0; l < count; ++l) m += Vector3<Scalar>(bl.nx[l], bl.ny[l], bl.nz[l]);
+  Matrix3<Scalar> R = Matrix3<Scalar>::Identity();
+  if (m.norm() > Scalar(0)) {
+    const Vector3<Scalar> n = m.normalized();
+    int least = 0;
+    for (int d = 1; d < 3; ++d)
+      if (std::abs(n(d)) < std::abs(n(least))) least = d;
+    const Vector3<Scalar> e1 = (Vector3<Scalar>::Unit(least) - n * n(least)).normalized();
+    R.row(0) = e1.transpose();
+    R.row(1) = n.cross(e1).transpose();
+    R.row(2) = n.transpose();
+  }
+  const Scalar big = std::numeric_limits<Scalar>::max();
+  Vector3<Scalar> lo = Vector3<Scalar>::Constant(big), hi = -lo;
+  Scalar size = Scalar(0);
+  for (int l = 0; l < count; ++l) {
+    Vector3<Scalar> v[3];
+    bl.vertices(l, v[0], v[1], v[2]);
+    for (const Vector3<Scalar>& x : v) {
+      lo = lo.cwiseMin(R * x);
+      hi = hi.cwiseMax(R * x);
+      size = std::max(size, x.cwiseAbs().maxCoeff());
+    }
+  }
+  // Rounding of the rotations: a margin of 64 eps times the leaf's magnitude.
+  const Scalar pad = Scalar(64) * std::numeric_limits<Scalar>::epsilon() * (size + (hi - lo).maxCoeff());
+  detail::LeafBox<Scalar>& b = leaf_boxes_[detail::idx(k)];
+  b.center = R.transpose() * ((lo + hi) / Scalar(2));
+  b.rotation = R;
+  b.half = (hi - lo) / Scalar(2) + Vector3<Scalar>::Constant(pad);
+}
+
+template <class Scalar, int MaxVertices, int MaxTriangles>
 bool MeshShape<Scalar, MaxVertices, MaxTriangles>::out_of_range(const Vector3<Scalar>& p, Scalar& d,
                                                                 Vector3<Scalar>& normal) {
   const Scalar m = p.cwiseAbs().maxCoeff();
@@ -200,7 +238,7 @@ int MeshShape<Scalar, MaxVertices, MaxTriangles>::nearest_slot(const Vector3<Sca
   int sp = 0;
   Entry en{0, 0, Scalar(0)};
   for (;;) {
-    if (en.count > 0 && en.index != done) {
+    if (en.count > 0 && en.index != done && leaf_boxes_[detail::idx(en.index)].distance2(p) < best2) {
       Scalar d2[4];
       blocks_[detail::idx(en.index)].distances(p, d2);
       for (int l = 0; l < en.count; ++l)

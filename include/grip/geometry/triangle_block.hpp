@@ -129,6 +129,21 @@ struct TriangleBlock {
   }
 };
 
+/// An oriented box around a TriangleBlock's triangles (third axis along their mean normal):
+/// far tighter than the axis-aligned box of a curved patch.
+template <class Scalar>
+struct LeafBox {
+  Vector3<Scalar> center{Vector3<Scalar>::Zero()};
+  Matrix3<Scalar> rotation{Matrix3<Scalar>::Identity()};  ///< rows: the box's axes
+  Vector3<Scalar> half{Vector3<Scalar>::Zero()};           ///< half extents along them
+
+  /// Squared distance from p to the box (0 inside).
+  GRIP_ALWAYS_INLINE Scalar distance2(const Vector3<Scalar>& p) const {
+    const Vector3<Scalar> local = rotation * (p - center);
+    return (local.cwiseAbs() - half).cwiseMax(Scalar(0)).squaredNorm();
+  }
+};
+
 /// A node of the 4-wide box hierarchy that distance queries descend: up to 4 children's boxes in
 /// lanes. A child is a leaf (count > 0: `child` is its TriangleBlock, `count` its triangles), an
 /// inner node (count == 0: `child` is its MeshQuadNode) or empty (count < 0, an infinite box that

@@ -113,6 +113,7 @@ void evaluate_samples(Probe& probe, const PhalanxAxis<Scalar>& ax, Scalar band, 
       s.normal[sj] = joint.normal;
       probe.start_at(joint.place);
     } else {
+      probe.start_at(-1);  // (the previous sample's triangle is a spacing away: a poor start)
       found = probe.within(x, band, s.phi[sj], s.normal[sj]);
     }
     if (found) {
