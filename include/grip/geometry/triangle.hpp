@@ -18,8 +18,9 @@
 /// Segment and triangle. Unless the segment crosses the triangle (distance 0), a closest pair
 /// has a segment end or a point of a triangle edge in it (were both points interior to their
 /// sets, the segment would be parallel to the face and could slide to an end or an edge at
-/// the same distance), so the least of the two ends' closest points and the three edge-segment
-/// distances is exact.
+/// the same distance). A pair with an edge point is among the three edge-segment distances;
+/// one with an interior face point has an end as partner, its projection inside the face. So
+/// the least of those is exact.
 ///
 /// Solid angle. Van Oosterom and Strackee (1983): with x = a - p, y = b - p, z = c - p,
 ///   tan(Omega / 2) = x . (y x z) / (|x||y||z| + (x . y)|z| + (x . z)|y| + (y . z)|x|),
@@ -241,17 +242,21 @@ Scalar segment_triangle_distance2(const Vector3<Scalar>& p0, const Vector3<Scala
       return Scalar(0);
     }
   }
-  // Otherwise the least distance is attained with a segment end or a triangle edge holding one
-  // of the two points: the best of the two ends against the triangle and the segment against
-  // the three edges.
-  Vector3<Scalar> q;
-  TriangleFeature f = TriangleFeature::Face;
-  Scalar best = closest_point_on_triangle(p0, a, b, c, q, f);
+  // Otherwise a closest pair holds a point of a triangle edge (the segment against the three
+  // edges) or an interior point of the face, whose partner is then a segment end (an end
+  // whose projection falls inside the face, at its height).
+  Scalar best = std::numeric_limits<Scalar>::infinity();
   u = Scalar(0);
-  const Scalar end = closest_point_on_triangle(p1, a, b, c, q, f);
-  if (end < best) {
-    best = end;
-    u = Scalar(1);
+  const Vector3<Scalar> ab = b - a, ac = c - a;
+  const Scalar uu = ab.dot(ab), uv = ab.dot(ac), vv = ac.dot(ac), nn = n.squaredNorm();
+  for (int k = 0; k < 2 && nn > Scalar(0); ++k) {
+    const Vector3<Scalar> ap = (k == 0 ? p0 : p1) - a;
+    const Scalar d1 = ab.dot(ap), d2 = ac.dot(ap), s = d1 * vv - d2 * uv, t = d2 * uu - d1 * uv;
+    const Scalar h = k == 0 ? h0 : h1;
+    if (s >= Scalar(0) && t >= Scalar(0) && s + t <= uu * vv - uv * uv && h * h / nn < best) {
+      best = h * h / nn;
+      u = Scalar(k);
+    }
   }
   const Vector3<Scalar>* v[3] = {&a, &b, &c};
   for (int k = 0; k < 3; ++k) {
