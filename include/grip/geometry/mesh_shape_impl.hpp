@@ -186,9 +186,7 @@ void MeshShape<Scalar, MaxVertices, MaxTriangles>::set_leaf_box(int k, int count
     for (int d = 1; d < 3; ++d)
       if (std::abs(n(d)) < std::abs(n(least))) least = d;
     const Vector3<Scalar> e1 = (Vector3<Scalar>::Unit(least) - n * n(least)).normalized();
-    R.row(0) = e1.transpose();
-    R.row(1) = n.cross(e1).transpose();
-    R.row(2) = n.transpose();
+    R << e1.transpose(), n.cross(e1).transpose(), n.transpose();  // rows: the box's axes
   }
   const Scalar big = std::numeric_limits<Scalar>::max();
   Vector3<Scalar> lo = Vector3<Scalar>::Constant(big), hi = -lo;
