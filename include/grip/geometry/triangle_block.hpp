@@ -99,26 +99,27 @@ struct TriangleBlock {
     const Vector3<Scalar> ap = p - a;
     const Scalar d1 = u.dot(ap), d2 = v.dot(ap);
     const Scalar s = d1 * vv[l] - d2 * uv[l], t = d2 * uu[l] - d1 * uv[l];
+    // q from the vertex and the edges (as closest_point_on_triangle: on a face parallel to a
+    // coordinate plane that coordinate of q is the vertex's, exactly), then |p - q|^2.
     if (s > Scalar(0) && t > Scalar(0) && s + t < det[l]) {  // the open face: boundaries are edges
-      const Vector3<Scalar> n(nx[l], ny[l], nz[l]);
-      const Scalar h = n.dot(ap);
-      q = p - (h * inv_nn[l]) * n;
+      const Scalar inv = Scalar(1) / det[l];
+      q = a + (s * inv) * u + (t * inv) * v;
       feature = TriangleFeature::Face;
-      return h * h * inv_nn[l];
+      return (p - q).squaredNorm();
     }
     auto clamp01 = [](Scalar x) { return x < Scalar(0) ? Scalar(0) : (x > Scalar(1) ? Scalar(1) : x); };
     // Each edge from its first vertex: (origin, direction, parameter, its edge, its two vertices).
     const Vector3<Scalar> w = v - u, bp = ap - u;
     const Scalar k[3] = {clamp01(d1 * inv_uu[l]), clamp01(d2 * inv_vv[l]), clamp01(w.dot(bp) * inv_ww[l])};
-    const Vector3<Scalar> r[3] = {ap - k[0] * u, ap - k[1] * v, bp - k[2] * w};
-    const Scalar e[3] = {r[0].squaredNorm(), r[1].squaredNorm(), r[2].squaredNorm()};
-    const int i = e[1] < e[0] ? (e[2] < e[1] ? 2 : 1) : (e[2] < e[0] ? 2 : 0);
+    const Vector3<Scalar> e[3] = {a + k[0] * u, a + k[1] * v, Vector3<Scalar>(a + u) + k[2] * w};
+    const Scalar d[3] = {(p - e[0]).squaredNorm(), (p - e[1]).squaredNorm(), (p - e[2]).squaredNorm()};
+    const int i = d[1] < d[0] ? (d[2] < d[1] ? 2 : 1) : (d[2] < d[0] ? 2 : 0);
     static constexpr TriangleFeature edge[3] = {TriangleFeature::EdgeAB, TriangleFeature::EdgeCA, TriangleFeature::EdgeBC};
     static constexpr TriangleFeature start[3] = {TriangleFeature::VertexA, TriangleFeature::VertexA, TriangleFeature::VertexB};
     static constexpr TriangleFeature end[3] = {TriangleFeature::VertexB, TriangleFeature::VertexC, TriangleFeature::VertexC};
-    q = p - r[i];
+    q = e[i];
     feature = k[i] <= Scalar(0) ? start[i] : (k[i] >= Scalar(1) ? end[i] : edge[i]);
-    return e[i];
+    return d[i];
   }
 
   /// Vertices of lane l.
