@@ -89,7 +89,8 @@ PYBIND11_MODULE(_grip, m) {
       .value("InvalidInput", grip::Status::InvalidInput, "an input or setting out of its domain")
       .value("Singular", grip::Status::Singular, "G has rank < 6: some wrench cannot be balanced at all")
       .value("Infeasible", grip::Status::Infeasible, "no forces inside the friction cones balance the wrench")
-      .value("IterationLimit", grip::Status::IterationLimit, "an iterative solver stopped at its bound");
+      .value("IterationLimit", grip::Status::IterationLimit, "an iterative solver stopped at its bound")
+      .value("OutOfRange", grip::Status::OutOfRange, "an input beyond its range or limit, clamped");
 
   py::enum_<Model>(m, "Model", "The contact model: what one contact transmits.")
       .value("HardFinger", Model::HardFinger, "a force f_i (3 unknowns) in a Coulomb cone")

@@ -3,11 +3,14 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
 
+#include <grip/hand/hand_joints.hpp>
 #include <grip/hand/hand_kinematics.hpp>
 #include <grip/hand/hand_model.hpp>
 
 #include "support/allocation_counter.hpp"
+#include "support/random.hpp"
 #include "support/tolerance.hpp"
 
 using namespace grip;
@@ -179,4 +182,109 @@ TEST_CASE_TEMPLATE("forward kinematics rejects bad input and does not allocate",
   bad.radius[7] = S(-1);
   CHECK(forward_kinematics(bad, Iso<S>::Identity(), q, h) == Status::InvalidInput);
   CHECK(h.phalanges[3].tip == before.phalanges[3].tip);  // unchanged on failure
+}
+
+// ---- The whole hand: 20 joints, both hands. -----------------------------------------------------
+
+TEST_CASE_TEMPLATE("20 joints at zero: the open hand, every phalanx in or above the palm plane", S, double, float) {
+  const HandDimensions<S> d = HandDimensions<S>::standard();
+  HandPosture<S> open, paper;
+  REQUIRE(forward_kinematics(d, Iso<S>::Identity(), HandJoints<S>::Zero(), open) == Status::Ok);
+  REQUIRE(forward_kinematics(d, Iso<S>::Identity(), JointAngles<S>::Zero(), paper) == Status::Ok);
+  const double tol = grip_test::roundoff<S>(24, 1, 0.19);
+  for (std::size_t k = 0; k < 14; ++k) {
+    CHECK(double(open.phalanges[k].base.z()) >= -tol);
+    CHECK(double(open.phalanges[k].tip.z()) >= -tol);
+    if (k >= 2) {  // the fingers are the paper hand's
+      CHECK(double((open.phalanges[k].tip - paper.phalanges[k].tip).norm()) <= tol);
+    }
+  }
+  // The paper hand's thumb hangs below the palm (what the whole hand fixes).
+  CHECK(double(paper.phalanges[1].tip.z()) < -0.05);
+  // The open thumb: from the CMC (0.05 L, 0.22 L, 0) along (cos 40, sin 40, 0), metacarpal
+  // 0.251 L, phalanges 0.196 L and 0.158 L (Buchholz's fractions).
+  const double a = 40.0 * 3.141592653589793 / 180.0;
+  const Vector3<double> u(std::cos(a), std::sin(a), 0);
+  const Vector3<double> cmc(0.05 * 0.19, 0.22 * 0.19, 0);
+  CHECK((open.phalanges[0].base.template cast<double>() - (cmc + 0.251 * 0.19 * u)).norm() <= tol);
+  CHECK((open.phalanges[1].tip.template cast<double>() - (cmc + (0.251 + 0.196 + 0.158) * 0.19 * u)).norm() <= tol);
+  // The joint frames: each phalanx's base is its own joint's point; the paper hand's CMC and
+  // abductions are fixed (zero axes), the whole hand's are unit.
+  for (int k = 0; k < 14; ++k)
+    CHECK(double((open.joints[detail::idx(phalanx_joint(k))].point - open.phalanges[detail::idx(k)].base).norm()) <= tol);
+  for (int i : {0, 1, 4, 8, 12, 16}) {
+    CHECK(paper.joints[detail::idx(i)].axis.norm() == S(0));
+    CHECK(std::abs(double(open.joints[detail::idx(i)].axis.norm()) - 1) <= tol);
+  }
+  // The CMC axes are not perpendicular: 80 degrees apart.
+  CHECK(std::abs(double(open.joints[0].axis.dot(open.joints[1].axis)) - std::cos(80.0 * 3.141592653589793 / 180.0)) <= 1e3 * tol);
+}
+
+TEST_CASE_TEMPLATE("20 joints: abduction turns a finger about the palm normal, the thumb opposes", S, double, float) {
+  const HandDimensions<S> d = HandDimensions<S>::standard();
+  HandJoints<S> q = HandJoints<S>::Zero();
+  q(5) = S(0.4);   // index MCP, PIP, DIP flexed
+  q(6) = S(0.5);
+  q(7) = S(0.3);
+  HandPosture<S> bent, spread;
+  REQUIRE(forward_kinematics(d, Iso<S>::Identity(), q, bent) == Status::Ok);
+  q(4) = S(0.25);  // then abducted 0.25 rad radially
+  REQUIRE(forward_kinematics(d, Iso<S>::Identity(), q, spread) == Status::Ok);
+  // Every index point is the bent one turned by 0.25 about +z through the MCP (computed here
+  // with a rotation of the test's own).
+  const Vector3<double> mcp = d.base[1].template cast<double>();
+  const Eigen::Matrix3d Rz = Eigen::AngleAxisd(0.25, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const double tol = grip_test::roundoff<S>(64, 1, 0.19);
+  for (std::size_t k = 2; k < 5; ++k) {
+    const Vector3<double> want = mcp + Rz * (bent.phalanges[k].tip.template cast<double>() - mcp);
+    CHECK((spread.phalanges[k].tip.template cast<double>() - want).norm() <= tol);
+  }
+  CHECK(double(spread.phalanges[4].tip.y()) > double(bent.phalanges[4].tip.y()) + 0.01);  // radial
+  // Thumb CMC flexion carries the thumb ulnarly (-y), abduction palmarly (-z).
+  HandJoints<S> t = HandJoints<S>::Zero();
+  HandPosture<S> open, flexed, abducted;
+  REQUIRE(forward_kinematics(d, Iso<S>::Identity(), t, open) == Status::Ok);
+  t(0) = S(0.5);
+  REQUIRE(forward_kinematics(d, Iso<S>::Identity(), t, flexed) == Status::Ok);
+  t(0) = S(0);
+  t(1) = S(0.5);
+  REQUIRE(forward_kinematics(d, Iso<S>::Identity(), t, abducted) == Status::Ok);
+  CHECK(double(flexed.phalanges[1].tip.y()) < double(open.phalanges[1].tip.y()) - 0.02);
+  CHECK(double(abducted.phalanges[1].tip.z()) < -0.02);
+  // Thumb MCP and IP flexion at the open pose move the tip ulnarly and palmarly.
+  t(1) = S(0);
+  t(2) = S(0.3);
+  t(3) = S(0.3);
+  HandPosture<S> curled;
+  REQUIRE(forward_kinematics(d, Iso<S>::Identity(), t, curled) == Status::Ok);
+  CHECK(double(curled.phalanges[1].tip.y()) < double(open.phalanges[1].tip.y()));
+  CHECK(double(curled.phalanges[1].tip.z()) < 0);
+}
+
+TEST_CASE_TEMPLATE("the left hand is the right hand's mirror image at every posture", S, double, float) {
+  const HandDimensions<S> right = HandDimensions<S>::standard();
+  const HandDimensions<S> left = HandDimensions<S>::standard(S(0.19), Side::Left);
+  CHECK(left.side == Side::Left);
+  REQUIRE(validate(left) == Status::Ok);
+  std::mt19937 g(77);
+  const grip_test::Uniform u(0, 1);
+  const JointLimits<S> l = right.limits;
+  for (int trial = 0; trial < 20; ++trial) {
+    HandJoints<S> q;
+    for (int i = 0; i < 20; ++i) {
+      const double t = u(g);
+      q(i) = S((1 - t) * double(l.lower[detail::idx(i)]) + t * double(l.upper[detail::idx(i)]));
+    }
+    HandPosture<S> r, m;
+    REQUIRE(forward_kinematics(right, Iso<S>::Identity(), q, r) == Status::Ok);
+    REQUIRE(forward_kinematics(left, Iso<S>::Identity(), q, m) == Status::Ok);
+    const Eigen::DiagonalMatrix<S, 3> M(S(1), S(-1), S(1));
+    const double tol = grip_test::roundoff<S>(64, 1, 0.19);
+    for (std::size_t k = 0; k < 14; ++k) {
+      CHECK(double((m.phalanges[k].base - M * r.phalanges[k].base).norm()) <= tol);
+      CHECK(double((m.phalanges[k].tip - M * r.phalanges[k].tip).norm()) <= tol);
+    }
+    for (std::size_t i = 0; i < 20; ++i)  // axes mirror as axes: -M a
+      CHECK(double((m.joints[i].axis + (M * r.joints[i].axis)).norm()) <= tol);
+  }
 }

@@ -13,6 +13,7 @@ enum class Status {
   Singular,        ///< The grasp matrix has rank < 6: some wrench cannot be balanced at all.
   Infeasible,      ///< No forces inside the friction cones balance the wrench (the grasp slips).
   IterationLimit,  ///< An iterative solver stopped at its bound before reaching its tolerance.
+  OutOfRange,      ///< An input beyond its calibrated range or a limit: the result is clamped to it.
 };
 
 /// A short English name of the status, for logs ("ok", "invalid input", ...).
@@ -23,6 +24,7 @@ constexpr const char* to_string(Status s) {
     case Status::Singular: return "singular";
     case Status::Infeasible: return "infeasible";
     case Status::IterationLimit: return "iteration limit";
+    case Status::OutOfRange: return "out of range";
   }
   return "unknown";
 }

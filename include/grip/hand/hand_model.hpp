@@ -26,6 +26,7 @@
 #include "grip/core/index.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
+#include "grip/hand/hand_joints.hpp"
 #include "grip/hand/squeeze.hpp"
 
 namespace grip {
@@ -53,6 +54,10 @@ constexpr Finger phalanx_finger(int k) {
 constexpr Phalanx phalanx_kind(int k) {
   return k < 2 ? (k == 0 ? Phalanx::Proximal : Phalanx::Distal) : static_cast<Phalanx>((k - 2) % 3);
 }
+
+/// Which hand a model is. A left hand is the mirror image of the right in the hand frame's
+/// x-z plane (y -> -y): its radial side is -y; every joint angle keeps its anatomical sign.
+enum class Side { Right, Left };
 
 /// The 14 joint flexion angles (rad) in the order of this file. Positive flexes (closes the
 /// hand); all zero is the rest pose (fingers straight in the palm plane).
@@ -89,6 +94,20 @@ constexpr std::array<std::array<Scalar, 4>, 5> buchholz_segment_fractions() {
 /// - joint limits: finger MCP 90 deg, PIP 110 deg, DIP 90 deg; thumb MCP 80, IP 90 deg
 ///   (upper limits; lower limits 0), used by helpers that close the hand, not enforced by
 ///   forward kinematics.
+///
+/// The whole hand of 20 joints (hand_joints.hpp) shares the fingers and adds (model choices):
+/// - finger MCP abduction about the palm normal +z through the MCP;
+/// - a thumb that opens flat: at all-zero joints its metacarpal and phalanges point along
+///   open_thumb_direction = (cos 40 deg, sin 40 deg, 0) in the palm plane, flexing (MCP, IP)
+///   about open_thumb_flexion_axis, chosen so that flexion moves the tip as much ulnarly as
+///   palmarly (45 deg between the palm plane and the path);
+/// - thumb CMC flexion about cmc_flexion_axis = -z and then CMC abduction about
+///   abduction_axis[0] = (-cos 10 deg, 0, -sin 10 deg), both through thumb_cmc: 80 deg apart,
+///   not perpendicular, as Hollister et al. (1992, J. Orthop. Res. 10(3)) found the joint's
+///   axes to be (the angle is a model choice, and these axes meet, which theirs do not);
+/// - limits: JointLimits::standard().
+/// standard(L, Side::Left) mirrors every point and direction (y -> -y) and every axis as an
+/// axis (a -> -(a_x, -a_y, a_z)), so that positive angles keep their meaning.
 template <class Scalar>
 struct HandDimensions {
   using Angles = JointAngles<Scalar>;                               ///< The 14 joint angles.
@@ -101,11 +120,19 @@ struct HandDimensions {
   std::array<Vector3<Scalar>, 5> rest_direction{};           ///< Unit direction of each digit's phalanges at rest.
   std::array<Vector3<Scalar>, 5> flexion_axis{};             ///< Unit axis about which a positive angle flexes.
   std::array<Scalar, hand_joint_count> joint_upper_limit{};  ///< Largest flexion (rad) for closing helpers.
-  Vector3<Scalar> thumb_cmc{Vector3<Scalar>::Zero()};        ///< Thumb CMC joint (fixed), hand frame.
+  Vector3<Scalar> thumb_cmc{Vector3<Scalar>::Zero()};        ///< Thumb CMC joint, hand frame.
+  Scalar thumb_metacarpal{0};                                ///< Thumb CMC to MCP (m).
+  Side side{Side::Right};                                    ///< Which hand.
+  /// Fingers: MCP abduction axis; [0]: the thumb's CMC abduction axis (zero pose).
+  std::array<Vector3<Scalar>, 5> abduction_axis{};
+  Vector3<Scalar> cmc_flexion_axis{Vector3<Scalar>::Zero()};         ///< Thumb CMC flexion axis.
+  Vector3<Scalar> open_thumb_direction{Vector3<Scalar>::Zero()};     ///< Thumb at all-zero 20 joints.
+  Vector3<Scalar> open_thumb_flexion_axis{Vector3<Scalar>::Zero()};  ///< Its MCP and IP axis there.
+  JointLimits<Scalar> limits{JointLimits<Scalar>::standard()};       ///< Ranges of the 20 joints.
 
   /// The anthropometric defaults described above for hand length L (m). A non-finite or
   /// non-positive L gives dimensions that validate() rejects.
-  static HandDimensions standard(Scalar L = Scalar(0.19)) {
+  static HandDimensions standard(Scalar L = Scalar(0.19), Side side = Side::Right) {
     HandDimensions d;
     d.hand_length = L;
     const auto frac = buchholz_segment_fractions<Scalar>();
@@ -116,6 +143,7 @@ struct HandDimensions {
       d.base[detail::idx(f)] = Vector3<Scalar>(frac[detail::idx(f)][0] * L, y_mcp[f] * L, Scalar(0));
       d.rest_direction[detail::idx(f)] = Vector3<Scalar>::UnitX();
       d.flexion_axis[detail::idx(f)] = Vector3<Scalar>::UnitY();
+      d.abduction_axis[detail::idx(f)] = Vector3<Scalar>::UnitZ();
       for (int p = 0; p < 3; ++p) {
         const int k = phalanx_index(static_cast<Finger>(f), static_cast<Phalanx>(p));
         d.length[detail::idx(k)] = frac[detail::idx(f)][detail::idx(1 + p)] * L;
@@ -127,19 +155,48 @@ struct HandDimensions {
     d.thumb_cmc = Vector3<Scalar>(Scalar(0.05) * L, Scalar(0.22) * L, Scalar(0));
     d.rest_direction[0] = Vector3<Scalar>(std::sin(beta), Scalar(0), -std::cos(beta));
     d.flexion_axis[0] = -Vector3<Scalar>::UnitY();
-    d.base[0] = d.thumb_cmc + frac[0][0] * L * d.rest_direction[0];
+    d.thumb_metacarpal = frac[0][0] * L;
+    d.base[0] = d.thumb_cmc + d.thumb_metacarpal * d.rest_direction[0];
     d.length[0] = frac[0][1] * L;
     d.length[1] = frac[0][3] * L;
     d.radius[0] = Scalar(0.050) * L;
     d.radius[1] = Scalar(0.045) * L;
     d.joint_upper_limit[0] = Scalar(80) * deg;
     d.joint_upper_limit[1] = Scalar(90) * deg;
+    const Scalar open = Scalar(40) * deg, tilt = Scalar(10) * deg, path = Scalar(45) * deg;
+    d.open_thumb_direction = Vector3<Scalar>(std::cos(open), std::sin(open), Scalar(0));
+    const Vector3<Scalar> ulnar(std::sin(open), -std::cos(open), Scalar(0));
+    const Vector3<Scalar> moves = std::cos(path) * ulnar - std::sin(path) * Vector3<Scalar>::UnitZ();
+    d.open_thumb_flexion_axis = d.open_thumb_direction.cross(moves);  // axis x direction = moves
+    d.cmc_flexion_axis = -Vector3<Scalar>::UnitZ();
+    d.abduction_axis[0] = Vector3<Scalar>(-std::cos(tilt), Scalar(0), -std::sin(tilt));
+    if (side == Side::Left) d.mirror();
     return d;
+  }
+
+  /// Mirrors the model into the other hand (y -> -y for points and directions, a ->
+  /// -(a_x, -a_y, a_z) for axes) and flips `side`.
+  void mirror() {
+    const auto point = [](Vector3<Scalar>& v) { v.y() = -v.y(); };
+    const auto axis = [](Vector3<Scalar>& v) { v = Vector3<Scalar>(-v.x(), v.y(), -v.z()); };
+    for (int f = 0; f < 5; ++f) {
+      point(base[detail::idx(f)]);
+      point(rest_direction[detail::idx(f)]);
+      axis(flexion_axis[detail::idx(f)]);
+      axis(abduction_axis[detail::idx(f)]);
+    }
+    point(thumb_cmc);
+    point(open_thumb_direction);
+    axis(open_thumb_flexion_axis);
+    axis(cmc_flexion_axis);
+    side = side == Side::Right ? Side::Left : Side::Right;
   }
 };
 
-/// Ok if every number is finite, lengths and radii are positive, and the directions and axes
-/// are unit (within 1e-3) and perpendicular (|dot| <= 1e-3); InvalidInput otherwise.
+/// Ok if every number is finite, lengths and radii are positive, the directions and axes are
+/// unit (within 1e-3), each digit's rest direction perpendicular to its flexion axis (|dot| <=
+/// 1e-3, and the open thumb's likewise), and every joint range holds zero; InvalidInput
+/// otherwise.
 template <class Scalar>
 Status validate(const HandDimensions<Scalar>& d) {
   const Scalar tol = Scalar(1e-3);
@@ -149,7 +206,8 @@ Status validate(const HandDimensions<Scalar>& d) {
     if (!std::isfinite(d.radius[detail::idx(k)]) || !(d.radius[detail::idx(k)] > Scalar(0))) return Status::InvalidInput;
     if (!std::isfinite(d.joint_upper_limit[detail::idx(k)])) return Status::InvalidInput;
   }
-  if (!d.thumb_cmc.allFinite()) return Status::InvalidInput;
+  if (!d.thumb_cmc.allFinite() || !std::isfinite(d.thumb_metacarpal) || !(d.thumb_metacarpal > Scalar(0)))
+    return Status::InvalidInput;
   for (int f = 0; f < 5; ++f) {
     if (!d.base[detail::idx(f)].allFinite() || !d.rest_direction[detail::idx(f)].allFinite() || !d.flexion_axis[detail::idx(f)].allFinite())
       return Status::InvalidInput;
@@ -158,6 +216,17 @@ Status validate(const HandDimensions<Scalar>& d) {
         !(std::abs(d.rest_direction[detail::idx(f)].dot(d.flexion_axis[detail::idx(f)])) <= tol))
       return Status::InvalidInput;
   }
+  const auto unit = [tol](const Vector3<Scalar>& v) {
+    return v.allFinite() && std::abs(v.norm() - Scalar(1)) <= tol;
+  };
+  for (int f = 0; f < 5; ++f)
+    if (!unit(d.abduction_axis[detail::idx(f)])) return Status::InvalidInput;
+  if (!unit(d.cmc_flexion_axis) || !unit(d.open_thumb_direction) || !unit(d.open_thumb_flexion_axis) ||
+      !(std::abs(d.open_thumb_direction.dot(d.open_thumb_flexion_axis)) <= tol))
+    return Status::InvalidInput;
+  for (int i = 0; i < hand_dof_count; ++i)
+    if (!(d.limits.lower[detail::idx(i)] <= Scalar(0) && d.limits.upper[detail::idx(i)] >= Scalar(0)))
+      return Status::InvalidInput;
   return Status::Ok;
 }
 
