@@ -1,0 +1,207 @@
+#pragma once
+/// \file
+/// Device policies: what a force-feedback device can render of the forces the hand should
+/// feel. The haptic pipeline takes one as a template parameter (haptic_pipeline.hpp) and
+/// calls render() at the end of every frame; each policy clips to what its hardware can do
+/// and reports what it clipped. No heap, no exceptions.
+///
+///   PhalanxActuators  one actuator per phalanx pushing along its actuation direction (the
+///                     paper's glove): a force in [0, limit] along it.
+///   VectorForces      a 3-D force per phalanx, or per fingertip only: saturated by norm (the
+///                     direction is kept), never per component.
+///   JointTorques      an exoskeleton or tendon glove: one torque per joint, tau = sum J^T F
+///                     over the phalanges, each clipped to [-limit, limit].
+///   JointBrakes       passive brakes on the joints: a brake can only resist the joint's
+///                     motion, so a torque that would drive the joint along its velocity is
+///                     not rendered (0); a resisting one is clipped to the brake's limit.
+///
+/// Every policy: `Command` (its output, with `clipped`, the number of outputs it changed, and
+/// `status`), and `Status render(const FeltForces<S>&, const HandPosture<S>&, const
+/// HandJoints<S>& joint_velocity, Command&) const`: InvalidInput (command zeroed) on a
+/// non-finite input or a negative limit; Ok otherwise.
+
+#include <array>
+#include <cmath>
+
+#include "grip/core/index.hpp"
+#include "grip/core/status.hpp"
+#include "grip/core/types.hpp"
+#include "grip/hand/hand_jacobian.hpp"
+#include "grip/hand/hand_joints.hpp"
+#include "grip/hand/hand_kinematics.hpp"
+#include "grip/hand/hand_model.hpp"
+
+namespace grip {
+
+/// What the hand should feel, per phalanx (order of hand_model.hpp), world frame: the sum of
+/// -f_i over the phalanx's contacts and the point it acts at (the contacts' points weighted
+/// by their force; the phalanx's tip when it has none).
+template <class Scalar>
+struct FeltForces {
+  std::array<Vector3<Scalar>, hand_phalanx_count> force{};  ///< N
+  std::array<Vector3<Scalar>, hand_phalanx_count> point{};  ///< m
+  std::array<bool, hand_phalanx_count> in_contact{};        ///< the phalanx touches the object
+  FeltForces() {
+    force.fill(Vector3<Scalar>::Zero());
+    point.fill(Vector3<Scalar>::Zero());
+  }
+};
+
+/// The direction in which phalanx k's actuator pushes: extension, u x e for the phalanx's
+/// unit direction u and its flexion axis e (an object pressing on the palmar side pushes
+/// along it). Zero for a degenerate phalanx.
+template <class Scalar>
+Vector3<Scalar> actuation_direction(const HandPosture<Scalar>& posture, int k) {
+  const PhalanxCapsule<Scalar>& c = posture.phalanges[detail::idx(k)];
+  const Vector3<Scalar> d = (c.tip - c.base).cross(posture.joints[detail::idx(phalanx_joint(k))].axis);
+  const Scalar n = d.norm();
+  return n > Scalar(0) ? Vector3<Scalar>(d / n) : Vector3<Scalar>::Zero();
+}
+
+/// (a) One actuator per phalanx along actuation_direction(), pushing only: command in
+/// [0, limit]. Clipped: beyond the limit, or pulling while in contact.
+template <class Scalar>
+struct PhalanxActuators {
+  std::array<Scalar, hand_phalanx_count> limit{};  ///< Largest push (N) per phalanx, >= 0.
+  PhalanxActuators() { limit.fill(Scalar(10)); }
+
+  struct Command {
+    std::array<Scalar, hand_phalanx_count> wanted{};  ///< F . direction (N)
+    std::array<Scalar, hand_phalanx_count> force{};   ///< rendered (N)
+    int clipped{0};
+    Status status{Status::InvalidInput};
+  };
+
+  Status render(const FeltForces<Scalar>& in, const HandPosture<Scalar>& posture, const HandJoints<Scalar>&,
+                Command& out) const {
+    out = Command{};
+    for (int k = 0; k < hand_phalanx_count; ++k)
+      if (!in.force[detail::idx(k)].allFinite() || !(limit[detail::idx(k)] >= Scalar(0))) return out.status;
+    for (int k = 0; k < hand_phalanx_count; ++k) {
+      const auto i = detail::idx(k);
+      out.wanted[i] = in.force[i].dot(actuation_direction(posture, k));
+      out.force[i] = std::fmin(limit[i], std::fmax(Scalar(0), out.wanted[i]));
+      out.clipped += in.in_contact[i] && out.force[i] != out.wanted[i] ? 1 : 0;
+    }
+    out.status = Status::Ok;
+    return out.status;
+  }
+};
+
+/// (b) A 3-D force per phalanx (fingertips_only: per distal phalanx, the others rendering
+/// nothing), scaled down as a whole to at most `limit` in norm.
+template <class Scalar>
+struct VectorForces {
+  std::array<Scalar, hand_phalanx_count> limit{};  ///< Largest |force| (N) per phalanx, >= 0.
+  bool fingertips_only{false};                     ///< Only the distal phalanges have a device.
+  VectorForces() { limit.fill(Scalar(10)); }
+
+  struct Command {
+    std::array<Vector3<Scalar>, hand_phalanx_count> force{};  ///< rendered (N, world)
+    std::array<Scalar, hand_phalanx_count> scale{};           ///< rendered / wanted, in [0, 1]
+    int clipped{0};
+    Status status{Status::InvalidInput};
+    Command() { force.fill(Vector3<Scalar>::Zero()); }
+  };
+
+  Status render(const FeltForces<Scalar>& in, const HandPosture<Scalar>&, const HandJoints<Scalar>&,
+                Command& out) const {
+    out = Command{};
+    for (int k = 0; k < hand_phalanx_count; ++k)
+      if (!in.force[detail::idx(k)].allFinite() || !(limit[detail::idx(k)] >= Scalar(0))) return out.status;
+    for (int k = 0; k < hand_phalanx_count; ++k) {
+      const auto i = detail::idx(k);
+      const bool has = !fingertips_only || phalanx_kind(k) == Phalanx::Distal;
+      const Scalar n = in.force[i].norm();
+      const Scalar s = !has ? Scalar(0) : (n > limit[i] ? limit[i] / n : Scalar(1));
+      out.scale[i] = s;
+      out.force[i] = s * in.force[i];
+      out.clipped += n > Scalar(0) && s < Scalar(1) ? 1 : 0;
+    }
+    out.status = Status::Ok;
+    return out.status;
+  }
+};
+
+namespace detail {
+/// tau = sum over phalanges of J^T F at each felt force's point. False on non-finite input.
+template <class Scalar>
+bool felt_torques(const FeltForces<Scalar>& in, const HandPosture<Scalar>& posture, HandJoints<Scalar>& tau) {
+  tau.setZero();
+  for (int k = 0; k < hand_phalanx_count; ++k)
+    if (add_joint_torques(posture, k, in.point[idx(k)], in.force[idx(k)], tau) != Status::Ok) return false;
+  return true;
+}
+}  // namespace detail
+
+/// (c) One torque per joint: the torques J^T F of the felt forces summed over the phalanges
+/// (hand_jacobian.hpp), each clipped to [-limit, limit]. Joints the posture holds fixed get 0.
+template <class Scalar>
+struct JointTorques {
+  std::array<Scalar, hand_dof_count> limit{};  ///< Largest |torque| (N m) per joint, >= 0.
+  JointTorques() { limit.fill(Scalar(0.5)); }
+
+  struct Command {
+    HandJoints<Scalar> wanted{HandJoints<Scalar>::Zero()};  ///< J^T F (N m)
+    HandJoints<Scalar> torque{HandJoints<Scalar>::Zero()};  ///< rendered (N m)
+    int clipped{0};
+    Status status{Status::InvalidInput};
+  };
+
+  Status render(const FeltForces<Scalar>& in, const HandPosture<Scalar>& posture, const HandJoints<Scalar>&,
+                Command& out) const {
+    out = Command{};
+    for (int i = 0; i < hand_dof_count; ++i)
+      if (!(limit[detail::idx(i)] >= Scalar(0))) return out.status;
+    if (!detail::felt_torques(in, posture, out.wanted)) {
+      out.wanted.setZero();
+      return out.status;
+    }
+    for (int i = 0; i < hand_dof_count; ++i) {
+      const Scalar l = limit[detail::idx(i)];
+      out.torque(i) = std::fmin(l, std::fmax(-l, out.wanted(i)));
+      out.clipped += out.torque(i) != out.wanted(i) ? 1 : 0;
+    }
+    out.status = Status::Ok;
+    return out.status;
+  }
+};
+
+/// (d) Passive brakes on the joints. The torque a joint should feel, J^T F as for
+/// JointTorques, is rendered only where it resists the joint's motion (tau qdot <= 0; a joint
+/// at rest can be held either way), clipped to [-limit, limit]; where it would drive the
+/// joint along its velocity the brake renders 0 and counts it clipped.
+template <class Scalar>
+struct JointBrakes {
+  std::array<Scalar, hand_dof_count> limit{};  ///< Largest braking torque (N m) per joint, >= 0.
+  JointBrakes() { limit.fill(Scalar(0.5)); }
+
+  struct Command {
+    HandJoints<Scalar> wanted{HandJoints<Scalar>::Zero()};  ///< J^T F (N m)
+    HandJoints<Scalar> torque{HandJoints<Scalar>::Zero()};  ///< rendered: resisting only (N m)
+    int clipped{0};
+    Status status{Status::InvalidInput};
+  };
+
+  Status render(const FeltForces<Scalar>& in, const HandPosture<Scalar>& posture,
+                const HandJoints<Scalar>& joint_velocity, Command& out) const {
+    out = Command{};
+    if (!joint_velocity.allFinite()) return out.status;
+    for (int i = 0; i < hand_dof_count; ++i)
+      if (!(limit[detail::idx(i)] >= Scalar(0))) return out.status;
+    if (!detail::felt_torques(in, posture, out.wanted)) {
+      out.wanted.setZero();
+      return out.status;
+    }
+    for (int i = 0; i < hand_dof_count; ++i) {
+      const Scalar l = limit[detail::idx(i)];
+      const bool resists = out.wanted(i) * joint_velocity(i) <= Scalar(0);
+      out.torque(i) = resists ? std::fmin(l, std::fmax(-l, out.wanted(i))) : Scalar(0);
+      out.clipped += out.torque(i) != out.wanted(i) ? 1 : 0;
+    }
+    out.status = Status::Ok;
+    return out.status;
+  }
+};
+
+}  // namespace grip
