@@ -15,26 +15,30 @@ constexpr double mass = 0.4;         // kg
 constexpr double grip_force = 30.0;  // N: K dr summed over the hand, scaled by each d_i (eq. 8)
 constexpr double mu = 0.8;           // skin on a dry cylinder
 
+constexpr int palm = 5;  // Site::finger of the palm
+
 struct Site {
   const char* name;
   double azimuth_deg;  // around the axis; the palm is at 180 degrees
   double height;       // m along the axis
-  double share;        // d_i of eq. 8
+  int finger;          // grip::Finger, or `palm`
+  grip::Phalanx phalanx;
 };
 
 // Four fingers wrap from the palm around the far side (proximal, middle, distal at 110, 40,
 // -30 degrees), index highest; the thumb wraps the other way; the palm pushes at 180 degrees.
-// Finger shares are Table 1; the thumb and palm shares are this example's choice (Table 1
-// gives none), set so that they oppose the fingers.
-Site sites[] = {
-    {"index proximal", 110, 0.030, 0.115},  {"index middle", 40, 0.030, 0.021},
-    {"index distal", -30, 0.030, 0.159},    {"long proximal", 110, 0.010, 0.126},
-    {"long middle", 40, 0.010, 0.023},      {"long distal", -30, 0.010, 0.176},
-    {"ring proximal", 110, -0.010, 0.088},  {"ring middle", 40, -0.010, 0.016},
-    {"ring distal", -30, -0.010, 0.122},    {"little proximal", 110, -0.030, 0.060},
-    {"little middle", 40, -0.030, 0.011},   {"little distal", -30, -0.030, 0.083},
-    {"thumb proximal", -150, 0.035, 0.150}, {"thumb distal", -105, 0.040, 0.250},
-    {"palm", 180, 0.000, 0.400},
+// Each site's share d_i is the cylindrical power grip's (grasp_type.hpp): Table 1 for the
+// fingers, grip's choice for the thumb and the palm (Table 1 gives none), which oppose them.
+using P = grip::Phalanx;
+const Site sites[] = {
+    {"index proximal", 110, 0.030, 1, P::Proximal},  {"index middle", 40, 0.030, 1, P::Middle},
+    {"index distal", -30, 0.030, 1, P::Distal},      {"long proximal", 110, 0.010, 2, P::Proximal},
+    {"long middle", 40, 0.010, 2, P::Middle},        {"long distal", -30, 0.010, 2, P::Distal},
+    {"ring proximal", 110, -0.010, 3, P::Proximal},  {"ring middle", 40, -0.010, 3, P::Middle},
+    {"ring distal", -30, -0.010, 3, P::Distal},      {"little proximal", 110, -0.030, 4, P::Proximal},
+    {"little middle", 40, -0.030, 4, P::Middle},     {"little distal", -30, -0.030, 4, P::Distal},
+    {"thumb proximal", -150, 0.035, 0, P::Proximal}, {"thumb distal", -105, 0.040, 0, P::Distal},
+    {"palm", 180, 0.000, palm, P::Proximal},
 };
 constexpr int n = sizeof(sites) / sizeof(sites[0]);
 
@@ -61,14 +65,17 @@ void report(const char* title, const grip::Grasp<n>& grasp, const grip::Wrench<d
 }  // namespace
 
 int main() {
+  constexpr auto table = grip::contribution_table<double>(grip::GraspType::CylindricalPower);
   grip::Grasp<n> grasp;
   for (int i = 0; i < n; ++i) {
-    const double a = sites[i].azimuth_deg * pi / 180.0;
+    const Site& site = sites[i];
+    const double share = site.finger == palm ? table.palm : table(static_cast<grip::Finger>(site.finger), site.phalanx);
+    const double a = site.azimuth_deg * pi / 180.0;
     grip::Contact<double> c;
-    c.position << radius * std::cos(a), radius * std::sin(a), sites[i].height;
+    c.position << radius * std::cos(a), radius * std::sin(a), site.height;
     c.normal << -std::cos(a), -std::sin(a), 0.0;  // into the cylinder
     c.friction = mu;
-    c.squeeze = sites[i].share * grip_force;
+    c.squeeze = share * grip_force;
     if (grasp.set(i, c) != grip::Status::Ok) {
       std::printf("bad contact %d\n", i);
       return 1;

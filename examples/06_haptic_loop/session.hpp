@@ -71,7 +71,8 @@ inline grip::HapticSettings<S> settings() {
   // sits 4 cm radial of it, which would twist the cylinder out of the fingers).
   s.hand.thumb_cmc.y() = -0.005;
   s.hand.base[0].y() = -0.005;
-  s.thumb_contribution = {{0.5, 0.7}};
+  s.contribution(grip::Finger::Thumb, grip::Phalanx::Proximal) = 0.5;  // a firmer thumb than the
+  s.contribution(grip::Finger::Thumb, grip::Phalanx::Distal) = 0.7;    // table's 0.15 and 0.25
   s.stiffness.fill(1.5e4);
   s.device_limit.fill(12);
   s.device_limit[0] = s.device_limit[1] = 25;

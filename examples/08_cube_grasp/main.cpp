@@ -95,7 +95,8 @@ int main(int argc, char** argv) {
   grip::HapticSettings<S> settings;
   settings.hand.thumb_cmc.y() = -0.005;  // the thumb opposes the long finger
   settings.hand.base[0].y() = -0.005;
-  settings.thumb_contribution = {{0.5, 0.7}};
+  settings.contribution(grip::Finger::Thumb, grip::Phalanx::Proximal) = 0.5;  // a firm thumb
+  settings.contribution(grip::Finger::Thumb, grip::Phalanx::Distal) = 0.7;
   settings.stiffness.fill(1.5e4);
   settings.device_limit.fill(30);
   Scene scene;

@@ -54,11 +54,14 @@ def session():
     stiffness = np.full(14, 1.5e4)
     limit = np.full(14, 12.0)
     limit[:2] = 25.0
+    table = grip.contribution_table(grip.GraspType.CylindricalPower)
+    share = table.share
+    share[0] = (0.5, 0.0, 0.7)  # a firmer thumb than the table's 0.15 and 0.25, as example 06
     rotation = np.column_stack([[0, 0, 1.0], [1.0, 0, 0], [0, 1.0, 0]])  # body x -> world z, y -> x, z (axis) -> y
     loop = grip.HapticLoop(radius=RADIUS, half_length=HALF_LENGTH, mass=MASS, position=object_path(0.0), rotation=rotation,
                            boxes=[((-0.8, -0.5, -0.75), (0.0, 0.5, 0.0))], hand=hand, stiffness=stiffness,
-                           device_limit=limit, thumb_contribution=(0.5, 0.7), obstacle_stiffness=4000.0,
-                           obstacle_damping=20.0)
+                           device_limit=limit, contribution=grip.ContributionTable(share, palm=table.palm),
+                           obstacle_stiffness=4000.0, obstacle_damping=20.0)
     offset = np.array([0.374 * hand.hand_length + 0.03, 0.0, -(RADIUS + 0.045 * hand.hand_length - 0.002)])
 
     def wrist(t):

@@ -18,20 +18,24 @@ import numpy as np  # noqa: E402
 import grip  # noqa: E402
 
 RADIUS, MASS, GRIP_FORCE, MU = 0.035, 0.4, 30.0, 0.8
-# name, azimuth around the axis (degrees; the palm at 180), height (m), share d_i: Table 1 for
-# the fingers; the thumb's and palm's shares are this example's choice (Table 1 gives none).
-SITES = [("index prox.", 110, 0.030, 0.115), ("index mid.", 40, 0.030, 0.021), ("index dist.", -30, 0.030, 0.159),
-         ("long prox.", 110, 0.010, 0.126), ("long mid.", 40, 0.010, 0.023), ("long dist.", -30, 0.010, 0.176),
-         ("ring prox.", 110, -0.010, 0.088), ("ring mid.", 40, -0.010, 0.016), ("ring dist.", -30, -0.010, 0.122),
-         ("little prox.", 110, -0.030, 0.060), ("little mid.", 40, -0.030, 0.011), ("little dist.", -30, -0.030, 0.083),
-         ("thumb prox.", -150, 0.035, 0.150), ("thumb dist.", -105, 0.040, 0.250), ("palm", 180, 0.0, 0.400)]
+PALM = None
+# name, azimuth around the axis (degrees; the palm at 180), height (m), digit (0 thumb .. 4
+# little, PALM) and phalanx (0 proximal, 1 middle, 2 distal). Each share d_i is the cylindrical
+# power grip's: Table 1 for the fingers, grip's choice for the thumb and palm (Table 1 gives none).
+SITES = [("index prox.", 110, 0.030, 1, 0), ("index mid.", 40, 0.030, 1, 1), ("index dist.", -30, 0.030, 1, 2),
+         ("long prox.", 110, 0.010, 2, 0), ("long mid.", 40, 0.010, 2, 1), ("long dist.", -30, 0.010, 2, 2),
+         ("ring prox.", 110, -0.010, 3, 0), ("ring mid.", 40, -0.010, 3, 1), ("ring dist.", -30, -0.010, 3, 2),
+         ("little prox.", 110, -0.030, 4, 0), ("little mid.", 40, -0.030, 4, 1), ("little dist.", -30, -0.030, 4, 2),
+         ("thumb prox.", -150, 0.035, 0, 0), ("thumb dist.", -105, 0.040, 0, 2), ("palm", 180, 0.0, PALM, 0)]
 
 
 def power_grip():
+    table = grip.contribution_table(grip.GraspType.CylindricalPower)
     az = np.radians([s[1] for s in SITES])
     positions = np.stack([RADIUS * np.cos(az), RADIUS * np.sin(az), [s[2] for s in SITES]], axis=1)
     normals = np.stack([-np.cos(az), -np.sin(az), np.zeros(len(SITES))], axis=1)
-    squeeze = GRIP_FORCE * np.array([s[3] for s in SITES])
+    share = [table.palm if digit is PALM else table.share[digit, phalanx] for _, _, _, digit, phalanx in SITES]
+    squeeze = GRIP_FORCE * np.array(share)
     return grip.Grasp(positions, normals, MU, squeeze=squeeze), squeeze
 
 

@@ -43,6 +43,7 @@
 #include "grip/analysis/batch.hpp"
 
 #include "grip/hand/squeeze.hpp"
+#include "grip/hand/grasp_type.hpp"
 #include "grip/hand/hand_model.hpp"
 #include "grip/hand/hand_kinematics.hpp"
 

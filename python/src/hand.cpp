@@ -1,6 +1,7 @@
 // The hand and collision from Python: hand dimensions, forward kinematics of the 14 flexion
 // joints, shapes (sphere, box, cylinder, capsule and unions of up to four) with their exact
-// signed distance, and the contacts of a posed hand with a shape (the exact narrow phase).
+// signed distance, the contacts of a posed hand with a shape (the exact narrow phase), and the
+// grasp types' contribution tables d of eq. 8.
 
 #include <string>
 #include <vector>
@@ -19,6 +20,28 @@ using Dims = grip::HandDimensions<double>;
 using Iso = Eigen::Transform<double, 3, Eigen::Isometry>;
 using PyShape = grip::Shape<double, 4>;
 using Prim = grip::ShapePrimitive<double>;
+using Table = grip::ContributionTable<double>;
+
+/// A contribution table from a (5, 3) array of shares [digit][phalanx] and the palm's share.
+Table table_of(const py::handle& share, double palm) {
+  const Array a = Array::ensure(share);
+  if (!a || a.ndim() != 2 || a.shape(0) != 5 || a.shape(1) != 3) invalid("share must have shape (5, 3)");
+  Table t{};
+  for (int f = 0; f < 5; ++f)
+    for (int p = 0; p < 3; ++p) {
+      t.share[f][p] = a.at(f, p);
+      if (!(t.share[f][p] >= 0) || !std::isfinite(t.share[f][p])) invalid("shares must be finite and >= 0");
+    }
+  if (t.share[0][1] != 0) invalid("the thumb has no middle phalanx: share[0, 1] must be 0");
+  if (!(palm >= 0) || !std::isfinite(palm)) invalid("palm must be finite and >= 0");
+  t.palm = palm;
+  return t;
+}
+
+grip::Finger finger_of(int f) {
+  if (f < 0 || f > 4) invalid("finger must be 0 (thumb) to 4 (little), not " + std::to_string(f));
+  return static_cast<grip::Finger>(f);
+}
 
 /// A (3, 3) rotation, the identity for None (validate() checks it).
 Eigen::Matrix3d rotation(const py::handle& obj) {
@@ -112,6 +135,36 @@ py::dict contacts_with(const grip::HandCollisionModel<double, 8>& model, const F
 }  // namespace
 
 void bind_hand(py::module_& m) {
+  py::enum_<grip::GraspType>(m, "GraspType", "A grasp type, with its contribution table (docs/hand.md).")
+      .value("CylindricalPower", grip::GraspType::CylindricalPower, "the whole hand round a cylinder (Table 1)")
+      .value("SphericalPower", grip::GraspType::SphericalPower, "the whole hand round a ball, the palm under it")
+      .value("TipPinch", grip::GraspType::TipPinch, "the thumb's and the index's distal pads")
+      .value("Tripod", grip::GraspType::Tripod, "the thumb's distal pad against the index's and long finger's")
+      .value("LateralPinch", grip::GraspType::LateralPinch, "the thumb's pad against the index's middle phalanx");
+  py::class_<Table>(m, "ContributionTable",
+                    "Share d of each phalanx and of the palm in eq. 8: normal forces as fractions of the four "
+                    "fingers' summed force, so that the fingers sum to 1 (docs/hand.md, Grasp types).")
+      .def(py::init(&table_of), py::arg("share"), py::arg("palm") = 0.0,
+           "share (5, 3) [digit][phalanx], thumb first (its middle, column 1, is 0); palm; all finite and >= 0")
+      .def_property_readonly("share", [](const Table& t) {
+        RowMatrix s(5, 3);
+        for (int f = 0; f < 5; ++f)
+          for (int p = 0; p < 3; ++p) s(f, p) = t.share[f][p];
+        return s;
+      }, "(5, 3) [digit][phalanx], thumb first; a copy")
+      .def_readonly("palm", &Table::palm)
+      .def_property_readonly("by_phalanx", [](const Table& t) {
+        Eigen::VectorXd d(grip::hand_phalanx_count);
+        for (int k = 0; k < grip::hand_phalanx_count; ++k) d(k) = t(grip::phalanx_finger(k), grip::phalanx_kind(k));
+        return d;
+      }, "(14,) d of each phalanx in the order of docs/hand.md (hand_contacts' phalanx index)")
+      .def("finger_total", [](const Table& t, int f) { return t.finger_total(finger_of(f)); }, py::arg("finger"),
+           "sum over a digit's phalanges, 0 (thumb) to 4 (little)")
+      .def("four_finger_total", &Table::four_finger_total, "sum over index to little: 1 in grip's tables")
+      .def("total", &Table::total, "sum of every share, thumb and palm included");
+  m.def("contribution_table", [](grip::GraspType g) { return grip::contribution_table<double>(g); },
+        py::arg("grasp_type") = grip::GraspType::CylindricalPower, "The ContributionTable of a GraspType.");
+
   py::class_<Dims>(m, "HandDimensions", "The hand model's sizes (m) and joint axes, hand frame (docs/hand.md).")
       .def_static("standard", [](double L) {
         if (!(L > 0) || !std::isfinite(L)) invalid("hand_length must be finite and > 0");

@@ -48,7 +48,7 @@ class PyHapticLoop {
   PyHapticLoop(double radius, double half_length, double mass, const py::handle& position, const py::handle& rotation,
                const std::vector<std::pair<py::object, py::object>>& boxes, const grip::HandDimensions<double>& hand,
                double friction, const py::handle& stiffness, const py::handle& device_limit,
-               const std::pair<double, double>& thumb, double dt, int max_passes, double obstacle_stiffness,
+               const grip::ContributionTable<double>& contribution, double dt, int max_passes, double obstacle_stiffness,
                double obstacle_damping) {
     if (!(radius > 0) || !(half_length > 0) || !(mass > 0) || !std::isfinite(radius + half_length + mass))
       invalid("radius, half_length and mass must be finite and > 0");
@@ -63,7 +63,7 @@ class PyHapticLoop {
     s.friction = friction;
     s.stiffness = per_phalanx(stiffness, "stiffness", 1e-9);
     s.device_limit = per_phalanx(device_limit, "device_limit", 0.0);
-    s.thumb_contribution = {{thumb.first, thumb.second}};
+    s.contribution = contribution;
     s.obstacle_material.stiffness = obstacle_stiffness;
     s.obstacle_material.damping = obstacle_damping;
     if (!(obstacle_stiffness >= 0) || !(obstacle_damping >= 0) || !std::isfinite(obstacle_stiffness + obstacle_damping))
@@ -173,17 +173,18 @@ void bind_pipeline(py::module_& m) {
   py::class_<PyHapticLoop>(m, "HapticLoop",
                            "grip's per-frame haptic pipeline over a solid cylinder (its axis the body's z) with box "
                            "obstacles; forces by the optimum inside the exact friction cones, warm-started frame to "
-                           "frame (max_passes: the deadline, none by default). Table 1's shares for the fingers, thumb_contribution "
-                           "for the thumb; obstacle_stiffness (N/m) and obstacle_damping (N s/m) per obstacle contact point.")
+                           "frame (max_passes: the deadline, none by default). contribution: the phalanges' shares d "
+                           "(a ContributionTable, the cylindrical power grip by default); obstacle_stiffness (N/m) and obstacle_damping (N s/m) per obstacle contact point.")
       .def(py::init<double, double, double, const py::handle&, const py::handle&,
                     const std::vector<std::pair<py::object, py::object>>&, const grip::HandDimensions<double>&, double,
-                    const py::handle&, const py::handle&, const std::pair<double, double>&, double, int, double, double>(),
+                    const py::handle&, const py::handle&, const grip::ContributionTable<double>&, double, int, double,
+                    double>(),
            py::kw_only(), py::arg("radius") = 0.035, py::arg("half_length") = 0.06, py::arg("mass") = 0.4,
            py::arg("position"), py::arg("rotation") = Eigen::Matrix3d::Identity(),
            py::arg("boxes") = std::vector<std::pair<py::object, py::object>>{},
            py::arg("hand") = grip::HandDimensions<double>::standard(), py::arg("friction") = 0.8,
            py::arg("stiffness") = 3e4, py::arg("device_limit") = 10.0,
-           py::arg("thumb_contribution") = std::pair<double, double>(0.15, 0.25), py::arg("dt") = 1e-3,
+           py::arg("contribution") = grip::cylindrical_power_grip<double>(), py::arg("dt") = 1e-3,
            py::arg("max_passes") = grip::ConstrainedSettings<double>{}.max_passes, py::arg("obstacle_stiffness") = 2e4, py::arg("obstacle_damping") = 50.0)
       .def("step", &PyHapticLoop::step, py::arg("wrist"), py::arg("angles"),
            py::arg("linear_velocity") = std::vector<double>{0, 0, 0}, py::arg("angular_velocity") = std::vector<double>{0, 0, 0},

@@ -105,3 +105,50 @@ def test_hand_and_shape_inputs_are_checked():
         grip.Shape([])
     with pytest.raises(ValueError, match="per_phalanx must be 1, 2 or 4"):
         grip.hand_contacts(grip.Shape([grip.sphere(0.05)]), np.eye(4), np.zeros(14), per_phalanx=3)
+
+
+def test_grasp_type_tables_follow_the_shares_convention():
+    # Table 1, typed from the paper (index..little; proximal, middle, distal).
+    table1 = np.array([[0.115, 0.021, 0.159], [0.126, 0.023, 0.176], [0.088, 0.016, 0.122], [0.060, 0.011, 0.083]])
+    cyl = grip.contribution_table(grip.GraspType.CylindricalPower)
+    assert np.allclose(cyl.share[1:], table1, rtol=0, atol=1e-12)
+    assert np.allclose(cyl.share[0], [0.15, 0.0, 0.25]) and cyl.palm == pytest.approx(0.40)
+    assert np.array_equal(grip.contribution_table().share, cyl.share)  # the default grasp type
+    seen = set()
+    for g in (grip.GraspType.CylindricalPower, grip.GraspType.SphericalPower, grip.GraspType.TipPinch,
+              grip.GraspType.Tripod, grip.GraspType.LateralPinch):
+        t = grip.contribution_table(g)
+        assert t.share.shape == (5, 3) and (t.share >= 0).all() and t.palm >= 0 and t.share[0, 1] == 0
+        assert abs(t.share[1:].sum() - 1.0) <= 0.002  # the four fingers sum to 1 (docs/hand.md)
+        assert t.four_finger_total() == pytest.approx(t.share[1:].sum())
+        assert t.total() == pytest.approx(t.share.sum() + t.palm)
+        assert t.finger_total(2) == pytest.approx(t.share[2].sum())
+        # by_phalanx: the 14 phalanges in hand order (thumb proximal, distal, then 3 per finger).
+        assert np.allclose(t.by_phalanx, np.r_[t.share[0, [0, 2]], t.share[1:].ravel()])
+        seen.add((tuple(t.share.ravel()), t.palm))
+    assert len(seen) == 5
+    tip = grip.contribution_table(grip.GraspType.TipPinch)
+    assert tip.share[0, 2] == tip.share[1, 2] == 1.0
+
+
+def test_contribution_table_from_arrays_is_checked():
+    share = np.zeros((5, 3))
+    share[0, 2] = share[1, 2] = 1.0
+    t = grip.ContributionTable(share, palm=0.25)
+    assert np.array_equal(t.share, share) and t.palm == 0.25
+    t.share[0, 0] = 5.0  # a copy: the table does not change
+    assert t.share[0, 0] == 0.0
+    bad = share.copy()
+    bad[0, 1] = 0.1
+    for args in ((np.zeros((4, 3)),), (bad,), (-share,), (share, -1.0), (share * np.nan,)):
+        with pytest.raises(ValueError):
+            grip.ContributionTable(*args)
+    with pytest.raises(ValueError):
+        t.finger_total(5)
+
+
+def test_haptic_loop_takes_a_contribution_table():
+    loop = grip.HapticLoop(position=(0.0, 0.0, 0.0), contribution=grip.contribution_table(grip.GraspType.TipPinch))
+    assert loop is not None
+    with pytest.raises(TypeError):
+        grip.HapticLoop(position=(0.0, 0.0, 0.0), thumb_contribution=(0.15, 0.25))

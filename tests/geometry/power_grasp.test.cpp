@@ -126,8 +126,9 @@ TEST_CASE_TEMPLATE("bridge: contacts to a bounded Grasp with s = d K dr, and it 
     CHECK(scope.allocations() == 0);
   }
   REQUIRE(grasp.size() == 14);
-  // Table 1 typed from the paper (index..little; proximal, middle, distal); thumb row 0.
-  const double d[5][3] = {{0, 0, 0}, {0.115, 0.021, 0.159}, {0.126, 0.023, 0.176}, {0.088, 0.016, 0.122},
+  // Table 1 typed from the paper (index..little; proximal, middle, distal); the thumb row is
+  // grip's choice for the cylindrical power grip (docs/hand.md), proximal 0.15, distal 0.25.
+  const double d[5][3] = {{0.15, 0, 0.25}, {0.115, 0.021, 0.159}, {0.126, 0.023, 0.176}, {0.088, 0.016, 0.122},
                           {0.060, 0.011, 0.083}};
   for (int i = 0; i < contacts.count; ++i) {
     const HandContact<S>& hc = contacts[i];

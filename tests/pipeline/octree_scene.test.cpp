@@ -58,7 +58,8 @@ struct HeldCube {
   HeldCube() {
     settings.hand.thumb_cmc.y() = S(-0.005);
     settings.hand.base[0].y() = S(-0.005);
-    settings.thumb_contribution = {{S(0.5), S(0.7)}};
+    settings.contribution(Finger::Thumb, Phalanx::Proximal) = S(0.5);
+  settings.contribution(Finger::Thumb, Phalanx::Distal) = S(0.7);
     settings.stiffness.fill(S(1.5e4));
     settings.device_limit.fill(S(100));
     scene.octree = &cube_octree<S>();
@@ -299,7 +300,8 @@ TEST_CASE_TEMPLATE("a mesh object in the loop: held, lifted and released, each p
   HapticSettings<S> settings;
   settings.hand.thumb_cmc.y() = S(-0.005);
   settings.hand.base[0].y() = S(-0.005);
-  settings.thumb_contribution = {{S(0.5), S(0.7)}};
+  settings.contribution(Finger::Thumb, Phalanx::Proximal) = S(0.5);
+  settings.contribution(Finger::Thumb, Phalanx::Distal) = S(0.7);
   settings.stiffness.fill(S(1.5e4));
   settings.device_limit.fill(S(100));
   Scene scene;

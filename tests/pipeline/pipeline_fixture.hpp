@@ -31,7 +31,8 @@ struct HeldCylinder {
   HeldCylinder() {
     settings.hand.thumb_cmc.y() = S(-0.005);  // thumb opposing the long finger
     settings.hand.base[0].y() = S(-0.005);
-    settings.thumb_contribution = {{S(0.5), S(0.7)}};
+    settings.contribution(grip::Finger::Thumb, grip::Phalanx::Proximal) = S(0.5);  // a firmer thumb
+    settings.contribution(grip::Finger::Thumb, grip::Phalanx::Distal) = S(0.7);
     settings.stiffness.fill(S(1.5e4));
     settings.device_limit.fill(S(100));
     scene.radius = S(radius);
@@ -119,8 +120,7 @@ std::array<grip::Vector3<S>, grip::hand_phalanx_count> independent_feedback(cons
   std::array<int, max_n> phalanx{};
   for (int i = 0; i < hc.count; ++i) {
     const int k = phalanx_index(hc[i].finger, hc[i].phalanx);
-    const S d = k < 2 ? st.thumb_contribution[static_cast<std::size_t>(k)]
-                      : st.contribution(hc[i].finger, hc[i].phalanx);
+    const S d = st.contribution(hc[i].finger, hc[i].phalanx);
     Contact<S> c;
     c.position = hc[i].point - p.object().position;
     c.normal = hc[i].normal;

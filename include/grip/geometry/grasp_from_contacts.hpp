@@ -12,7 +12,7 @@
 #include "grip/core/types.hpp"
 #include "grip/geometry/collision.hpp"
 #include "grip/grasp/grasp.hpp"
-#include "grip/hand/squeeze.hpp"
+#include "grip/hand/grasp_type.hpp"
 
 namespace grip {
 
@@ -20,8 +20,8 @@ namespace grip {
 template <class Scalar>
 struct ContactParameters {
   using Point = Vector3<Scalar>;  ///< A world point (m); lets expressions bind where a point is asked for.
-  /// d_i: the grasp type's contribution table (default: the paper's Table 1, whose thumb row
-  /// is 0, so thumb contacts get no squeeze unless the table is edited).
+  /// d_i: the grasp type's contribution table (default: the cylindrical power grip, Table 1
+  /// for the fingers and grip's thumb shares; contribution_table(GraspType) gives the others).
   ContributionTable<Scalar> contribution{cylindrical_power_grip<Scalar>()};
   /// K_i (N/m) per [finger][phalanx]; default 1e4 N/m everywhere (so that a full-hand depth
   /// of a few millimetres asks for tens of newtons of grip; the paper leaves K_i open).

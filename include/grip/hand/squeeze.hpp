@@ -1,6 +1,7 @@
 #pragma once
 /// \file
-/// The squeezing coefficient of eq. 8, s_i = d_i K_i dr_i, and the paper's Table 1.
+/// The squeezing coefficient of eq. 8, s_i = d_i K_i dr_i, and the paper's Table 1 (the other
+/// grasp types are in grasp_type.hpp).
 
 #include <cmath>
 
@@ -10,37 +11,51 @@ namespace grip {
 enum class Finger { Thumb = 0, Index = 1, Long = 2, Ring = 3, Little = 4 };
 /// Phalanges of a finger, from the palm outwards (the thumb's "middle" is its distal
 /// phalanx's neighbour; see the hand model for the thumb's two-phalanx convention).
-enum class Phalanx { Proximal = 0, Middle = 1, Distal = 2 };
+enum class Phalanx { Proximal = 0, Middle = 1, Distal = 2, Metacarpal = 3 };
 
-/// Share d of each phalanx in the total grip force of one grasp type (eq. 8), indexed by
-/// finger and phalanx. Shares the source does not give are 0.
+/// Share d of each phalanx, and of the palm, in the grip force of one grasp type (eq. 8),
+/// indexed by finger and phalanx. Every share is a normal force as a fraction of the summed
+/// normal force of the four fingers, index to little (Table 1's reference), so that the
+/// fingers' shares sum to 1 and the thumb and palm, which oppose them, are in the same unit
+/// (docs/hand.md, "Grasp types"). The thumb has no middle phalanx: its [0][1] is 0.
 template <class Scalar>
 struct ContributionTable {
   Scalar share[5][3];  ///< [finger][phalanx], dimensionless
+  Scalar palm{0};      ///< the palm's share, dimensionless
 
   /// d for a finger and phalanx.
   constexpr Scalar operator()(Finger f, Phalanx p) const {
     return share[static_cast<int>(f)][static_cast<int>(p)];
   }
+  /// d for a finger and phalanx, to set it.
+  constexpr Scalar& operator()(Finger f, Phalanx p) { return share[static_cast<int>(f)][static_cast<int>(p)]; }
   /// Sum of d over the phalanges of a finger (Table 1's "Total Contribution" row).
   constexpr Scalar finger_total(Finger f) const {
     const int i = static_cast<int>(f);
     return share[i][0] + share[i][1] + share[i][2];
   }
+  /// Sum of d over the four fingers, index to little: 1 in every table grip provides.
+  constexpr Scalar four_finger_total() const {
+    return finger_total(Finger::Index) + finger_total(Finger::Long) + finger_total(Finger::Ring) +
+           finger_total(Finger::Little);
+  }
+  /// Sum of every share: the four fingers, the thumb and the palm.
+  constexpr Scalar total() const { return four_finger_total() + finger_total(Finger::Thumb) + palm; }
 };
 
-/// The paper's Table 1: phalanx contributions for a cylindrical power grip (from Lee and
-/// Rim's pressure measurements), index to little finger. The table gives no thumb row;
-/// it is 0 here (the thumb and palm oppose the fingers; their squeeze is set by the user).
+/// The cylindrical power grip: the paper's Table 1 for the fingers (from Lee and Rim's
+/// pressure measurements), and grip's own choice for the thumb (proximal 0.15, distal 0.25)
+/// and the palm (0.40), which Table 1 does not give; they oppose the fingers (docs/hand.md).
+/// contribution_table(GraspType::CylindricalPower) returns this table.
 template <class Scalar = double>
 constexpr ContributionTable<Scalar> cylindrical_power_grip() {
   return ContributionTable<Scalar>{{
-      {Scalar(0), Scalar(0), Scalar(0)},                   // thumb: not in Table 1
+      {Scalar(0.150), Scalar(0), Scalar(0.250)},           // thumb: proximal, -, distal (grip's choice)
       {Scalar(0.115), Scalar(0.021), Scalar(0.159)},       // index: proximal, middle, distal
       {Scalar(0.126), Scalar(0.023), Scalar(0.176)},       // long
       {Scalar(0.088), Scalar(0.016), Scalar(0.122)},       // ring
       {Scalar(0.060), Scalar(0.011), Scalar(0.083)},       // little
-  }};
+  }, Scalar(0.400)};                                       // palm (grip's choice)
 }
 
 /// Eq. 8: s = d K dr, the squeezing force (N) for contribution d (dimensionless), contact

@@ -12,7 +12,7 @@
 #include "grip/dynamics/external_wrench.hpp"
 #include "grip/dynamics/penalty_contact.hpp"
 #include "grip/hand/hand_model.hpp"
-#include "grip/hand/squeeze.hpp"
+#include "grip/hand/grasp_type.hpp"
 
 namespace grip {
 
@@ -34,11 +34,9 @@ struct WristState {
 template <class Scalar>
 struct HapticSettings {
   HandDimensions<Scalar> hand{HandDimensions<Scalar>::standard()};  ///< the hand model
-  /// Contribution d_i of each phalanx (eq. 8); default Table 1 (cylindrical power grip).
+  /// Contribution d_i of each phalanx, thumb included (eq. 8); default the cylindrical power
+  /// grip (Table 1 for the fingers); contribution_table(GraspType) gives the other types.
   ContributionTable<Scalar> contribution{cylindrical_power_grip<Scalar>()};
-  /// Thumb proximal and distal shares (Table 1 has no thumb row; the thumb opposes the
-  /// fingers, so it gets a share of its own).
-  std::array<Scalar, 2> thumb_contribution{{Scalar(0.15), Scalar(0.25)}};
   /// Contact stiffness K_i per phalanx (N/m) of eq. 8.
   std::array<Scalar, hand_phalanx_count> stiffness{};
   Scalar friction{Scalar(0.8)};                              ///< Coulomb mu of every hand contact

@@ -162,11 +162,8 @@ class HapticPipeline {
     return t;
   }
 
-  /// The contact share d of phalanx k: Table 1 for fingers, thumb_contribution for the thumb.
-  Scalar share(int k) const {
-    if (k < 2) return settings_.thumb_contribution[detail::idx(k)];
-    return settings_.contribution(phalanx_finger(k), phalanx_kind(k));
-  }
+  /// The contact share d of phalanx k, from settings_.contribution (thumb included).
+  Scalar share(int k) const { return settings_.contribution(phalanx_finger(k), phalanx_kind(k)); }
 
   /// 5. Grasp: one Contact per hand contact kept (r_i from the centre of mass, friction,
   /// squeeze of eq. 8, weight). Reads hand_, object_, settings_; writes grasp_ and index_
