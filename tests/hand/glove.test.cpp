@@ -11,6 +11,8 @@
 #include "support/allocation_counter.hpp"
 #include "support/random.hpp"
 
+// Named, not anonymous: the unity build puts several test files in one translation unit.
+namespace glove_tests {
 using namespace grip;
 
 namespace {
@@ -137,3 +139,5 @@ TEST_CASE_TEMPLATE("14-sensor glove: round trip, the thumb's CMC follows its MCP
   CHECK(glove.map(raw, JointLimits<S>::standard(), q) == Status::InvalidInput);
   CHECK(q == before);
 }
+
+}  // namespace glove_tests

@@ -10,6 +10,8 @@
 #include "support/allocation_counter.hpp"
 #include "support/random.hpp"
 
+// Named, not anonymous: the unity build puts several test files in one translation unit.
+namespace hand_jacobian_tests {
 using namespace grip;
 
 namespace {
@@ -22,6 +24,7 @@ struct BodyPoint {
   double along, lateral, normal;
   Eigen::Vector3d at(const HandPosture<double>& h) const {
     const PhalanxCapsule<double>& c = h.phalanges[detail::idx(k)];
+    if (phalanx_joint(k) < 0) return c.base + along * (c.tip - c.base);  // a finger's metacarpal: fixed
     const Eigen::Vector3d a = h.joints[detail::idx(phalanx_joint(k))].axis;
     const Eigen::Vector3d u = (c.tip - c.base).normalized();
     return c.base + along * (c.tip - c.base) + lateral * a + normal * a.cross(u);
@@ -64,7 +67,7 @@ TEST_CASE("point Jacobians match central differences at random postures of both 
       const HandJoints<double> q = random_joints(g, d.limits);
       const Iso T = random_wrist(g);
       const HandPosture<double> h = pose(d, T, q);
-      for (int k = 0; k < 14; ++k) {
+      for (int k = 0; k < hand_body_count; ++k) {  // the phalanges and the palm's metacarpals
         const double along = frac(g), lateral = off(g), normal = off(g);
         const BodyPoint b{k, along, lateral, normal};
         PointJacobian<double> J;
@@ -101,7 +104,7 @@ TEST_CASE("joint torques do the virtual work of the contact forces (tau = J^T f)
     Eigen::Vector3d forces[5];
     HandJoints<double> tau = HandJoints<double>::Zero();
     for (int c = 0; c < 5; ++c) {
-      const int k = static_cast<int>(frac(g) * 14);
+      const int k = static_cast<int>(frac(g) * hand_body_count);
       const double along = frac(g), lateral = off(g), normal = off(g);
       points[c] = BodyPoint{k, along, lateral, normal};
       forces[c] = grip_test::draw3(g, force);
@@ -155,10 +158,12 @@ TEST_CASE("Jacobian and torques: bad input is InvalidInput, nothing allocates") 
   const PointJacobian<double> J0 = J;
   const HandJoints<double> tau0 = tau;
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  CHECK(point_jacobian(h, 14, h.phalanges[3].tip, J) == Status::InvalidInput);
+  CHECK(point_jacobian(h, 19, h.phalanges[3].tip, J) == Status::InvalidInput);
   CHECK(point_jacobian(h, -1, h.phalanges[3].tip, J) == Status::InvalidInput);
   CHECK(point_jacobian(h, 3, Eigen::Vector3d(nan, 0, 0), J) == Status::InvalidInput);
   CHECK(add_joint_torques(h, 3, h.phalanges[3].tip, Eigen::Vector3d(nan, 0, 0), tau) == Status::InvalidInput);
   CHECK(J == J0);
   CHECK(tau == tau0);
 }
+
+}  // namespace hand_jacobian_tests

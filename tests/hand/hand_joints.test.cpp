@@ -7,6 +7,8 @@
 #include <grip/hand/hand_joints.hpp>
 #include <grip/hand/hand_model.hpp>
 
+// Named, not anonymous: the unity build puts several test files in one translation unit.
+namespace hand_joints_tests {
 using namespace grip;
 
 TEST_CASE("joint layout: four per digit, phalanx k moved by its digit's joints up to its own") {
@@ -55,3 +57,5 @@ TEST_CASE_TEMPLATE("couple_dip sets each finger's DIP to 2/3 of its PIP, not the
   CHECK(q(11) == doctest::Approx(0.2));
   CHECK(q(3) == S(0.3));  // the thumb's IP is no DIP
 }
+
+}  // namespace hand_joints_tests

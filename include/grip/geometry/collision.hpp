@@ -72,13 +72,14 @@ using Isometry3 = Eigen::Transform<Scalar, 3, Eigen::Isometry>;
 /// the pose is not finite and rigid (rotation orthonormal within 1e-3), or the settings are
 /// out of range (refine_iterations in [0, 64], refine_tolerance >= 0, cluster_angle in
 /// [0, pi]); Ok otherwise
-/// (out.count may be 0). `phalanx_mask` (bit k = phalanx k) skips phalanges whose bit is
-/// clear. No heap; recursion depth at most the octree's depth.
+/// (out.count may be 0). `phalanx_mask` (bit k = body k) skips bodies whose bit is clear, as
+/// are those the posture does not have (HandCollisionModel::bodies(): the paper's hand has
+/// no palm). No heap; recursion depth at most the octree's depth.
 template <class Scalar, int Samples, int Capacity, class Field, int PerPhalanx>
 Status detect_contacts(const HandCollisionModel<Scalar, Samples>& hand, const SphericalOctree<Scalar, Capacity>& octree,
                        const Field& field, const Isometry3<Scalar>& object_pose, HandContacts<Scalar, PerPhalanx>& out,
                        const ContactSettings<Scalar>& settings = ContactSettings<Scalar>{},
-                       std::uint32_t phalanx_mask = all_phalanges);
+                       std::uint32_t phalanx_mask = all_hand_bodies);
 
 /// The same contacts without the octree: every sample of every phalanx whose sphere tree
 /// reaches the field's bounding box is evaluated. For analytic shapes, whose distance is
@@ -88,9 +89,9 @@ template <class Scalar, int Samples, class Field, int PerPhalanx>
 Status detect_contacts_direct(const HandCollisionModel<Scalar, Samples>& hand, const Field& field,
                               const Isometry3<Scalar>& object_pose, HandContacts<Scalar, PerPhalanx>& out,
                               const ContactSettings<Scalar>& settings = ContactSettings<Scalar>{},
-                              std::uint32_t phalanx_mask = all_phalanges);
+                              std::uint32_t phalanx_mask = all_hand_bodies);
 
-/// Diagnosis of phalanx k (0 .. 13): its sample centres, each one's exact signed distance and
+/// Diagnosis of body k (0 .. 18, one the posture has): its sample centres, each one's exact signed distance and
 /// outward normal (evaluated for every sample, in reach or not), and which ones the broad
 /// phase found in reach. InvalidInput for k out of range, an unposed model, an empty octree
 /// or a bad pose (out unchanged); Ok otherwise.
@@ -107,7 +108,7 @@ Status query_samples(const HandCollisionModel<Scalar, Samples>& hand, const Sphe
 template <class Scalar, int Samples, int Capacity>
 Status detect_contacts(const HandCollisionModel<Scalar, Samples>& hand, const SphericalOctree<Scalar, Capacity>& object,
                        const Isometry3<Scalar>& object_pose, HandContacts<Scalar>& out,
-                       std::uint32_t phalanx_mask = all_phalanges);
+                       std::uint32_t phalanx_mask = all_hand_bodies);
 
 /// The paper mode with no pruning: every phalanx sample against every octree leaf (the
 /// reference of the descent; same result, since every sphere contains its descendants).
@@ -224,11 +225,12 @@ void for_phalanges_in_reach(const HandCollisionModel<Scalar, Samples>& hand,
   const SphereNode<Scalar>& root = octree.tree().node(0);
   const BoundingSphere<Scalar> root_world{object_pose * root.center, root.radius + margin};
   if (!overlap(hand.hand_sphere(), root_world)) return;
-  for (int f = 0; f < 5; ++f) {
+  for (int f = 0; f < HandCollisionModel<Scalar, Samples>::group_count; ++f) {
     if (!overlap(hand.finger_sphere(f), root_world)) continue;
     const int first = HandCollisionModel<Scalar, Samples>::first_phalanx(f);
     for (int k = first; k < first + HandCollisionModel<Scalar, Samples>::phalanges_of(f); ++k)
-      if (((mask >> k) & 1u) && overlap(hand.phalanx_node(k, 0), root_world)) per_phalanx(k, to_object);
+      if (((mask & hand.bodies()) >> k & 1u) && overlap(hand.phalanx_node(k, 0), root_world))
+        per_phalanx(k, to_object);
   }
 }
 
@@ -242,7 +244,7 @@ Status detect_contacts(const HandCollisionModel<Scalar, Samples>& hand, const Sp
   if (!hand.posed() || octree.tree().empty() || !detail::rigid_pose_ok(object_pose) || !detail::settings_ok(settings))
     return Status::InvalidInput;
   Scalar margin = Scalar(0);
-  for (int k = 0; k < hand_phalanx_count; ++k) margin = std::max(margin, detail::reach_margin(hand, k, settings));
+  for (int k = 0; k < hand_body_count; ++k) margin = std::max(margin, detail::reach_margin(hand, k, settings));
   detail::JointSample<Scalar> joint;
   detail::for_phalanges_in_reach(hand, octree, object_pose, margin, phalanx_mask,
                                  [&](int k, const Isometry3<Scalar>& to_object) {
@@ -277,8 +279,8 @@ Status detect_contacts_direct(const HandCollisionModel<Scalar, Samples>& hand, c
   const Isometry3<Scalar> to_object = object_pose.inverse(Eigen::Isometry);
   const BoundingSphere<Scalar> bounds{object_pose * Vector3<Scalar>((lo + hi) / Scalar(2)), (hi - lo).norm() / Scalar(2)};
   detail::JointSample<Scalar> joint;
-  for (int k = 0; k < hand_phalanx_count; ++k) {
-    if (!((phalanx_mask >> k) & 1u)) continue;
+  for (int k = 0; k < hand_body_count; ++k) {
+    if (!((phalanx_mask & hand.bodies()) >> k & 1u)) continue;
     BoundingSphere<Scalar> root = hand.phalanx_node(k, 0);
     root.radius += detail::reach_margin(hand, k, settings);
     if (!overlap(root, bounds)) continue;
@@ -295,7 +297,8 @@ template <class Scalar, int Samples, int Capacity, class Field>
 Status query_samples(const HandCollisionModel<Scalar, Samples>& hand, const SphericalOctree<Scalar, Capacity>& octree,
                      const Field& field, const Isometry3<Scalar>& object_pose, int k,
                      PhalanxSamples<Scalar, Samples>& out) {
-  if (k < 0 || k >= hand_phalanx_count || !hand.posed() || octree.tree().empty() || !detail::rigid_pose_ok(object_pose))
+  if (k < 0 || k >= hand_body_count || !hand.posed() || !(hand.bodies() >> k & 1u) || octree.tree().empty() ||
+      !detail::rigid_pose_ok(object_pose))
     return Status::InvalidInput;
   const Isometry3<Scalar> to_object = object_pose.inverse(Eigen::Isometry);
   const detail::PhalanxAxis<Scalar> ax = detail::object_axis(hand, k, to_object);
@@ -342,7 +345,8 @@ Status detect_contacts_exhaustive(const HandCollisionModel<Scalar, Samples>& han
   if (!hand.posed() || object.tree().empty() || !detail::rigid_pose_ok(object_pose)) return Status::InvalidInput;
   const Isometry3<Scalar> to_object = object_pose.inverse(Eigen::Isometry);
   detail::PlaneEstimates<Scalar, Samples, Capacity> q{&object, {}, {}, {}};
-  for (int k = 0; k < hand_phalanx_count; ++k) {
+  for (int k = 0; k < hand_body_count; ++k) {
+    if (!(hand.bodies() >> k & 1u)) continue;
     detail::reset_estimates(q, hand, k, to_object);
     const Scalar r = hand.capsule(k).radius;
     for (int o = 0; o < object.tree().size(); ++o) {

@@ -23,18 +23,19 @@ struct ContactParameters {
   /// d_i: the grasp type's contribution table (default: the cylindrical power grip, Table 1
   /// for the fingers and grip's thumb shares; contribution_table(GraspType) gives the others).
   ContributionTable<Scalar> contribution{cylindrical_power_grip<Scalar>()};
-  /// K_i (N/m) per [finger][phalanx]; default 1e4 N/m everywhere (so that a full-hand depth
-  /// of a few millimetres asks for tens of newtons of grip; the paper leaves K_i open).
-  std::array<std::array<Scalar, 3>, 5> stiffness{{{Scalar(1e4), Scalar(1e4), Scalar(1e4)},
-                                                  {Scalar(1e4), Scalar(1e4), Scalar(1e4)},
-                                                  {Scalar(1e4), Scalar(1e4), Scalar(1e4)},
-                                                  {Scalar(1e4), Scalar(1e4), Scalar(1e4)},
-                                                  {Scalar(1e4), Scalar(1e4), Scalar(1e4)}}};
+  /// K_i (N/m) per [finger][phalanx], the fourth column the digit's metacarpal (the palm);
+  /// default 1e4 N/m everywhere (so that a full-hand depth of a few millimetres asks for tens
+  /// of newtons of grip; the paper leaves K_i open).
+  std::array<std::array<Scalar, 4>, 5> stiffness{{{Scalar(1e4), Scalar(1e4), Scalar(1e4), Scalar(1e4)},
+                                                  {Scalar(1e4), Scalar(1e4), Scalar(1e4), Scalar(1e4)},
+                                                  {Scalar(1e4), Scalar(1e4), Scalar(1e4), Scalar(1e4)},
+                                                  {Scalar(1e4), Scalar(1e4), Scalar(1e4), Scalar(1e4)},
+                                                  {Scalar(1e4), Scalar(1e4), Scalar(1e4), Scalar(1e4)}}};
   Scalar friction{Scalar(0.8)};       ///< mu_i (dimensionless), skin on a dry object.
   Scalar torsional_friction{0};       ///< mu_t (m), for SoftFinger grasps.
   Scalar weight{1};                   ///< w_i in F2.
 
-  /// K_i of a finger's phalanx.
+  /// K_i of a digit's phalanx or metacarpal.
   Scalar stiffness_of(Finger f, Phalanx p) const {
     return stiffness[detail::idx(f)][detail::idx(p)];
   }

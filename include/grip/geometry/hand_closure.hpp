@@ -26,9 +26,9 @@ namespace grip {
 namespace detail {
 // Deepest contact of the phalanges k_from .. k_end - 1 for `angles`, 0 if none: `detect`
 // fills `contacts` for the posed model and a phalanx mask.
-template <class Scalar, int Samples, class Detect>
+template <class Scalar, int Samples, class Joints, class Detect>
 Scalar digit_depth(const HandDimensions<Scalar>& dims, const Eigen::Transform<Scalar, 3, Eigen::Isometry>& wrist,
-                   const JointAngles<Scalar>& angles, int k_from, int k_end, HandCollisionModel<Scalar, Samples>& model,
+                   const Joints& angles, int k_from, int k_end, HandCollisionModel<Scalar, Samples>& model,
                    HandContacts<Scalar>& contacts, const Detect& detect) {
   HandPosture<Scalar> posture;
   forward_kinematics(dims, wrist, angles, posture);
@@ -44,10 +44,13 @@ Scalar digit_depth(const HandDimensions<Scalar>& dims, const Eigen::Transform<Sc
   return d;
 }
 
-// close_hand's loop over the joints, contacts from `detect` (see digit_depth).
-template <int Samples, class Scalar, class Detect>
+// close_hand's loop over the joints, contacts from `detect` (see digit_depth). Joints: the 14
+// flexion angles or the 20 joints (whose flexions close; the rest stay as given).
+template <int Samples, class Scalar, class Joints, class Detect>
 Status close_hand_with(const HandDimensions<Scalar>& dims, const Eigen::Transform<Scalar, 3, Eigen::Isometry>& wrist,
-                       Scalar target_depth, Scalar step, JointAngles<Scalar>& angles, const Detect& detect) {
+                       Scalar target_depth, Scalar step, Joints& angles, const Detect& detect) {
+  constexpr bool whole = Joints::RowsAtCompileTime == hand_dof_count;
+  static_assert(whole || Joints::RowsAtCompileTime == hand_joint_count, "14 flexion angles or the 20 joints");
   HandPosture<Scalar> posture;
   if (!(target_depth > Scalar(0)) || !(step > Scalar(0)) || !std::isfinite(target_depth) || !std::isfinite(step) ||
       forward_kinematics(dims, wrist, angles, posture) != Status::Ok)
@@ -58,13 +61,14 @@ Status close_hand_with(const HandDimensions<Scalar>& dims, const Eigen::Transfor
     const int first = HandCollisionModel<Scalar, Samples>::first_phalanx(f);
     const int end = first + HandCollisionModel<Scalar, Samples>::phalanges_of(f);
     for (int k = first; k < end; ++k) {
+      const int j = whole ? phalanx_joint(k) : k;  // the joint at the phalanx's proximal end
       auto depth_at = [&](Scalar a) {
-        JointAngles<Scalar> trial = angles;
-        trial(k) = a;
+        Joints trial = angles;
+        trial(j) = a;
         return digit_depth(dims, wrist, trial, k, end, model, contacts, detect);
       };
-      const Scalar limit = dims.joint_upper_limit[detail::idx(k)];
-      Scalar lo = angles(k);
+      const Scalar limit = whole ? dims.limits.upper[detail::idx(j)] : dims.joint_upper_limit[detail::idx(k)];
+      Scalar lo = angles(j);
       if (depth_at(lo) >= target_depth) continue;
       Scalar hi = lo;
       bool reached = false;
@@ -82,7 +86,7 @@ Status close_hand_with(const HandDimensions<Scalar>& dims, const Eigen::Transfor
           if (depth_at(mid) >= target_depth) hi = mid;
           else lo = mid;
         }
-      angles(k) = hi;
+      angles(j) = hi;
     }
   }
   return Status::Ok;
@@ -92,15 +96,18 @@ Status close_hand_with(const HandDimensions<Scalar>& dims, const Eigen::Transfor
 /// Flexes `angles` (in: the starting posture, usually zeros; out: the closed posture) joint by
 /// joint, digit by digit, in steps of `step` (rad) then by 10 bisections, until a phalanx
 /// distal to the joint (of the same digit) penetrates by at least `target_depth` (m), or the
-/// joint reaches dims.joint_upper_limit. Contacts from detect_contacts() with the object's
+/// joint reaches its upper limit (dims.joint_upper_limit; for the 20 joints dims.limits).
+/// `angles` is the paper's 14 flexions (JointAngles) or the whole hand's 20 joints
+/// (HandJoints): then only the flexions close, the thumb's CMC and the abductions stay as
+/// given, and the palm is part of the hand (it does not stop a digit). Contacts from detect_contacts() with the object's
 /// octree and distance field `field` (exact narrow phase). Statuses: InvalidInput for bad
 /// dimensions, poses, angles, a step <= 0 or target depth <= 0, or an empty octree; Ok
 /// otherwise. Uses a HandCollisionModel of `Samples` samples per phalanx (no heap).
-template <int Samples = 8, class Scalar, int Capacity, class Field>
+template <int Samples = 8, class Scalar, int Capacity, class Field, class Joints>
 Status close_hand(const HandDimensions<Scalar>& dims, const Eigen::Transform<Scalar, 3, Eigen::Isometry>& wrist,
                   const SphericalOctree<Scalar, Capacity>& object, const Field& field,
                   const Eigen::Transform<Scalar, 3, Eigen::Isometry>& object_pose, Scalar target_depth, Scalar step,
-                  JointAngles<Scalar>& angles) {
+                  Joints& angles) {
   if (object.tree().empty() || !detail::rigid_pose_ok(object_pose)) return Status::InvalidInput;
   return detail::close_hand_with<Samples>(
       dims, wrist, target_depth, step, angles,
@@ -110,11 +117,11 @@ Status close_hand(const HandDimensions<Scalar>& dims, const Eigen::Transform<Sca
 }
 
 /// close_hand() with the paper mode's contacts (octree leaves only, collision.hpp).
-template <int Samples = 8, class Scalar, int Capacity>
+template <int Samples = 8, class Scalar, int Capacity, class Joints>
 Status close_hand(const HandDimensions<Scalar>& dims, const Eigen::Transform<Scalar, 3, Eigen::Isometry>& wrist,
                   const SphericalOctree<Scalar, Capacity>& object,
                   const Eigen::Transform<Scalar, 3, Eigen::Isometry>& object_pose, Scalar target_depth, Scalar step,
-                  JointAngles<Scalar>& angles) {
+                  Joints& angles) {
   if (object.tree().empty() || !detail::rigid_pose_ok(object_pose)) return Status::InvalidInput;
   return detail::close_hand_with<Samples>(
       dims, wrist, target_depth, step, angles,

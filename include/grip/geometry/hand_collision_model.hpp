@@ -1,8 +1,9 @@
 #pragma once
 /// \file
 /// The hand's collision model (paper section 3): a hierarchy of bounding spheres, hand ->
-/// digit -> phalanx -> sphere tree of each phalanx, built per frame from the posed hand
-/// (hand/hand_kinematics.hpp) without heap.
+/// digit (and the palm) -> phalanx -> sphere tree of each phalanx, built per frame from the
+/// posed hand (hand/hand_kinematics.hpp) without heap. Every body of the hand has its tree:
+/// the 14 phalanges and the palm's five metacarpals (hand_model.hpp), which form group 5.
 ///
 /// Phalanx sphere tree. Phalanx k (a capsule of radius r around [base, tip]) is sampled by
 /// Samples points x_j = base + j / (Samples - 1) (tip - base), j = 0 .. Samples - 1; leaf j
@@ -16,6 +17,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 
 #include "grip/core/index.hpp"
 #include "grip/core/status.hpp"
@@ -62,13 +64,21 @@ class HandCollisionModel {
   static constexpr int nodes_per_phalanx = 2 * Samples - 1;  ///< Nodes of each phalanx tree.
   static constexpr int first_leaf = Samples - 1;             ///< Node index of sample 0.
 
-  /// Builds every sphere of the hierarchy from a posed hand. InvalidInput (model unchanged)
-  /// if a capsule holds a non-finite number or a radius <= 0; Ok otherwise.
+  /// Builds every sphere of the hierarchy from a posed hand: the trees of the bodies the
+  /// posture has (HandPosture::bodies; the others are left out of every sphere). InvalidInput
+  /// (model unchanged) if one of those capsules holds a non-finite number or a radius <= 0, or
+  /// the posture has no body; Ok otherwise.
   Status set_posture(const HandPosture<Scalar>& posture) {
-    for (const PhalanxCapsule<Scalar>& c : posture.phalanges)
-      if (!c.base.allFinite() || !c.tip.allFinite() || !std::isfinite(c.radius) || !(c.radius > Scalar(0)))
+    const std::uint32_t present = posture.bodies & ((1u << hand_body_count) - 1u);
+    if (present == 0) return Status::InvalidInput;
+    for (int k = 0; k < hand_body_count; ++k) {
+      const PhalanxCapsule<Scalar>& c = posture.phalanges[detail::idx(k)];
+      if ((present >> k & 1u) &&
+          (!c.base.allFinite() || !c.tip.allFinite() || !std::isfinite(c.radius) || !(c.radius > Scalar(0))))
         return Status::InvalidInput;
-    for (int k = 0; k < hand_phalanx_count; ++k) {
+    }
+    for (int k = 0; k < hand_body_count; ++k) {
+      if (!(present >> k & 1u)) continue;
       const PhalanxCapsule<Scalar>& c = posture.phalanges[detail::idx(k)];
       capsules_[detail::idx(k)] = c;
       // Node i covers the samples of its subtree, all on the axis with one radius: the smallest
@@ -81,42 +91,55 @@ class HandCollisionModel {
         nodes[detail::idx(i)] = BoundingSphere<Scalar>{c.base + Scalar(spans.middle[i]) * axis,
                                                        c.radius + Scalar(spans.half_spread[i]) * length};
     }
-    for (int f = 0; f < 5; ++f) {
-      const int first = first_phalanx(f);
-      BoundingSphere<Scalar> s = phalanx_node(first, 0);
-      for (int k = first + 1; k < first + phalanges_of(f); ++k) s = enclose(s, phalanx_node(k, 0));
+    bool any = false;
+    for (int f = 0; f < group_count; ++f) {
+      // A group without a body of the posture keeps a sphere of radius 0 at its first body's
+      // place; detect_contacts skips its bodies by the mask.
+      bool has = false;
+      BoundingSphere<Scalar> s{};
+      for (int k = first_phalanx(f); k < first_phalanx(f) + phalanges_of(f); ++k) {
+        if (!(present >> k & 1u)) continue;
+        s = has ? enclose(s, phalanx_node(k, 0)) : phalanx_node(k, 0);
+        has = true;
+      }
       fingers_[detail::idx(f)] = s;
-      hand_ = f == 0 ? s : enclose(hand_, s);
+      if (has) hand_ = any ? enclose(hand_, s) : s;
+      any = any || has;
     }
+    bodies_ = present;
     posed_ = true;
     return Status::Ok;
   }
 
   /// True once set_posture() has succeeded.
   bool posed() const { return posed_; }
+  /// The posture's bodies (HandPosture::bodies): bit k set if body k takes part in contacts.
+  std::uint32_t bodies() const { return bodies_; }
   /// Sphere bounding the whole hand.
   const BoundingSphere<Scalar>& hand_sphere() const { return hand_; }
-  /// Sphere bounding digit f (0 thumb .. 4 little; GRIP_ASSERT).
+  /// Sphere bounding group f: digit f (0 thumb .. 4 little) or the palm (5); GRIP_ASSERT.
   const BoundingSphere<Scalar>& finger_sphere(int f) const {
-    GRIP_ASSERT(f < 5);
+    GRIP_ASSERT(f < group_count);
     return fingers_[detail::idx(f)];
   }
-  /// Node i (0 .. nodes_per_phalanx - 1) of phalanx k's tree (0 is its root); k in
-  /// [0, hand_phalanx_count) (GRIP_ASSERT, as i).
+  /// Node i (0 .. nodes_per_phalanx - 1) of body k's tree (0 is its root); k in
+  /// [0, hand_body_count) (GRIP_ASSERT, as i).
   const BoundingSphere<Scalar>& phalanx_node(int k, int i) const {
-    GRIP_ASSERT(k < hand_phalanx_count && i < nodes_per_phalanx);
+    GRIP_ASSERT(k < hand_body_count && i < nodes_per_phalanx);
     return nodes_[detail::idx(k)][detail::idx(i)];
   }
-  /// The capsule of phalanx k (0 <= k < hand_phalanx_count, GRIP_ASSERT) as last posed.
+  /// The capsule of body k (0 <= k < hand_body_count, GRIP_ASSERT) as last posed.
   const PhalanxCapsule<Scalar>& capsule(int k) const {
-    GRIP_ASSERT(k < hand_phalanx_count);
+    GRIP_ASSERT(k < hand_body_count);
     return capsules_[detail::idx(k)];
   }
 
-  /// First phalanx index of digit f (0 thumb .. 4 little).
-  static constexpr int first_phalanx(int f) { return f == 0 ? 0 : 2 + 3 * (f - 1); }
-  /// Number of phalanges of digit f (2 for the thumb, 3 otherwise).
-  static constexpr int phalanges_of(int f) { return f == 0 ? 2 : 3; }
+  /// Groups of bodies: the five digits' phalanges, then the palm's metacarpals.
+  static constexpr int group_count = 6;
+  /// First body index of group f (0 thumb .. 4 little: its phalanges; 5: the palm).
+  static constexpr int first_phalanx(int f) { return f == 5 ? hand_phalanx_count : f == 0 ? 0 : 2 + 3 * (f - 1); }
+  /// Number of bodies of group f (2 for the thumb, 3 for a finger, 5 for the palm).
+  static constexpr int phalanges_of(int f) { return f == 5 ? 5 : f == 0 ? 2 : 3; }
 
  private:
   /// Per node of a phalanx tree: the axis parameter of its samples' midpoint and half their
@@ -143,10 +166,11 @@ class HandCollisionModel {
   static constexpr Spans spans = make_spans();
 
   std::array<std::array<BoundingSphere<Scalar>, detail::idx(nodes_per_phalanx)>,
-             hand_phalanx_count> nodes_{};
-  std::array<PhalanxCapsule<Scalar>, hand_phalanx_count> capsules_{};
-  std::array<BoundingSphere<Scalar>, 5> fingers_{};
+             hand_body_count> nodes_{};
+  std::array<PhalanxCapsule<Scalar>, hand_body_count> capsules_{};
+  std::array<BoundingSphere<Scalar>, group_count> fingers_{};
   BoundingSphere<Scalar> hand_{};
+  std::uint32_t bodies_{0};
   bool posed_{false};
 };
 

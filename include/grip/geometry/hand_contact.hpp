@@ -39,7 +39,7 @@ template <class Scalar, int PerPhalanx = 1>
 struct HandContacts {
   static_assert(PerPhalanx >= 1 && PerPhalanx <= 8, "1 to 8 contacts per phalanx");
   static constexpr int per_phalanx = PerPhalanx;                      ///< Most contacts of one phalanx.
-  static constexpr int capacity = hand_phalanx_count * PerPhalanx;    ///< Most contacts of a frame.
+  static constexpr int capacity = hand_body_count * PerPhalanx;       ///< Most contacts of a frame.
   std::array<HandContact<Scalar>, detail::idx(capacity)> items{};  ///< items[0 .. count).
   int count{0};                                                       ///< Number of contacts.
 
@@ -64,8 +64,11 @@ struct HandContacts {
   }
 };
 
-/// The phalanx mask of detect_contacts() selecting all 14 phalanges (bit k = phalanx k).
+/// The body mask of detect_contacts() selecting the 14 phalanges (bit k = body k): the
+/// paper's hand, which has no palm.
 constexpr std::uint32_t all_phalanges = (1u << hand_phalanx_count) - 1u;
+/// The body mask selecting every body: the phalanges and the palm's metacarpals.
+constexpr std::uint32_t all_hand_bodies = (1u << hand_body_count) - 1u;
 
 /// Settings of the exact narrow phase (collision.hpp).
 template <class Scalar>

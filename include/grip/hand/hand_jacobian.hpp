@@ -26,15 +26,16 @@ namespace grip {
 template <class Scalar>
 using PointJacobian = Eigen::Matrix<Scalar, 3, hand_dof_count>;
 
-/// The Jacobian J of point p (world, m) carried by phalanx k of `posture`, into J.
-/// InvalidInput (J unchanged) if k is outside [0, 14) or p is not finite; Ok otherwise.
+/// The Jacobian J of point p (world, m) carried by body k (a phalanx, or a metacarpal: the
+/// thumb's moves with the CMC, the fingers' with nothing) of `posture`, into J.
+/// InvalidInput (J unchanged) if k is outside [0, 19) or p is not finite; Ok otherwise.
 template <class Scalar>
 Status point_jacobian(const HandPosture<Scalar>& posture, int k, const Vector3<Scalar>& p, PointJacobian<Scalar>& J);
 
 /// Adds tau = J^T f of force f (N, world, applied on the hand) at point p of phalanx k to
 /// `tau` (N m, order of hand_joints.hpp): summed over a phalanx's or the hand's contacts it
 /// is the torque of each joint. Only the joints of phalanx k's digit change, so a digit's
-/// torques are tau.segment<4>(4 f). InvalidInput (tau unchanged) if k is outside [0, 14) or p
+/// torques are tau.segment<4>(4 f). InvalidInput (tau unchanged) if k is outside [0, 19) or p
 /// or f is not finite; Ok otherwise.
 template <class Scalar>
 Status add_joint_torques(const HandPosture<Scalar>& posture, int k, const Vector3<Scalar>& p,
@@ -49,7 +50,7 @@ constexpr int first_joint_of(int k) { return 4 * static_cast<int>(phalanx_finger
 
 template <class Scalar>
 Status point_jacobian(const HandPosture<Scalar>& posture, int k, const Vector3<Scalar>& p, PointJacobian<Scalar>& J) {
-  if (k < 0 || k >= hand_phalanx_count || !p.allFinite()) return Status::InvalidInput;
+  if (k < 0 || k >= hand_body_count || !p.allFinite()) return Status::InvalidInput;
   J.setZero();
   for (int i = detail::first_joint_of(k); i <= phalanx_joint(k); ++i) {
     const JointFrame<Scalar>& a = posture.joints[detail::idx(i)];
@@ -61,7 +62,7 @@ Status point_jacobian(const HandPosture<Scalar>& posture, int k, const Vector3<S
 template <class Scalar>
 Status add_joint_torques(const HandPosture<Scalar>& posture, int k, const Vector3<Scalar>& p,
                          const Vector3<Scalar>& f, HandJoints<Scalar>& tau) {
-  if (k < 0 || k >= hand_phalanx_count || !p.allFinite() || !f.allFinite()) return Status::InvalidInput;
+  if (k < 0 || k >= hand_body_count || !p.allFinite() || !f.allFinite()) return Status::InvalidInput;
   for (int i = detail::first_joint_of(k); i <= phalanx_joint(k); ++i) {
     const JointFrame<Scalar>& a = posture.joints[detail::idx(i)];
     tau(i) += a.axis.dot((p - a.point).cross(f));

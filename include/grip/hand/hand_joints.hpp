@@ -42,11 +42,12 @@ using HandJoints = Eigen::Matrix<Scalar, hand_dof_count, 1>;
 /// Index of joint j (0 .. 3, proximal first) of digit f.
 constexpr int joint_index(Finger f, int j) { return 4 * static_cast<int>(f) + j; }
 
-/// The innermost joint of the 20 that moves phalanx k (order of hand_model.hpp) about its own
-/// proximal end: a finger's MCP, PIP or DIP flexion, the thumb's MCP or IP. Phalanx k is moved
-/// by every joint of its digit from 4 f up to this one.
+/// The innermost joint of the 20 that moves body k (order of hand_model.hpp) about its own
+/// proximal end: a finger's MCP, PIP or DIP flexion, the thumb's MCP or IP; for the thumb's
+/// metacarpal (k = 14) its CMC abduction; -1 for a finger's metacarpal (k = 15 .. 18), which
+/// no joint moves. Body k is moved by every joint of its digit from 4 f up to this one.
 constexpr int phalanx_joint(int k) {
-  return k < 2 ? 2 + k : 4 * (1 + (k - 2) / 3) + 1 + (k - 2) % 3;
+  return k >= 15 ? -1 : k == 14 ? 1 : k < 2 ? 2 + k : 4 * (1 + (k - 2) / 3) + 1 + (k - 2) % 3;
 }
 
 /// Lower and upper limit of every joint (rad): the range a mapping or a closing helper keeps

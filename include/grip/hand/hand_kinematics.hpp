@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 
 #include <Eigen/Geometry>
 
@@ -37,13 +38,17 @@ struct JointFrame {
   Vector3<Scalar> axis{Vector3<Scalar>::Zero()};   ///< Unit, world; zero if fixed.
 };
 
-/// The posed hand: the 14 phalanges in the order of hand_model.hpp and the 20 joints in the
-/// order of hand_joints.hpp. Invariant: phalanx k's base lies on joints[phalanx_joint(k)]'s
-/// axis (it is that joint's point).
+/// The posed hand: its 19 bodies (the 14 phalanges, then the 5 metacarpals of the palm) in
+/// the order of hand_model.hpp and the 20 joints in the order of hand_joints.hpp. Invariant:
+/// body k's base lies on joints[phalanx_joint(k)]'s axis (it is that joint's point) when
+/// phalanx_joint(k) >= 0.
 template <class Scalar>
 struct HandPosture {
-  std::array<PhalanxCapsule<Scalar>, hand_phalanx_count> phalanges{};  ///< World-frame capsules.
+  std::array<PhalanxCapsule<Scalar>, hand_body_count> phalanges{};     ///< World-frame capsules.
   std::array<JointFrame<Scalar>, hand_dof_count> joints{};             ///< World-frame joint axes.
+  /// Bit k set if body k belongs to the model: the paper's hand (14 angles) is its phalanges,
+  /// the whole hand (20 joints) has the palm too. Collision detection skips the others.
+  std::uint32_t bodies{(1u << hand_phalanx_count) - 1u};
 };
 
 /// Forward kinematics of either hand model. `wrist` maps hand-frame points to world points
@@ -83,6 +88,7 @@ Status forward_kinematics(const HandDimensions<Scalar>& dims,
   if (!((R.transpose() * R - Matrix3<Scalar>::Identity()).cwiseAbs().maxCoeff() <= Scalar(1e-3)))
     return Status::InvalidInput;
   const Vector3<Scalar> t = wrist.translation();
+  out.bodies = whole ? (1u << hand_body_count) - 1u : (1u << hand_phalanx_count) - 1u;
   using AngleAxis = Eigen::AngleAxis<Scalar>;
   for (int f = 0; f < 5; ++f) {
     const int first = f == 0 ? 0 : 2 + 3 * (f - 1);
@@ -132,6 +138,12 @@ Status forward_kinematics(const HandDimensions<Scalar>& dims,
       joint[j].axis = axis;
       p = next;
     }
+    PhalanxCapsule<Scalar>& m = out.phalanges[detail::idx(hand_phalanx_count + f)];
+    m.base = f == 0 ? out.joints[0].point : Vector3<Scalar>(R * dims.palm_base[detail::idx(f - 1)] + t);
+    m.tip = out.phalanges[detail::idx(first)].base;
+    m.radius = dims.metacarpal_radius[detail::idx(f)];
+    m.finger = static_cast<Finger>(f);
+    m.phalanx = Phalanx::Metacarpal;
   }
   return Status::Ok;
 }

@@ -1,7 +1,8 @@
 #pragma once
 /// \file
 /// The virtual hand's topology and dimensions (paper section 3): five digits, 14 phalanges,
-/// 14 measured joints, and anthropometric defaults scaled by hand length.
+/// 14 measured joints, and anthropometric defaults scaled by hand length; the whole hand adds
+/// the palm (five metacarpal bodies) and 20 joints (hand_joints.hpp).
 ///
 /// Hand frame (right hand; the wrist pose of the tracker maps it to the world):
 /// - origin at the wrist (centre of the distal wrist crease);
@@ -17,6 +18,10 @@
 /// Joint k is the flexion joint at the proximal end of phalanx k: for a finger MCP, PIP, DIP;
 /// for the thumb MCP, IP (the glove's 14 joints; the thumb's CMC is a fixed posture).
 /// The thumb has no Phalanx::Middle.
+///
+/// Bodies: the 14 phalanges, then the palm as the five metacarpals (flesh included), index
+/// k = 14 + f for digit f: 14 the thumb's (the thenar eminence, moved by the CMC), 15 .. 18
+/// index to little (fixed in the hand). A body is a capsule like a phalanx.
 
 #include <array>
 #include <cmath>
@@ -33,26 +38,30 @@ namespace grip {
 
 /// Number of phalanges of the hand model (and of measured joints).
 constexpr int hand_phalanx_count = 14;
+/// Number of bodies: the phalanges and the five metacarpals (the palm and the thenar).
+constexpr int hand_body_count = 19;
 /// Number of measured joint angles (three per finger, two for the thumb).
 constexpr int hand_joint_count = 14;
 
-/// Index in [0, 14) of a finger's phalanx in the order of this file, or -1 for the thumb's
+/// Index in [0, 19) of a digit's body in the order of this file, or -1 for the thumb's
 /// (absent) middle phalanx.
 constexpr int phalanx_index(Finger f, Phalanx p) {
   const int fi = static_cast<int>(f);
   const int pi = static_cast<int>(p);
+  if (p == Phalanx::Metacarpal) return hand_phalanx_count + fi;
   if (fi == 0) return pi == 0 ? 0 : (pi == 2 ? 1 : -1);
   return 2 + 3 * (fi - 1) + pi;
 }
 
-/// The finger of phalanx index k in [0, 14).
+/// The digit of body index k in [0, 19).
 constexpr Finger phalanx_finger(int k) {
-  return k < 2 ? Finger::Thumb : static_cast<Finger>(1 + (k - 2) / 3);
+  return k >= hand_phalanx_count ? static_cast<Finger>(k - hand_phalanx_count)
+                                 : (k < 2 ? Finger::Thumb : static_cast<Finger>(1 + (k - 2) / 3));
 }
 
-/// The phalanx kind of phalanx index k in [0, 14).
+/// The kind of body index k in [0, 19).
 constexpr Phalanx phalanx_kind(int k) {
-  return k < 2 ? (k == 0 ? Phalanx::Proximal : Phalanx::Distal) : static_cast<Phalanx>((k - 2) % 3);
+  return k >= hand_phalanx_count ? Phalanx::Metacarpal : k < 2 ? (k == 0 ? Phalanx::Proximal : Phalanx::Distal) : static_cast<Phalanx>((k - 2) % 3);
 }
 
 /// Which hand a model is. A left hand is the mirror image of the right in the hand frame's
@@ -106,6 +115,11 @@ constexpr std::array<std::array<Scalar, 4>, 5> buchholz_segment_fractions() {
 ///   not perpendicular, as Hollister et al. (1992, J. Orthop. Res. 10(3)) found the joint's
 ///   axes to be (the angle is a model choice, and these axes meet, which theirs do not);
 /// - limits: JointLimits::standard().
+/// - the palm: each finger's metacarpal a capsule from palm_base (x = 0.10 L; y = 0.07 L,
+///   0, -0.06 L, -0.12 L index to little, converging towards the wrist) to its MCP, radius
+///   0.055 L; the thumb's from thumb_cmc to its MCP, radius 0.065 L (the thenar eminence).
+///   Model choices: neighbours overlap, so the palm's surface is continuous, about 0.055 L
+///   palmar of the joint centres (the phalanges' is 0.036 .. 0.045 L).
 /// standard(L, Side::Left) mirrors every point and direction (y -> -y) and every axis as an
 /// axis (a -> -(a_x, -a_y, a_z)), so that positive angles keep their meaning.
 template <class Scalar>
@@ -129,6 +143,9 @@ struct HandDimensions {
   Vector3<Scalar> open_thumb_direction{Vector3<Scalar>::Zero()};     ///< Thumb at all-zero 20 joints.
   Vector3<Scalar> open_thumb_flexion_axis{Vector3<Scalar>::Zero()};  ///< Its MCP and IP axis there.
   JointLimits<Scalar> limits{JointLimits<Scalar>::standard()};       ///< Ranges of the 20 joints.
+  /// Proximal end of finger f's metacarpal body at [f - 1] (the thumb's is thumb_cmc).
+  std::array<Vector3<Scalar>, 4> palm_base{};
+  std::array<Scalar, 5> metacarpal_radius{};  ///< Radius of digit f's metacarpal body (m).
 
   /// The anthropometric defaults described above for hand length L (m). A non-finite or
   /// non-positive L gives dimensions that validate() rejects.
@@ -144,6 +161,9 @@ struct HandDimensions {
       d.rest_direction[detail::idx(f)] = Vector3<Scalar>::UnitX();
       d.flexion_axis[detail::idx(f)] = Vector3<Scalar>::UnitY();
       d.abduction_axis[detail::idx(f)] = Vector3<Scalar>::UnitZ();
+      const Scalar y_base[5] = {Scalar(0), Scalar(0.07), Scalar(0), Scalar(-0.06), Scalar(-0.12)};
+      d.palm_base[detail::idx(f - 1)] = Vector3<Scalar>(Scalar(0.10) * L, y_base[f] * L, Scalar(0));
+      d.metacarpal_radius[detail::idx(f)] = Scalar(0.055) * L;
       for (int p = 0; p < 3; ++p) {
         const int k = phalanx_index(static_cast<Finger>(f), static_cast<Phalanx>(p));
         d.length[detail::idx(k)] = frac[detail::idx(f)][detail::idx(1 + p)] * L;
@@ -156,6 +176,7 @@ struct HandDimensions {
     d.rest_direction[0] = Vector3<Scalar>(std::sin(beta), Scalar(0), -std::cos(beta));
     d.flexion_axis[0] = -Vector3<Scalar>::UnitY();
     d.thumb_metacarpal = frac[0][0] * L;
+    d.metacarpal_radius[0] = Scalar(0.065) * L;
     d.base[0] = d.thumb_cmc + d.thumb_metacarpal * d.rest_direction[0];
     d.length[0] = frac[0][1] * L;
     d.length[1] = frac[0][3] * L;
@@ -186,6 +207,7 @@ struct HandDimensions {
       axis(abduction_axis[detail::idx(f)]);
     }
     point(thumb_cmc);
+    for (Vector3<Scalar>& p : palm_base) point(p);
     point(open_thumb_direction);
     axis(open_thumb_flexion_axis);
     axis(cmc_flexion_axis);
@@ -220,7 +242,9 @@ Status validate(const HandDimensions<Scalar>& d) {
     return v.allFinite() && std::abs(v.norm() - Scalar(1)) <= tol;
   };
   for (int f = 0; f < 5; ++f)
-    if (!unit(d.abduction_axis[detail::idx(f)])) return Status::InvalidInput;
+    if (!unit(d.abduction_axis[detail::idx(f)]) || !std::isfinite(d.metacarpal_radius[detail::idx(f)]) ||
+        !(d.metacarpal_radius[detail::idx(f)] > Scalar(0)) || (f > 0 && !d.palm_base[detail::idx(f - 1)].allFinite()))
+      return Status::InvalidInput;
   if (!unit(d.cmc_flexion_axis) || !unit(d.open_thumb_direction) || !unit(d.open_thumb_flexion_axis) ||
       !(std::abs(d.open_thumb_direction.dot(d.open_thumb_flexion_axis)) <= tol))
     return Status::InvalidInput;

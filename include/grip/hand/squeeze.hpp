@@ -5,30 +5,39 @@
 
 #include <cmath>
 
+#include "grip/core/assert.hpp"
+
 namespace grip {
 
 /// Fingers of the human hand, thumb first.
 enum class Finger { Thumb = 0, Index = 1, Long = 2, Ring = 3, Little = 4 };
 /// Phalanges of a finger, from the palm outwards (the thumb's "middle" is its distal
-/// phalanx's neighbour; see the hand model for the thumb's two-phalanx convention).
+/// phalanx's neighbour; see the hand model for the thumb's two-phalanx convention), and the
+/// digit's metacarpal: a body of the palm (the thumb's, the thenar eminence; hand_model.hpp).
 enum class Phalanx { Proximal = 0, Middle = 1, Distal = 2, Metacarpal = 3 };
 
 /// Share d of each phalanx, and of the palm, in the grip force of one grasp type (eq. 8),
 /// indexed by finger and phalanx. Every share is a normal force as a fraction of the summed
 /// normal force of the four fingers, index to little (Table 1's reference), so that the
 /// fingers' shares sum to 1 and the thumb and palm, which oppose them, are in the same unit
-/// (docs/hand.md, "Grasp types"). The thumb has no middle phalanx: its [0][1] is 0.
+/// (docs/hand.md, "Grasp types"). The thumb has no middle phalanx: its [0][1] is 0. The palm's
+/// share is its whole; each of its five bodies (the metacarpals, the thenar's included) takes
+/// a fifth of it.
 template <class Scalar>
 struct ContributionTable {
   Scalar share[5][3];  ///< [finger][phalanx], dimensionless
   Scalar palm{0};      ///< the palm's share, dimensionless
 
-  /// d for a finger and phalanx.
+  /// d for a finger and phalanx; for Phalanx::Metacarpal, palm / 5.
   constexpr Scalar operator()(Finger f, Phalanx p) const {
+    return p == Phalanx::Metacarpal ? palm / Scalar(5) : share[static_cast<int>(f)][static_cast<int>(p)];
+  }
+  /// d for a finger and phalanx, to set it. Precondition (GRIP_ASSERT): p is not
+  /// Phalanx::Metacarpal (set `palm`).
+  constexpr Scalar& operator()(Finger f, Phalanx p) {
+    GRIP_ASSERT(p != Phalanx::Metacarpal);
     return share[static_cast<int>(f)][static_cast<int>(p)];
   }
-  /// d for a finger and phalanx, to set it.
-  constexpr Scalar& operator()(Finger f, Phalanx p) { return share[static_cast<int>(f)][static_cast<int>(p)]; }
   /// Sum of d over the phalanges of a finger (Table 1's "Total Contribution" row).
   constexpr Scalar finger_total(Finger f) const {
     const int i = static_cast<int>(f);
