@@ -1,17 +1,23 @@
 // The closed haptic loop, end to end: a scripted glove-and-tracker session at 1 kHz drives
 // grip's per-frame pipeline (contacts, squeeze, external wrench, optimal forces, monitor,
-// per-phalanx feedback). Prints a report; writes haptic_loop.csv and haptic_loop.svg to the
-// current directory or to the directory given as argv[1].
+// per-phalanx feedback, device). Prints a report; writes haptic_loop.csv and haptic_loop.svg
+// to the current directory or to the directory given as an argument.
+//   haptic_loop [DIR] [--device=actuators|vector|torques|brakes]
+// chooses the device policy (device_policy.hpp): one actuator per phalanx (the paper's glove,
+// the default), a 3-D force per phalanx, an exoskeleton's joint torques (printed per joint),
+// or passive brakes on the joints.
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "session.hpp"
 
+#include <grip/pipeline/device_policy.hpp>
 #include <grip/pipeline/frame_solver.hpp>
 
 // The optimum inside the exact friction cones, warm-started from the previous frame.
@@ -25,6 +31,27 @@ constexpr int n_phalanx = grip::hand_phalanx_count;
 const char* const phalanx_names[n_phalanx] = {"thumb prox", "thumb dist", "index prox", "index mid", "index dist",
                                               "long prox",  "long mid",   "long dist",  "ring prox",  "ring mid",
                                               "ring dist",  "little prox", "little mid", "little dist"};
+const char* const joint_names[grip::hand_dof_count] = {
+    "thumb CMC flex", "thumb CMC abd", "thumb MCP",  "thumb IP",   "index abd",  "index MCP",  "index PIP",
+    "index DIP",      "long abd",      "long MCP",   "long PIP",   "long DIP",   "ring abd",   "ring MCP",
+    "ring PIP",       "ring DIP",      "little abd", "little MCP", "little PIP", "little DIP"};
+
+// What the run reports of its device: frames in which it clipped, and for the joint devices
+// the torques per joint (the mean over the hold phase and the peak).
+struct DeviceReport {
+  int clipped_frames = 0;
+  std::array<double, grip::hand_dof_count> hold_sum{}, peak{};
+  int hold_frames = 0;
+};
+
+void record_torques(const grip::HandJoints<S>& torque, bool holding, DeviceReport& r) {
+  for (int j = 0; j < grip::hand_dof_count; ++j) {
+    const double tau = torque(j);
+    r.peak[static_cast<std::size_t>(j)] = std::max(r.peak[static_cast<std::size_t>(j)], std::abs(tau));
+    if (holding) r.hold_sum[static_cast<std::size_t>(j)] += tau;
+  }
+  r.hold_frames += holding ? 1 : 0;
+}
 
 struct Sample {
   S t;
@@ -138,10 +165,15 @@ void write_svg(const std::string& path, const std::vector<Sample>& samples) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  const std::string dir = argc > 1 ? std::string(argv[1]) + "/" : std::string();
+template <class Device>
+int run(const std::string& dir, const char* device_name, bool joint_device) {
   const Script script;
-  grip::HapticPipeline<S, grip::CylinderScene<S>, FrameSolver> pipeline(settings(), scene(), object());
+  grip::HapticPipeline<S, grip::CylinderScene<S>, FrameSolver, Device> pipeline(settings(), scene(), object());
+  // The phalanx devices take the session's limits (settings().device_limit, the actuators'
+  // own); the joint devices 1.5 N m per joint (a small exoskeleton motor or brake).
+  if constexpr (std::is_same<Device, grip::VectorForces<S>>::value) pipeline.device().limit = settings().device_limit;
+  if (joint_device) pipeline.device().limit.fill(S(1.5));
+  DeviceReport device;
   const int frames = static_cast<int>(duration * rate);
   std::vector<Sample> samples;
   samples.reserve(static_cast<std::size_t>(frames));
@@ -190,12 +222,15 @@ int main(int argc, char** argv) {
     if (was_held && !frame.held && frame.contacts > 0) ++slip_events;
     was_held = frame.held;
     if (frame.clamped > 0) ++clamped_frames;
+    if (pipeline.device_command().clipped > 0) ++device.clipped_frames;
+    if constexpr (std::is_same<Device, grip::JointTorques<S>>::value || std::is_same<Device, grip::JointBrakes<S>>::value)
+      record_torques(pipeline.device_command().torque, phases[s.phase].name == std::string("hold"), device);
     samples.push_back(s);
   }
 
   std::printf("grip haptic loop: %d frames at %.0f Hz (%.1f s), cylinder %.2f kg, r %.0f mm; closed grasp touches %d phalanges\n",
               frames, rate, duration, mass, radius * 1e3, script.touching);
-  std::printf("solver: %s\n", solver_name);
+  std::printf("solver: %s\ndevice: %s\n", solver_name, device_name);
   std::printf("\n%-9s %6s %6s %14s %14s %10s\n", "phase", "from", "to", "mean sum|F| N", "peak sum|F| N", "lift N(end)");
   for (int i = 0; i < phase_count; ++i) {
     const auto& ps = phase_stats[static_cast<std::size_t>(i)];
@@ -211,6 +246,14 @@ int main(int argc, char** argv) {
   std::printf("\nslips: %d events (held -> slipping with fingers on it), %d frames not held while touched\n",
               slip_events, slip_frames);
   std::printf("clamped to the device limit: %d frames; failed frames: %d\n", clamped_frames, failed);
+  std::printf("device policy clipped its command in %d frames\n", device.clipped_frames);
+  if (joint_device) {
+    std::printf("\njoint torques the device applies (N m): mean over the hold phase, peak\n");
+    for (int j = 0; j < grip::hand_dof_count; ++j)
+      std::printf("%-15s %8.4f %8.4f\n", joint_names[j],
+                  device.hold_frames > 0 ? device.hold_sum[static_cast<std::size_t>(j)] / device.hold_frames : 0.0,
+                  device.peak[static_cast<std::size_t>(j)]);
+  }
   std::printf("frame time (wall clock, this build): median %.2f us, p99 %.2f us, worst %.2f us\n", pct(0.5),
               pct(0.99), sorted.back());
   std::printf("object at the end: (%.3f, %.3f, %.3f) m\n", samples.back().position.x(), samples.back().position.y(),
@@ -219,4 +262,19 @@ int main(int argc, char** argv) {
   write_svg(dir + "haptic_loop.svg", samples);
   std::printf("wrote %shaptic_loop.csv and %shaptic_loop.svg\n", dir.c_str(), dir.c_str());
   return failed == 0 ? 0 : 1;
+}
+
+int main(int argc, char** argv) {
+  std::string dir, device = "actuators";
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a.rfind("--device=", 0) == 0) device = a.substr(9);
+    else dir = a + "/";
+  }
+  if (device == "actuators") return run<grip::PhalanxActuators<S>>(dir, "one actuator per phalanx", false);
+  if (device == "vector") return run<grip::VectorForces<S>>(dir, "a 3-D force per phalanx, saturated by norm", false);
+  if (device == "torques") return run<grip::JointTorques<S>>(dir, "joint torques (exoskeleton)", true);
+  if (device == "brakes") return run<grip::JointBrakes<S>>(dir, "passive brakes on the joints", true);
+  std::printf("unknown device '%s': actuators, vector, torques or brakes\n", device.c_str());
+  return 2;
 }

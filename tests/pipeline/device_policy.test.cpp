@@ -10,6 +10,8 @@
 #include "support/allocation_counter.hpp"
 #include "support/random.hpp"
 
+// Named, not anonymous: the unity build puts several test files in one translation unit.
+namespace device_policy_tests {
 using namespace grip;
 
 namespace {
@@ -68,7 +70,7 @@ TEST_CASE("phalanx actuators push along extension only, up to their limit") {
   CHECK(c.clipped == 2);
 }
 
-TEST_CASE("vector forces saturate by norm, keeping the direction; fingertips only") {
+TEST_CASE("vector forces saturate by norm, keeping the direction, and fingertips only") {
   std::mt19937 g(5);
   const HandPosture<double> h = random_posture(g);
   VectorForces<double> dev;
@@ -192,3 +194,5 @@ TEST_CASE("device policies: bad input is InvalidInput with a zero command, nothi
   CHECK(JointBrakes<double>{}.render(in, h, HandJoints<double>::Constant(std::numeric_limits<double>::infinity()), d) ==
         Status::InvalidInput);
 }
+
+}  // namespace device_policy_tests

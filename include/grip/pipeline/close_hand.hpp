@@ -17,10 +17,10 @@
 
 namespace grip {
 
-/// Result of close_hand_in_scene().
-template <class Scalar>
+/// Result of close_hand_in_scene(): `Joints` the paper's 14 flexions or the 20 joints.
+template <class Scalar, class Joints = JointAngles<Scalar>>
 struct ClosedHand {
-  JointAngles<Scalar> angles{JointAngles<Scalar>::Zero()};  ///< the closed posture (rad)
+  Joints angles{Joints::Zero()};  ///< the closed posture (rad)
   int touching{0};  ///< phalanges in contact in the closed posture
   Status status{Status::InvalidInput};  ///< Ok, or InvalidInput (angles zero)
 };
@@ -29,21 +29,25 @@ struct ClosedHand {
 /// joint by joint from the palm outwards, each joint flexes (in steps of `step` rad, then
 /// bisection) until some phalanx distal to it penetrates the object by `target_depth` (m),
 /// or the joint reaches its upper limit. Uses `scene.hand_contacts` (see HapticPipeline); the
-/// same procedure as geometry's close_hand(), for any scene.
-/// InvalidInput for invalid dimensions, pose, non-positive step or negative depth. Set-up
-/// cost: a few thousand forward kinematics; no heap.
-template <class Scalar, class Scene>
-ClosedHand<Scalar> close_hand_in_scene(const Scene& scene, const HandDimensions<Scalar>& dims,
-                              const Eigen::Transform<Scalar, 3, Eigen::Isometry>& wrist,
-                              const RigidBody<Scalar>& object, Scalar target_depth,
-                              Scalar step = Scalar(0.01)) {
-  ClosedHand<Scalar> out;
+/// same procedure as geometry's close_hand(), for any scene. `start`: the posture closing
+/// begins from, zero by default; with the whole hand's 20 joints (HandJoints) only the
+/// flexions close (the thumb's CMC and the abductions stay as in `start`), and the palm's
+/// contacts do not stop a digit. InvalidInput for invalid dimensions, pose, non-positive step
+/// or negative depth. Set-up cost: a few thousand forward kinematics; no heap.
+template <class Scalar, class Scene, class Joints = JointAngles<Scalar>>
+ClosedHand<Scalar, Joints> close_hand_in_scene(const Scene& scene, const HandDimensions<Scalar>& dims,
+                                               const Eigen::Transform<Scalar, 3, Eigen::Isometry>& wrist,
+                                               const RigidBody<Scalar>& object, Scalar target_depth,
+                                               Scalar step = Scalar(0.01), const Joints& start = Joints::Zero()) {
+  constexpr bool whole = Joints::RowsAtCompileTime == hand_dof_count;
+  static_assert(whole || Joints::RowsAtCompileTime == hand_joint_count, "14 flexion angles or the 20 joints");
+  ClosedHand<Scalar, Joints> out;
   if (validate(dims) != Status::Ok || !(step > Scalar(0)) || !(target_depth >= Scalar(0)) ||
-      validate(object) != Status::Ok)
+      validate(object) != Status::Ok || !start.allFinite())
     return out;
   HandPosture<Scalar> posture;
   HandContacts<Scalar, detail::scene_contacts_per_phalanx<Scene>::value> contacts;
-  JointAngles<Scalar> q = JointAngles<Scalar>::Zero();
+  Joints q = start;
   // Deepest penetration among phalanges [first, last] for angles q (-1 if none touch).
   auto deepest = [&](int first, int last) {
     if (forward_kinematics(dims, wrist, q, posture) != Status::Ok) return Scalar(-2);
@@ -61,14 +65,15 @@ ClosedHand<Scalar> close_hand_in_scene(const Scene& scene, const HandDimensions<
     const int first = f == 0 ? 0 : 2 + 3 * (f - 1);
     const int last = f == 0 ? 1 : first + 2;
     for (int k = first; k <= last; ++k) {
-      const Scalar limit = dims.joint_upper_limit[detail::idx(k)];
+      const int j = whole ? phalanx_joint(k) : k;  // the joint at the phalanx's proximal end
+      const Scalar limit = whole ? dims.limits.upper[detail::idx(j)] : dims.joint_upper_limit[detail::idx(k)];
       if (deepest(k, last) >= target_depth) continue;  // already blocked: keep it straight
-      Scalar lo = Scalar(0), hi = Scalar(0);
+      Scalar lo = q(j), hi = q(j);
       bool blocked = false;
       while (hi < limit) {
         lo = hi;
         hi = std::min(limit, hi + step);
-        q(k) = hi;
+        q(j) = hi;
         if (deepest(k, last) >= target_depth) {
           blocked = true;
           break;
@@ -76,11 +81,11 @@ ClosedHand<Scalar> close_hand_in_scene(const Scene& scene, const HandDimensions<
       }
       if (!blocked) continue;  // the joint reached its limit
       for (int it = 0; it < 30; ++it) {  // bisection: smallest angle reaching target_depth
-        q(k) = Scalar(0.5) * (lo + hi);
-        if (deepest(k, last) >= target_depth) hi = q(k);
-        else lo = q(k);
+        q(j) = Scalar(0.5) * (lo + hi);
+        if (deepest(k, last) >= target_depth) hi = q(j);
+        else lo = q(j);
       }
-      q(k) = hi;  // the next joint then flexes the phalanges beyond this one
+      q(j) = hi;  // the next joint then flexes the phalanges beyond this one
     }
   }
   out.angles = q;

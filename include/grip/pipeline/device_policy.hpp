@@ -33,14 +33,15 @@
 
 namespace grip {
 
-/// What the hand should feel, per phalanx (order of hand_model.hpp), world frame: the sum of
-/// -f_i over the phalanx's contacts and the point it acts at (the contacts' points weighted
-/// by their force; the phalanx's tip when it has none).
+/// What the hand should feel, per body (the phalanges, then the palm's metacarpals; order of
+/// hand_model.hpp), world frame: the sum of -f_i over the body's contacts and the point it
+/// acts at (the contacts' points weighted by their force; the body's tip when it has none).
+/// Phalanx devices render the phalanges; joint devices take the thenar's torques too.
 template <class Scalar>
 struct FeltForces {
-  std::array<Vector3<Scalar>, hand_phalanx_count> force{};  ///< N
-  std::array<Vector3<Scalar>, hand_phalanx_count> point{};  ///< m
-  std::array<bool, hand_phalanx_count> in_contact{};        ///< the phalanx touches the object
+  std::array<Vector3<Scalar>, hand_body_count> force{};  ///< N
+  std::array<Vector3<Scalar>, hand_body_count> point{};  ///< m
+  std::array<bool, hand_body_count> in_contact{};        ///< the body touches the object
   FeltForces() {
     force.fill(Vector3<Scalar>::Zero());
     point.fill(Vector3<Scalar>::Zero());
@@ -57,6 +58,14 @@ Vector3<Scalar> actuation_direction(const HandPosture<Scalar>& posture, int k) {
   const Scalar n = d.norm();
   return n > Scalar(0) ? Vector3<Scalar>(d / n) : Vector3<Scalar>::Zero();
 }
+
+namespace detail {
+/// A pushing actuator's command for a wanted force along its direction: in [0, limit].
+template <class Scalar>
+Scalar push_command(Scalar wanted, Scalar limit) {
+  return std::fmin(limit, std::fmax(Scalar(0), wanted));
+}
+}  // namespace detail
 
 /// (a) One actuator per phalanx along actuation_direction(), pushing only: command in
 /// [0, limit]. Clipped: beyond the limit, or pulling while in contact.
@@ -80,7 +89,7 @@ struct PhalanxActuators {
     for (int k = 0; k < hand_phalanx_count; ++k) {
       const auto i = detail::idx(k);
       out.wanted[i] = in.force[i].dot(actuation_direction(posture, k));
-      out.force[i] = std::fmin(limit[i], std::fmax(Scalar(0), out.wanted[i]));
+      out.force[i] = detail::push_command(out.wanted[i], limit[i]);
       out.clipped += in.in_contact[i] && out.force[i] != out.wanted[i] ? 1 : 0;
     }
     out.status = Status::Ok;
@@ -128,7 +137,7 @@ namespace detail {
 template <class Scalar>
 bool felt_torques(const FeltForces<Scalar>& in, const HandPosture<Scalar>& posture, HandJoints<Scalar>& tau) {
   tau.setZero();
-  for (int k = 0; k < hand_phalanx_count; ++k)
+  for (int k = 0; k < hand_body_count; ++k)
     if (add_joint_torques(posture, k, in.point[idx(k)], in.force[idx(k)], tau) != Status::Ok) return false;
   return true;
 }

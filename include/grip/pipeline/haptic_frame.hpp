@@ -39,10 +39,14 @@ struct HapticSettings {
   ContributionTable<Scalar> contribution{cylindrical_power_grip<Scalar>()};
   /// Contact stiffness K_i per phalanx (N/m) of eq. 8.
   std::array<Scalar, hand_phalanx_count> stiffness{};
+  /// K_i of the palm's bodies (N/m): the metacarpals and the thenar, which touch objects when
+  /// the pipeline runs the whole hand (20 joints).
+  Scalar palm_stiffness{Scalar(3e4)};
   Scalar friction{Scalar(0.8)};                              ///< Coulomb mu of every hand contact
   Vector3<Scalar> gravity{Scalar(0), Scalar(0), Scalar(-9.81)};  ///< g (m/s^2)
   PenaltyMaterial<Scalar> obstacle_material{};               ///< object-obstacle spring-damper
-  /// The device's largest force per phalanx along its actuation direction (N).
+  /// The largest force per phalanx along its actuation direction (N): the limit of each
+  /// PhalanxFeedback::command and of the default device policy, PhalanxActuators.
   std::array<Scalar, hand_phalanx_count> device_limit{};
   Scalar dt{Scalar(1e-3)};                                   ///< frame period (s)
   int max_resolves{4};  ///< re-solves per frame after dropping separating contacts, >= 0
@@ -88,6 +92,9 @@ struct HapticFrame {
   int sliding{0};       ///< contacts outside their cone (after re-solves)
   int separating{0};    ///< contacts dropped as separating (f . a <= 0)
   int clamped{0};       ///< phalanges whose command was clamped
+  /// -f summed over the palm's contacts (N, world): what the palm feels (whole hand only).
+  Vector3<Scalar> palm_force{Vector3<Scalar>::Zero()};
+  int device_clipped{0};  ///< outputs the device policy clipped (its Command::clipped)
   int solves{0};        ///< solver calls this frame
   int iterations{0};    ///< solver iterations this frame (0 for direct solvers)
   bool held{false};     ///< the grasp is stable: the object moves with the hand

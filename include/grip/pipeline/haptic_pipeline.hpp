@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <type_traits>
 
 #include <Eigen/Geometry>
 
@@ -22,12 +23,14 @@
 #include "grip/dynamics/rigid_body.hpp"
 #include "grip/geometry/collision.hpp"
 #include "grip/grasp/grasp.hpp"
+#include "grip/hand/hand_joints.hpp"
 #include "grip/hand/hand_kinematics.hpp"
 #include "grip/hand/hand_model.hpp"
 #include "grip/hand/squeeze.hpp"
 #include "grip/monitor/grasp_state.hpp"
 #include "grip/monitor/resolution.hpp"
 #include "grip/monitor/stability_monitor.hpp"
+#include "grip/pipeline/device_policy.hpp"
 #include "grip/pipeline/frame_solver.hpp"
 #include "grip/pipeline/haptic_frame.hpp"
 #include "grip/pipeline/obstacle_contacts.hpp"
@@ -37,25 +40,31 @@ namespace grip {
 
 /// The per-frame haptic pipeline. step() runs the stages of docs/pipeline.md in order, each a
 /// private member: pose_hand, carry_held_object, find_contacts, object_wrench, solve_forces
-/// (build_grasp, `Solver`, monitor_cones, resolve()), move_object, phalanx_feedback.
+/// (build_grasp, `Solver`, monitor_cones, resolve()), move_object, phalanx_feedback,
+/// render_device.
 ///
 /// - `Scene`: the contact source (scene.hpp: CylinderScene, OctreeScene, or your own). A
 ///   phalanx with several contacts feels their sum, each contact's squeeze eq. 8's with its
 ///   own depth.
 /// - `Solver`: a frame solver policy (frame_solver.hpp: RangeSpaceFrameSolver, ...).
+/// - `Device`: a device policy (device_policy.hpp: PhalanxActuators, the paper's glove and the
+///   default, whose limits are settings.device_limit; VectorForces, JointTorques,
+///   JointBrakes). Its command of the last frame is device_command().
+/// - The hand: step() takes the paper's 14 flexion angles (a hand without a palm) or the
+///   whole hand's 20 joints (hand_joints.hpp; the palm and the thenar then touch objects too).
 ///
 /// The object is held (rigidly attached to the wrist with the pose it had when the grasp
 /// became stable; the contacts must balance w_ext) while the solve is Ok and every contact
 /// kept is inside its exact cone. Otherwise it is free: it moves by Newton-Euler (step_free)
 /// under gravity, obstacles and the forces the fingers can transmit (each force projected
 /// onto its cone, separating ones zero), so a slipping grasp lets the unbalanced wrench move it.
-template <class Scalar, class Scene, class Solver = RangeSpaceFrameSolver>
+template <class Scalar, class Scene, class Solver = RangeSpaceFrameSolver, class Device = PhalanxActuators<Scalar>>
 class HapticPipeline {
  public:
   /// Most hand contacts of one phalanx (the scene's contacts_per_phalanx).
   static constexpr int contacts_per_phalanx = detail::scene_contacts_per_phalanx<Scene>::value;
   /// Most hand contacts of one frame.
-  static constexpr int max_contacts = hand_phalanx_count * contacts_per_phalanx;
+  static constexpr int max_contacts = hand_body_count * contacts_per_phalanx;
   /// The grasp type of one frame: up to contacts_per_phalanx hard-finger contacts per phalanx.
   using GraspType = Grasp<Dynamic, HardFinger, Scalar, max_contacts>;
   /// A rigid transform (rotation and translation): the poses of the wrist and the object.
@@ -63,13 +72,17 @@ class HapticPipeline {
 
   /// A pipeline over `scene` with `settings`, the object starting in state `object` (free).
   HapticPipeline(const HapticSettings<Scalar>& settings, const Scene& scene, const RigidBody<Scalar>& object)
-      : settings_(settings), scene_(scene), object_(object) {}
+      : settings_(settings), scene_(scene), object_(object) {
+    if constexpr (std::is_same<Device, PhalanxActuators<Scalar>>::value) device_.limit = settings.device_limit;
+  }
 
-  /// Runs one frame. InvalidInput (object unchanged, frame zeroed but for the status) for a
+  /// Runs one frame. `angles`: the 14 flexion angles (JointAngles) or the 20 joints
+  /// (HandJoints), rad. InvalidInput (object unchanged, frame zeroed but for the status) for a
   /// non-finite wrist state or angles, a non-orthonormal wrist rotation, invalid hand
   /// dimensions or an invalid object; Ok otherwise (whether the object is held or not:
   /// see HapticFrame).
-  Status step(const WristState<Scalar>& wrist, const JointAngles<Scalar>& angles, HapticFrame<Scalar>& frame) {
+  template <class Derived>
+  Status step(const WristState<Scalar>& wrist, const Eigen::MatrixBase<Derived>& angles, HapticFrame<Scalar>& frame) {
     frame = HapticFrame<Scalar>{};
     frame.status = Status::InvalidInput;
     if (!pose_hand(wrist, angles)) return frame.status;
@@ -78,7 +91,8 @@ class HapticPipeline {
     if (!object_wrench(wrist, frame)) return frame.status;
     solve_forces(frame);
     move_object(wrist, frame);
-    phalanx_feedback(wrist, frame);
+    phalanx_feedback(frame);
+    render_device(frame);
     frame.status = Status::Ok;
     return frame.status;
   }
@@ -107,6 +121,13 @@ class HapticPipeline {
   const GraspType& grasp() const { return grasp_; }
   /// The settings.
   const HapticSettings<Scalar>& settings() const { return settings_; }
+  /// The device policy, e.g. to set its limits before the first step or between steps.
+  Device& device() { return device_; }
+  /// The device policy's command of the last frame.
+  const typename Device::Command& device_command() const { return command_; }
+  /// The joint velocities of the last frame (rad/s): the difference of the last two frames'
+  /// joints over dt (zero at the first frame; the 14 angles fill the 20 joints' flexions).
+  const HandJoints<Scalar>& joint_velocity() const { return joint_velocity_; }
   /// The scene (mutable: obstacles may move between frames).
   Scene& scene() { return scene_; }
 
@@ -124,8 +145,9 @@ class HapticPipeline {
   // The stages, in step()'s order.
 
   /// 1. Inputs: false for an input step() rejects (see step()). Reads `wrist`, `angles`,
-  /// settings_, object_; writes posture_ (forward kinematics).
-  bool pose_hand(const WristState<Scalar>& wrist, const JointAngles<Scalar>& angles);
+  /// settings_, object_; writes posture_ (forward kinematics), joints_, joint_velocity_.
+  template <class Derived>
+  bool pose_hand(const WristState<Scalar>& wrist, const Eigen::MatrixBase<Derived>& angles);
   /// 2. Held object: if held_, object_ takes the pose wrist.pose * offset_, the wrist's angular
   /// velocity and the velocity v_w + omega_w x r. Reads `wrist`, held_, offset_; writes object_.
   void carry_held_object(const WristState<Scalar>& wrist);
@@ -151,9 +173,15 @@ class HapticPipeline {
   /// object_, frame.unbalanced and frame.held.
   void move_object(const WristState<Scalar>& wrist, HapticFrame<Scalar>& frame);
   /// 8. Feedback: each phalanx feels -f_i summed over its contacts, its command clamped to
-  /// [0, device_limit]. Reads forces_, hand_, posture_, the wrist's rotation, settings_;
-  /// writes frame.phalanges and frame.clamped.
-  void phalanx_feedback(const WristState<Scalar>& wrist, HapticFrame<Scalar>& frame);
+  /// [0, device_limit]; the palm's contacts sum into frame.palm_force. Reads forces_, hand_,
+  /// posture_, settings_; writes frame.phalanges, frame.palm_force, frame.clamped, felt_.
+  void phalanx_feedback(HapticFrame<Scalar>& frame);
+  /// 9. Device: device_ renders felt_ (posture_, joint_velocity_) into command_. Writes
+  /// frame.device_clipped.
+  void render_device(HapticFrame<Scalar>& frame) {
+    (void)device_.render(felt_, posture_, joint_velocity_, command_);
+    frame.device_clipped = command_.clipped;
+  }
 
   Isometry object_pose() const {
     Isometry t = Isometry::Identity();
@@ -178,8 +206,9 @@ class HapticPipeline {
       c.normal = h.normal;
       c.friction = settings_.friction;
       const int k = phalanx_index(h.finger, h.phalanx);
-      if (k < 0 || k >= hand_phalanx_count) continue;  // not a phalanx of the model
-      c.squeeze = squeeze(share(k), settings_.stiffness[detail::idx(k)], h.depth);
+      if (k < 0 || k >= hand_body_count) continue;  // not a body of the model
+      const Scalar stiffness = k < hand_phalanx_count ? settings_.stiffness[detail::idx(k)] : settings_.palm_stiffness;
+      c.squeeze = squeeze(share(k), stiffness, h.depth);
       if (settings_.weight_by_squeeze) c.weight = Scalar(1) / std::max(c.squeeze, settings_.weight_floor);
       if (grasp_.add(c) == Status::Ok) index_[detail::idx(grasp_.size() - 1)] = i;
     }
@@ -193,6 +222,12 @@ class HapticPipeline {
   bool held_{false};
   Isometry offset_{Isometry::Identity()};
   HandPosture<Scalar> posture_{};
+  HandJoints<Scalar> joints_{HandJoints<Scalar>::Zero()};
+  HandJoints<Scalar> joint_velocity_{HandJoints<Scalar>::Zero()};
+  bool first_frame_{true};
+  Device device_{};
+  typename Device::Command command_{};
+  FeltForces<Scalar> felt_{};
   HandContacts<Scalar, contacts_per_phalanx> hand_{};
   ObstacleContactSet<Scalar> obstacles_{};
   GraspType grasp_{};
@@ -200,19 +235,30 @@ class HapticPipeline {
   Forces forces_{};
 };
 
-template <class Scalar, class Scene, class Solver>
-bool HapticPipeline<Scalar, Scene, Solver>::pose_hand(const WristState<Scalar>& wrist,
-                                                      const JointAngles<Scalar>& angles) {
+template <class Scalar, class Scene, class Solver, class Device>
+template <class Derived>
+bool HapticPipeline<Scalar, Scene, Solver, Device>::pose_hand(const WristState<Scalar>& wrist,
+                                                              const Eigen::MatrixBase<Derived>& angles) {
   if (!wrist.pose.matrix().allFinite() || !wrist.linear_velocity.allFinite() ||
       !wrist.angular_velocity.allFinite() || !wrist.linear_acceleration.allFinite() ||
       !wrist.angular_acceleration.allFinite() || !angles.allFinite() || validate(object_) != Status::Ok ||
       !(settings_.dt > Scalar(0)))
     return false;
-  return forward_kinematics(settings_.hand, wrist.pose, angles, posture_) == Status::Ok;
+  if (forward_kinematics(settings_.hand, wrist.pose, angles, posture_) != Status::Ok) return false;
+  HandJoints<Scalar> q = HandJoints<Scalar>::Zero();
+  if constexpr (Derived::SizeAtCompileTime == hand_dof_count) {
+    q = angles;
+  } else {
+    for (int k = 0; k < hand_joint_count; ++k) q(phalanx_joint(k)) = angles(k);
+  }
+  joint_velocity_ = first_frame_ ? HandJoints<Scalar>::Zero() : HandJoints<Scalar>((q - joints_) / settings_.dt);
+  joints_ = q;
+  first_frame_ = false;
+  return true;
 }
 
-template <class Scalar, class Scene, class Solver>
-void HapticPipeline<Scalar, Scene, Solver>::carry_held_object(const WristState<Scalar>& wrist) {
+template <class Scalar, class Scene, class Solver, class Device>
+void HapticPipeline<Scalar, Scene, Solver, Device>::carry_held_object(const WristState<Scalar>& wrist) {
   if (!held_) return;
   const Vector3<Scalar> wrist_origin = wrist.pose.translation();
   const Isometry pose = wrist.pose * offset_;
@@ -222,8 +268,8 @@ void HapticPipeline<Scalar, Scene, Solver>::carry_held_object(const WristState<S
   object_.angular_velocity = wrist.angular_velocity;
 }
 
-template <class Scalar, class Scene, class Solver>
-void HapticPipeline<Scalar, Scene, Solver>::find_contacts(HapticFrame<Scalar>& frame) {
+template <class Scalar, class Scene, class Solver, class Device>
+void HapticPipeline<Scalar, Scene, Solver, Device>::find_contacts(HapticFrame<Scalar>& frame) {
   scene_.hand_contacts(posture_, object_, hand_);
   scene_.obstacle_contacts(object_, obstacles_);
   for (int i = 0; i < obstacles_.count; ++i) {
@@ -234,8 +280,8 @@ void HapticPipeline<Scalar, Scene, Solver>::find_contacts(HapticFrame<Scalar>& f
   frame.obstacles = obstacles_.count;
 }
 
-template <class Scalar, class Scene, class Solver>
-bool HapticPipeline<Scalar, Scene, Solver>::object_wrench(const WristState<Scalar>& wrist, HapticFrame<Scalar>& frame) {
+template <class Scalar, class Scene, class Solver, class Device>
+bool HapticPipeline<Scalar, Scene, Solver, Device>::object_wrench(const WristState<Scalar>& wrist, HapticFrame<Scalar>& frame) {
   const Vector3<Scalar> wrist_origin = wrist.pose.translation();
   const Vector3<Scalar> r = object_.position - wrist_origin;
   const Vector3<Scalar>& w = wrist.angular_velocity;
@@ -249,8 +295,8 @@ bool HapticPipeline<Scalar, Scene, Solver>::object_wrench(const WristState<Scala
   return true;
 }
 
-template <class Scalar, class Scene, class Solver>
-void HapticPipeline<Scalar, Scene, Solver>::solve_forces(HapticFrame<Scalar>& frame) {
+template <class Scalar, class Scene, class Solver, class Device>
+void HapticPipeline<Scalar, Scene, Solver, Device>::solve_forces(HapticFrame<Scalar>& frame) {
   std::array<bool, max_contacts> keep{};
   for (int i = 0; i < hand_.count; ++i) keep[detail::idx(i)] = true;
   forces_.stable = false;
@@ -286,8 +332,8 @@ void HapticPipeline<Scalar, Scene, Solver>::solve_forces(HapticFrame<Scalar>& fr
   }
 }
 
-template <class Scalar, class Scene, class Solver>
-auto HapticPipeline<Scalar, Scene, Solver>::monitor_cones(const Solution<GraspType>& sol,
+template <class Scalar, class Scene, class Solver, class Device>
+auto HapticPipeline<Scalar, Scene, Solver, Device>::monitor_cones(const Solution<GraspType>& sol,
                                                           HapticFrame<Scalar>& frame) const -> GraspState<GraspType> {
   GraspState<GraspType> state = monitor_.evaluate(grasp_, sol.forces);
   if (state.status != Status::Ok) {
@@ -299,8 +345,8 @@ auto HapticPipeline<Scalar, Scene, Solver>::monitor_cones(const Solution<GraspTy
   return state;
 }
 
-template <class Scalar, class Scene, class Solver>
-void HapticPipeline<Scalar, Scene, Solver>::move_object(const WristState<Scalar>& wrist, HapticFrame<Scalar>& frame) {
+template <class Scalar, class Scene, class Solver, class Device>
+void HapticPipeline<Scalar, Scene, Solver, Device>::move_object(const WristState<Scalar>& wrist, HapticFrame<Scalar>& frame) {
   Wrench<Scalar> transmitted = Wrench<Scalar>::Zero();
   for (int i = 0; i < hand_.count; ++i) {
     const Vector3<Scalar>& f = forces_.transmitted[detail::idx(i)];
@@ -319,28 +365,40 @@ void HapticPipeline<Scalar, Scene, Solver>::move_object(const WristState<Scalar>
   frame.held = held_;
 }
 
-template <class Scalar, class Scene, class Solver>
-void HapticPipeline<Scalar, Scene, Solver>::phalanx_feedback(const WristState<Scalar>& wrist,
-                                                             HapticFrame<Scalar>& frame) {
-  const Matrix3<Scalar> rw = wrist.pose.linear();
+template <class Scalar, class Scene, class Solver, class Device>
+void HapticPipeline<Scalar, Scene, Solver, Device>::phalanx_feedback(HapticFrame<Scalar>& frame) {
+  felt_ = FeltForces<Scalar>{};
+  std::array<Vector3<Scalar>, hand_body_count> moment_point{};  // sum of |f| p per body
+  std::array<Scalar, hand_body_count> weight{};                 // sum of |f| per body
+  moment_point.fill(Vector3<Scalar>::Zero());
   for (int i = 0; i < hand_.count; ++i) {
     const HandContact<Scalar>& hc = hand_.items[detail::idx(i)];
     const int k = phalanx_index(hc.finger, hc.phalanx);
-    if (k < 0 || k >= hand_phalanx_count) continue;
+    if (k < 0 || k >= hand_body_count) continue;
+    const Vector3<Scalar>& f = forces_.transmitted[detail::idx(i)];
+    felt_.force[detail::idx(k)] -= f;
+    felt_.in_contact[detail::idx(k)] = true;
+    const Scalar w = f.norm();
+    moment_point[detail::idx(k)] += w * hc.point;
+    weight[detail::idx(k)] += w;
+    if (k >= hand_phalanx_count) {
+      frame.palm_force -= f;
+      continue;
+    }
     PhalanxFeedback<Scalar>& fb = frame.phalanges[detail::idx(k)];
-    fb.force -= forces_.transmitted[detail::idx(i)];
+    fb.force -= f;
     fb.in_contact = true;
     fb.sliding = fb.sliding || forces_.sliding[detail::idx(i)];
   }
+  for (int k = 0; k < hand_body_count; ++k)  // where each body's felt force acts
+    felt_.point[detail::idx(k)] = weight[detail::idx(k)] > Scalar(0)
+                                      ? Vector3<Scalar>(moment_point[detail::idx(k)] / weight[detail::idx(k)])
+                                      : posture_.phalanges[detail::idx(k)].tip;
   for (int k = 0; k < hand_phalanx_count; ++k) {
     PhalanxFeedback<Scalar>& fb = frame.phalanges[detail::idx(k)];
-    const PhalanxCapsule<Scalar>& c = posture_.phalanges[detail::idx(k)];
-    const Vector3<Scalar> d = (c.tip - c.base).normalized();
-    const Vector3<Scalar> e = rw * settings_.hand.flexion_axis[detail::idx(phalanx_finger(k))];
-    fb.actuation_direction = d.cross(e).normalized();
+    fb.actuation_direction = actuation_direction(posture_, k);
     fb.actuated = fb.force.dot(fb.actuation_direction);
-    const Scalar limit = settings_.device_limit[detail::idx(k)];
-    fb.command = std::min(limit, std::max(Scalar(0), fb.actuated));
+    fb.command = detail::push_command(fb.actuated, settings_.device_limit[detail::idx(k)]);
     fb.clamped = fb.in_contact && fb.command != fb.actuated;
     if (fb.clamped) ++frame.clamped;
   }
