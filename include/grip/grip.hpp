@@ -45,7 +45,10 @@
 #include "grip/hand/squeeze.hpp"
 #include "grip/hand/grasp_type.hpp"
 #include "grip/hand/hand_model.hpp"
+#include "grip/hand/hand_joints.hpp"
 #include "grip/hand/hand_kinematics.hpp"
+#include "grip/hand/hand_jacobian.hpp"
+#include "grip/hand/glove.hpp"
 
 #include "grip/geometry/shape.hpp"
 #include "grip/geometry/sphere_tree.hpp"
@@ -70,6 +73,7 @@
 #include "grip/pipeline/cylinder_scene.hpp"
 #include "grip/pipeline/octree_scene.hpp"
 #include "grip/pipeline/frame_solver.hpp"
+#include "grip/pipeline/device_policy.hpp"
 #include "grip/pipeline/haptic_frame.hpp"
 #include "grip/pipeline/haptic_pipeline.hpp"
 #include "grip/pipeline/close_hand.hpp"

@@ -29,10 +29,11 @@ FeltForces<double> random_felt(std::mt19937& g, const HandPosture<double>& h, do
   const grip_test::Uniform u(-scale, scale), t(0, 1);
   FeltForces<double> in;
   for (std::size_t k = 0; k < 14; ++k) {
-    in.force[k] = grip_test::draw3(g, u);
-    in.point[k] = h.phalanges[k].base + t(g) * (h.phalanges[k].tip - h.phalanges[k].base);
-    in.in_contact[k] = true;
+    const Eigen::Vector3d f = grip_test::draw3(g, u);
+    const double s = t(g);
+    in.add(static_cast<int>(k), f, h.phalanges[k].base + s * (h.phalanges[k].tip - h.phalanges[k].base));
   }
+  in.finish(h);
   return in;
 }
 
@@ -57,10 +58,11 @@ TEST_CASE("phalanx actuators push along extension only, up to their limit") {
   PhalanxActuators<double> dev;
   dev.limit.fill(4);
   FeltForces<double> in;
-  in.force[3] = Eigen::Vector3d(1, 0, 3);   // within the limit: 3 N along +z
-  in.force[4] = Eigen::Vector3d(0, 0, 6);   // beyond: 4 N
-  in.force[7] = Eigen::Vector3d(0, 0, -2);  // pulling: 0
-  in.in_contact[3] = in.in_contact[4] = in.in_contact[7] = true;
+  in.add(3, Eigen::Vector3d(1, 0, 3), h.phalanges[3].tip);   // within the limit: 3 N along +z
+  in.add(4, Eigen::Vector3d(0, 0, 6), h.phalanges[4].tip);   // beyond: 4 N
+  in.add(7, Eigen::Vector3d(0, 0, -2), h.phalanges[7].tip);  // pulling: 0
+  in.finish(h);
+  CHECK((in.direction[3] - Eigen::Vector3d(0, 0, 1)).norm() <= 1e-15);
   PhalanxActuators<double>::Command c;
   REQUIRE(dev.render(in, h, HandJoints<double>::Zero(), c) == Status::Ok);
   CHECK(c.force[3] == doctest::Approx(3));

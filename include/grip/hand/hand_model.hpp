@@ -230,17 +230,18 @@ Status validate(const HandDimensions<Scalar>& d) {
   }
   if (!d.thumb_cmc.allFinite() || !std::isfinite(d.thumb_metacarpal) || !(d.thumb_metacarpal > Scalar(0)))
     return Status::InvalidInput;
+  // | |v| - 1 | <= tol, without a square root (validate runs in every forward kinematics).
+  const Scalar lo = (Scalar(1) - tol) * (Scalar(1) - tol), hi = (Scalar(1) + tol) * (Scalar(1) + tol);
+  const auto unit = [lo, hi](const Vector3<Scalar>& v) {
+    const Scalar n2 = v.squaredNorm();
+    return n2 >= lo && n2 <= hi;  // false for NaN; an infinite component gives n2 = inf
+  };
   for (int f = 0; f < 5; ++f) {
-    if (!d.base[detail::idx(f)].allFinite() || !d.rest_direction[detail::idx(f)].allFinite() || !d.flexion_axis[detail::idx(f)].allFinite())
-      return Status::InvalidInput;
-    if (!(std::abs(d.rest_direction[detail::idx(f)].norm() - Scalar(1)) <= tol) ||
-        !(std::abs(d.flexion_axis[detail::idx(f)].norm() - Scalar(1)) <= tol) ||
+    if (!d.base[detail::idx(f)].allFinite() || !unit(d.rest_direction[detail::idx(f)]) ||
+        !unit(d.flexion_axis[detail::idx(f)]) ||
         !(std::abs(d.rest_direction[detail::idx(f)].dot(d.flexion_axis[detail::idx(f)])) <= tol))
       return Status::InvalidInput;
   }
-  const auto unit = [tol](const Vector3<Scalar>& v) {
-    return v.allFinite() && std::abs(v.norm() - Scalar(1)) <= tol;
-  };
   for (int f = 0; f < 5; ++f)
     if (!unit(d.abduction_axis[detail::idx(f)]) || !std::isfinite(d.metacarpal_radius[detail::idx(f)]) ||
         !(d.metacarpal_radius[detail::idx(f)] > Scalar(0)) || (f > 0 && !d.palm_base[detail::idx(f - 1)].allFinite()))

@@ -42,10 +42,27 @@ struct FeltForces {
   std::array<Vector3<Scalar>, hand_body_count> force{};  ///< N
   std::array<Vector3<Scalar>, hand_body_count> point{};  ///< m
   std::array<bool, hand_body_count> in_contact{};        ///< the body touches the object
+  std::array<Scalar, hand_body_count> weight{};          ///< sum of |force| of add()'s contacts (N)
+  /// Per phalanx, actuation_direction() of the posture (set by finish()).
+  std::array<Vector3<Scalar>, hand_phalanx_count> direction{};
   FeltForces() {
     force.fill(Vector3<Scalar>::Zero());
     point.fill(Vector3<Scalar>::Zero());
+    direction.fill(Vector3<Scalar>::Zero());
   }
+  /// Adds a contact of body k: the hand feels `felt` (N) at `at` (m). Call finish() after the
+  /// last one.
+  void add(int k, const Vector3<Scalar>& felt, const Vector3<Scalar>& at) {
+    const auto i = detail::idx(k);
+    const Scalar w = felt.norm();
+    force[i] += felt;
+    point[i] += w * at;
+    weight[i] += w;
+    in_contact[i] = true;
+  }
+  /// Turns the weighted sums of add() into points (a body without force acts at its tip) and
+  /// sets each phalanx's actuation direction: call it once the contacts are added.
+  void finish(const HandPosture<Scalar>& posture);
 };
 
 /// The direction in which phalanx k's actuator pushes: extension, u x e for the phalanx's
@@ -59,6 +76,15 @@ Vector3<Scalar> actuation_direction(const HandPosture<Scalar>& posture, int k) {
   return n > Scalar(0) ? Vector3<Scalar>(d / n) : Vector3<Scalar>::Zero();
 }
 
+template <class Scalar>
+void FeltForces<Scalar>::finish(const HandPosture<Scalar>& posture) {
+  for (int k = 0; k < hand_body_count; ++k) {
+    const auto i = detail::idx(k);
+    point[i] = weight[i] > Scalar(0) ? Vector3<Scalar>(point[i] / weight[i]) : posture.phalanges[i].tip;
+  }
+  for (int k = 0; k < hand_phalanx_count; ++k) direction[detail::idx(k)] = actuation_direction(posture, k);
+}
+
 namespace detail {
 /// A pushing actuator's command for a wanted force along its direction: in [0, limit].
 template <class Scalar>
@@ -67,8 +93,8 @@ Scalar push_command(Scalar wanted, Scalar limit) {
 }
 }  // namespace detail
 
-/// (a) One actuator per phalanx along actuation_direction(), pushing only: command in
-/// [0, limit]. Clipped: beyond the limit, or pulling while in contact.
+/// (a) One actuator per phalanx along its actuation direction (FeltForces::direction),
+/// pushing only: command in [0, limit]. Clipped: beyond the limit, or pulling while in contact.
 template <class Scalar>
 struct PhalanxActuators {
   std::array<Scalar, hand_phalanx_count> limit{};  ///< Largest push (N) per phalanx, >= 0.
@@ -81,14 +107,14 @@ struct PhalanxActuators {
     Status status{Status::InvalidInput};
   };
 
-  Status render(const FeltForces<Scalar>& in, const HandPosture<Scalar>& posture, const HandJoints<Scalar>&,
+  Status render(const FeltForces<Scalar>& in, const HandPosture<Scalar>&, const HandJoints<Scalar>&,
                 Command& out) const {
     out = Command{};
     for (int k = 0; k < hand_phalanx_count; ++k)
       if (!in.force[detail::idx(k)].allFinite() || !(limit[detail::idx(k)] >= Scalar(0))) return out.status;
     for (int k = 0; k < hand_phalanx_count; ++k) {
       const auto i = detail::idx(k);
-      out.wanted[i] = in.force[i].dot(actuation_direction(posture, k));
+      out.wanted[i] = in.force[i].dot(in.direction[i]);
       out.force[i] = detail::push_command(out.wanted[i], limit[i]);
       out.clipped += in.in_contact[i] && out.force[i] != out.wanted[i] ? 1 : 0;
     }

@@ -368,19 +368,12 @@ void HapticPipeline<Scalar, Scene, Solver, Device>::move_object(const WristState
 template <class Scalar, class Scene, class Solver, class Device>
 void HapticPipeline<Scalar, Scene, Solver, Device>::phalanx_feedback(HapticFrame<Scalar>& frame) {
   felt_ = FeltForces<Scalar>{};
-  std::array<Vector3<Scalar>, hand_body_count> moment_point{};  // sum of |f| p per body
-  std::array<Scalar, hand_body_count> weight{};                 // sum of |f| per body
-  moment_point.fill(Vector3<Scalar>::Zero());
   for (int i = 0; i < hand_.count; ++i) {
     const HandContact<Scalar>& hc = hand_.items[detail::idx(i)];
     const int k = phalanx_index(hc.finger, hc.phalanx);
     if (k < 0 || k >= hand_body_count) continue;
     const Vector3<Scalar>& f = forces_.transmitted[detail::idx(i)];
-    felt_.force[detail::idx(k)] -= f;
-    felt_.in_contact[detail::idx(k)] = true;
-    const Scalar w = f.norm();
-    moment_point[detail::idx(k)] += w * hc.point;
-    weight[detail::idx(k)] += w;
+    felt_.add(k, -f, hc.point);
     if (k >= hand_phalanx_count) {
       frame.palm_force -= f;
       continue;
@@ -390,13 +383,10 @@ void HapticPipeline<Scalar, Scene, Solver, Device>::phalanx_feedback(HapticFrame
     fb.in_contact = true;
     fb.sliding = fb.sliding || forces_.sliding[detail::idx(i)];
   }
-  for (int k = 0; k < hand_body_count; ++k)  // where each body's felt force acts
-    felt_.point[detail::idx(k)] = weight[detail::idx(k)] > Scalar(0)
-                                      ? Vector3<Scalar>(moment_point[detail::idx(k)] / weight[detail::idx(k)])
-                                      : posture_.phalanges[detail::idx(k)].tip;
+  felt_.finish(posture_);
   for (int k = 0; k < hand_phalanx_count; ++k) {
     PhalanxFeedback<Scalar>& fb = frame.phalanges[detail::idx(k)];
-    fb.actuation_direction = actuation_direction(posture_, k);
+    fb.actuation_direction = felt_.direction[detail::idx(k)];
     fb.actuated = fb.force.dot(fb.actuation_direction);
     fb.command = detail::push_command(fb.actuated, settings_.device_limit[detail::idx(k)]);
     fb.clamped = fb.in_contact && fb.command != fb.actuated;
