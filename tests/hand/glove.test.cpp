@@ -71,7 +71,6 @@ TEST_CASE_TEMPLATE("22-sensor glove: readings round-trip through any calibration
     glove.calibration = random_calibration<S, 22>(g);
     HandJoints<S> q = random_joints(g, limits);
     q(static_cast<int>(HandJoint::LongAbduction)) = S(0);  // the reference the glove reads against
-    // Keep the little finger's abduction within its range relative to the ring's.
     const GloveExtras<S> extras{S(0.1), S(-0.2), S(0.15)};
     const typename Glove22<S>::Readings raw = glove.readings(q, extras);
     HandJoints<S> back;

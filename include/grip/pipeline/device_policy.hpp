@@ -86,6 +86,14 @@ void FeltForces<Scalar>::finish(const HandPosture<Scalar>& posture) {
 }
 
 namespace detail {
+/// True if every phalanx's felt force is finite and every limit >= 0 (a NaN limit is not).
+template <class Scalar>
+bool phalanx_inputs_ok(const FeltForces<Scalar>& in, const std::array<Scalar, hand_phalanx_count>& limit) {
+  for (int k = 0; k < hand_phalanx_count; ++k)
+    if (!in.force[idx(k)].allFinite() || !(limit[idx(k)] >= Scalar(0))) return false;
+  return true;
+}
+
 /// A pushing actuator's command for a wanted force along its direction: in [0, limit].
 template <class Scalar>
 Scalar push_command(Scalar wanted, Scalar limit) {
@@ -110,8 +118,7 @@ struct PhalanxActuators {
   Status render(const FeltForces<Scalar>& in, const HandPosture<Scalar>&, const HandJoints<Scalar>&,
                 Command& out) const {
     out = Command{};
-    for (int k = 0; k < hand_phalanx_count; ++k)
-      if (!in.force[detail::idx(k)].allFinite() || !(limit[detail::idx(k)] >= Scalar(0))) return out.status;
+    if (!detail::phalanx_inputs_ok(in, limit)) return out.status;
     for (int k = 0; k < hand_phalanx_count; ++k) {
       const auto i = detail::idx(k);
       out.wanted[i] = in.force[i].dot(in.direction[i]);
@@ -142,8 +149,7 @@ struct VectorForces {
   Status render(const FeltForces<Scalar>& in, const HandPosture<Scalar>&, const HandJoints<Scalar>&,
                 Command& out) const {
     out = Command{};
-    for (int k = 0; k < hand_phalanx_count; ++k)
-      if (!in.force[detail::idx(k)].allFinite() || !(limit[detail::idx(k)] >= Scalar(0))) return out.status;
+    if (!detail::phalanx_inputs_ok(in, limit)) return out.status;
     for (int k = 0; k < hand_phalanx_count; ++k) {
       const auto i = detail::idx(k);
       const bool has = !fingertips_only || phalanx_kind(k) == Phalanx::Distal;
@@ -169,36 +175,53 @@ bool felt_torques(const FeltForces<Scalar>& in, const HandPosture<Scalar>& postu
 }
 }  // namespace detail
 
-/// (c) One torque per joint: the torques J^T F of the felt forces summed over the phalanges
+namespace detail {
+/// The command of the joint devices: per joint the torque wanted and the one rendered.
+template <class Scalar>
+struct JointCommand {
+  HandJoints<Scalar> wanted{HandJoints<Scalar>::Zero()};  ///< J^T F (N m)
+  HandJoints<Scalar> torque{HandJoints<Scalar>::Zero()};  ///< rendered (N m)
+  int clipped{0};                                         ///< joints where torque != wanted
+  Status status{Status::InvalidInput};
+};
+
+/// J^T F clipped to [-limit, limit]; with `velocity`, a torque that would drive its joint
+/// along the velocity (tau qdot > 0) renders 0 (a brake).
+template <class Scalar>
+Status render_joints(const std::array<Scalar, hand_dof_count>& limit, const FeltForces<Scalar>& in,
+                     const HandPosture<Scalar>& posture, const HandJoints<Scalar>* velocity,
+                     JointCommand<Scalar>& out) {
+  out = JointCommand<Scalar>{};
+  if (velocity != nullptr && !velocity->allFinite()) return out.status;
+  for (int i = 0; i < hand_dof_count; ++i)
+    if (!(limit[idx(i)] >= Scalar(0))) return out.status;
+  if (!felt_torques(in, posture, out.wanted)) {
+    out.wanted.setZero();
+    return out.status;
+  }
+  for (int i = 0; i < hand_dof_count; ++i) {
+    const Scalar l = limit[idx(i)];
+    const bool renders = velocity == nullptr || out.wanted(i) * (*velocity)(i) <= Scalar(0);
+    out.torque(i) = renders ? std::fmin(l, std::fmax(-l, out.wanted(i))) : Scalar(0);
+    out.clipped += out.torque(i) != out.wanted(i) ? 1 : 0;
+  }
+  out.status = Status::Ok;
+  return out.status;
+}
+}  // namespace detail
+
+/// (c) One torque per joint: the torques J^T F of the felt forces summed over the bodies
 /// (hand_jacobian.hpp), each clipped to [-limit, limit]. Joints the posture holds fixed get 0.
 template <class Scalar>
 struct JointTorques {
   std::array<Scalar, hand_dof_count> limit{};  ///< Largest |torque| (N m) per joint, >= 0.
   JointTorques() { limit.fill(Scalar(0.5)); }
 
-  struct Command {
-    HandJoints<Scalar> wanted{HandJoints<Scalar>::Zero()};  ///< J^T F (N m)
-    HandJoints<Scalar> torque{HandJoints<Scalar>::Zero()};  ///< rendered (N m)
-    int clipped{0};
-    Status status{Status::InvalidInput};
-  };
+  using Command = detail::JointCommand<Scalar>;  ///< wanted, torque, clipped, status
 
   Status render(const FeltForces<Scalar>& in, const HandPosture<Scalar>& posture, const HandJoints<Scalar>&,
                 Command& out) const {
-    out = Command{};
-    for (int i = 0; i < hand_dof_count; ++i)
-      if (!(limit[detail::idx(i)] >= Scalar(0))) return out.status;
-    if (!detail::felt_torques(in, posture, out.wanted)) {
-      out.wanted.setZero();
-      return out.status;
-    }
-    for (int i = 0; i < hand_dof_count; ++i) {
-      const Scalar l = limit[detail::idx(i)];
-      out.torque(i) = std::fmin(l, std::fmax(-l, out.wanted(i)));
-      out.clipped += out.torque(i) != out.wanted(i) ? 1 : 0;
-    }
-    out.status = Status::Ok;
-    return out.status;
+    return detail::render_joints(limit, in, posture, static_cast<const HandJoints<Scalar>*>(nullptr), out);
   }
 };
 
@@ -211,31 +234,11 @@ struct JointBrakes {
   std::array<Scalar, hand_dof_count> limit{};  ///< Largest braking torque (N m) per joint, >= 0.
   JointBrakes() { limit.fill(Scalar(0.5)); }
 
-  struct Command {
-    HandJoints<Scalar> wanted{HandJoints<Scalar>::Zero()};  ///< J^T F (N m)
-    HandJoints<Scalar> torque{HandJoints<Scalar>::Zero()};  ///< rendered: resisting only (N m)
-    int clipped{0};
-    Status status{Status::InvalidInput};
-  };
+  using Command = detail::JointCommand<Scalar>;  ///< wanted, torque (resisting only), clipped, status
 
   Status render(const FeltForces<Scalar>& in, const HandPosture<Scalar>& posture,
                 const HandJoints<Scalar>& joint_velocity, Command& out) const {
-    out = Command{};
-    if (!joint_velocity.allFinite()) return out.status;
-    for (int i = 0; i < hand_dof_count; ++i)
-      if (!(limit[detail::idx(i)] >= Scalar(0))) return out.status;
-    if (!detail::felt_torques(in, posture, out.wanted)) {
-      out.wanted.setZero();
-      return out.status;
-    }
-    for (int i = 0; i < hand_dof_count; ++i) {
-      const Scalar l = limit[detail::idx(i)];
-      const bool resists = out.wanted(i) * joint_velocity(i) <= Scalar(0);
-      out.torque(i) = resists ? std::fmin(l, std::fmax(-l, out.wanted(i))) : Scalar(0);
-      out.clipped += out.torque(i) != out.wanted(i) ? 1 : 0;
-    }
-    out.status = Status::Ok;
-    return out.status;
+    return detail::render_joints(limit, in, posture, &joint_velocity, out);
   }
 };
 
