@@ -164,6 +164,19 @@ inline grip::Isometry3<double> pose(const py::handle& obj, const char* name) {
   return t;
 }
 
+/// The whole hand's 20 joints (rad), finite.
+inline grip::HandJoints<double> joints(const py::handle& obj) {
+  const Array a = Array::ensure(obj);
+  if (!a || a.ndim() != 1 || a.shape(0) != grip::hand_dof_count)
+    invalid("joints must have shape (20,) (rad, the joint order of docs/hand.md), not " + (a ? shape_of(a) : std::string("?")));
+  grip::HandJoints<double> q;
+  for (int k = 0; k < grip::hand_dof_count; ++k) {
+    q(k) = a.at(k);
+    if (!std::isfinite(q(k))) invalid("joints[" + std::to_string(k) + "] is not finite");
+  }
+  return q;
+}
+
 /// The 14 joint angles (rad), finite.
 inline grip::JointAngles<double> angles(const py::handle& obj) {
   const Array a = Array::ensure(obj);

@@ -66,26 +66,37 @@ RowMatrix rows(const std::array<grip::Vector3<double>, 5>& v) {
   return m;
 }
 
+/// The posture of the paper's hand (14 angles) or of the whole hand (20 joints), by q's length.
 grip::HandPosture<double> posture(const Dims& dims, const py::handle& wrist, const py::handle& q) {
   grip::HandPosture<double> out;
-  if (grip::forward_kinematics(dims, pose(wrist, "wrist"), angles(q), out) != grip::Status::Ok)
-    invalid("the hand dimensions are invalid");
+  const Array a = Array::ensure(q);
+  const bool whole = a && a.ndim() == 1 && a.shape(0) == grip::hand_dof_count;
+  const grip::Status st = whole ? grip::forward_kinematics(dims, pose(wrist, "wrist"), joints(q), out)
+                                : grip::forward_kinematics(dims, pose(wrist, "wrist"), angles(q), out);
+  if (st != grip::Status::Ok) invalid("the hand dimensions are invalid");
   return out;
 }
 
 py::dict capsules(const grip::HandPosture<double>& p) {
-  RowMatrix base(grip::hand_phalanx_count, 3), tip(grip::hand_phalanx_count, 3);
-  Eigen::VectorXd radius(grip::hand_phalanx_count);
-  for (int k = 0; k < grip::hand_phalanx_count; ++k) {
+  const int n = p.bodies == grip::all_hand_bodies ? grip::hand_body_count : grip::hand_phalanx_count;
+  RowMatrix base(n, 3), tip(n, 3), axis(grip::hand_dof_count, 3), point(grip::hand_dof_count, 3);
+  Eigen::VectorXd radius(n);
+  for (int k = 0; k < n; ++k) {
     const auto& c = p.phalanges[static_cast<std::size_t>(k)];
     base.row(k) = c.base.transpose();
     tip.row(k) = c.tip.transpose();
     radius(k) = c.radius;
   }
+  for (int i = 0; i < grip::hand_dof_count; ++i) {
+    axis.row(i) = p.joints[static_cast<std::size_t>(i)].axis.transpose();
+    point.row(i) = p.joints[static_cast<std::size_t>(i)].point.transpose();
+  }
   py::dict d;
   d["base"] = base;
   d["tip"] = tip;
   d["radius"] = radius;
+  d["joint_axis"] = axis;
+  d["joint_point"] = point;
   return d;
 }
 
@@ -166,10 +177,16 @@ void bind_hand(py::module_& m) {
         py::arg("grasp_type") = grip::GraspType::CylindricalPower, "The ContributionTable of a GraspType.");
 
   py::class_<Dims>(m, "HandDimensions", "The hand model's sizes (m) and joint axes, hand frame (docs/hand.md).")
-      .def_static("standard", [](double L) {
+      .def_static("standard", [](double L, bool left) {
         if (!(L > 0) || !std::isfinite(L)) invalid("hand_length must be finite and > 0");
-        return Dims::standard(L);
-      }, py::arg("hand_length") = 0.19, "anthropometric defaults (Buchholz 1992) for a hand of length L (m)")
+        return Dims::standard(L, left ? grip::Side::Left : grip::Side::Right);
+      }, py::arg("hand_length") = 0.19, py::arg("left") = false,
+      "anthropometric defaults (Buchholz 1992) for a hand of length L (m); left=True mirrors it")
+      .def_property_readonly("left", [](const Dims& d) { return d.side == grip::Side::Left; })
+      .def_property_readonly("joint_lower", [](const Dims& d) { return std::vector<double>(d.limits.lower.begin(), d.limits.lower.end()); },
+                             "(20,) the whole hand's lower joint limits (rad)")
+      .def_property_readonly("joint_upper", [](const Dims& d) { return std::vector<double>(d.limits.upper.begin(), d.limits.upper.end()); },
+                             "(20,) the whole hand's upper joint limits (rad)")
       .def_readonly("hand_length", &Dims::hand_length)
       .def_property_readonly("length", [](const Dims& d) { return std::vector<double>(d.length.begin(), d.length.end()); })
       .def_property_readonly("radius", [](const Dims& d) { return std::vector<double>(d.radius.begin(), d.radius.end()); })
@@ -192,8 +209,21 @@ void bind_hand(py::module_& m) {
           return capsules(posture(dims ? *dims : Dims::standard(), wrist, q));
         },
         py::arg("wrist"), py::arg("angles"), py::arg("dims") = nullptr,
-        "The 14 phalanges posed: wrist (4, 4) hand frame to world, angles (14,) flexion (rad). Returns a dict: "
-        "base and tip (14, 3) (m, world), radius (14,) of each phalanx's capsule, in the order of docs/hand.md.");
+        "The hand posed: wrist (4, 4) hand frame to world; angles (14,), the paper's flexions (rad), or (20,), the "
+        "whole hand's joints. Returns a dict: base and tip (n, 3) (m, world) and radius (n,) of each body's capsule "
+        "(n = 14 phalanges, or 19 with the palm's metacarpals), joint_axis and joint_point (20, 3), in the orders of "
+        "docs/hand.md (a joint the hand holds fixed has a zero axis).");
+  m.def("point_jacobian",
+        [](const py::handle& wrist, const py::handle& q, int body, const py::handle& point, const Dims* dims) {
+          const grip::HandPosture<double> p = posture(dims ? *dims : Dims::standard(), wrist, q);
+          if (body < 0 || body >= grip::hand_body_count || !(p.bodies >> body & 1u)) invalid("body must be one of the posed hand's bodies, not " + std::to_string(body));
+          grip::PointJacobian<double> J;
+          if (grip::point_jacobian(p, body, vec3(point, "point"), J) != grip::Status::Ok) invalid("the point must be finite");
+          return RowMatrix(J);
+        },
+        py::arg("wrist"), py::arg("angles"), py::arg("body"), py::arg("point"), py::arg("dims") = nullptr,
+        "(3, 20) Jacobian of a world point carried by body `body` (0..13 phalanges, 14..18 metacarpals) with "
+        "respect to the 20 joints; J.T @ f is the joint torques of a force f on that point (docs/hand.md).");
 
   py::class_<Prim>(m, "Primitive", "A sphere, box, cylinder or capsule with its pose in the object frame.");
   m.def("sphere", [](double r, const py::handle& c) { return checked(grip::make_sphere(r, vec3(c, "center")), "sphere"); },
@@ -251,7 +281,7 @@ void bind_hand(py::module_& m) {
         py::arg("dims") = nullptr, py::arg("per_phalanx") = 1, py::arg("octree") = py::none(),
         "Contacts of the posed hand with `field` (a Shape or a Mesh, object frame) placed by object_pose (4, 4) "
         "(identity by default), through `octree` (a SphericalOctree of the same field) when given, else directly: "
-        "a dict of phalanx (m,) (0..13), point (m, 3) on the surface and normal (m, 3) into the object (world), "
+        "a dict of phalanx (m,) (0..13; 14..18 the palm's bodies with 20 joints), point (m, 3) on the surface and normal (m, 3) into the object (world), "
         "depth (m,) (m, > 0), sample, axis_parameter and status. Exact at faces, edges and corners (docs/geometry.md).");
 }
 

@@ -152,3 +152,59 @@ def test_haptic_loop_takes_a_contribution_table():
     assert loop is not None
     with pytest.raises(TypeError):
         grip.HapticLoop(position=(0.0, 0.0, 0.0), thumb_contribution=(0.15, 0.25))
+
+
+def test_the_whole_hand_opens_flat_and_has_a_palm():
+    fk = grip.forward_kinematics(np.eye(4), np.zeros(20))
+    assert fk["base"].shape == (19, 3) and fk["radius"].shape == (19,)
+    # The open hand: every body's axis on or above the palm plane (hand frame z = 0).
+    assert min(fk["base"][:, 2].min(), fk["tip"][:, 2].min()) >= -1e-12
+    # The paper's hand: 14 phalanges, its thumb hanging below the palm; fixed joints, zero axes.
+    paper = grip.forward_kinematics(np.eye(4), np.zeros(14))
+    assert paper["base"].shape == (14, 3) and paper["tip"][1, 2] < -0.05
+    assert np.all(paper["joint_axis"][[0, 1, 4, 8, 12, 16]] == 0)
+
+
+def test_the_left_hand_mirrors_the_right():
+    rng = np.random.default_rng(21)
+    right, left = grip.HandDimensions.standard(), grip.HandDimensions.standard(left=True)
+    assert left.left and not right.left
+    q = rng.uniform(np.array(right.joint_lower) * 0.9, np.array(right.joint_upper) * 0.9)
+    a, b = grip.forward_kinematics(np.eye(4), q, right), grip.forward_kinematics(np.eye(4), q, left)
+    m = np.array([1.0, -1.0, 1.0])
+    np.testing.assert_allclose(b["tip"], a["tip"] * m, atol=1e-15)
+
+
+def test_point_jacobians_are_the_derivatives_of_forward_kinematics():
+    rng = np.random.default_rng(22)
+    d = grip.HandDimensions.standard()
+    for _ in range(3):
+        wrist = random_pose(rng)
+        q = rng.uniform(np.array(d.joint_lower) * 0.9, np.array(d.joint_upper) * 0.9)
+        fk = grip.forward_kinematics(wrist, q, d)
+        for body in range(19):
+            J = grip.point_jacobian(wrist, q, body, fk["tip"][body], d)
+            assert J.shape == (3, 20)
+            h = 1e-6
+            for i in range(20):
+                dq = np.zeros(20)
+                dq[i] = h
+                num = (grip.forward_kinematics(wrist, q + dq, d)["tip"][body]
+                       - grip.forward_kinematics(wrist, q - dq, d)["tip"][body]) / (2 * h)
+                np.testing.assert_allclose(J[:, i], num, atol=1e-8)
+    with pytest.raises(ValueError):
+        grip.point_jacobian(np.eye(4), np.zeros(14), 15, [0, 0, 0])  # the paper's hand has no palm
+
+
+def test_the_whole_hand_touches_an_object_with_its_palm():
+    cylinder = grip.Shape([grip.cylinder(0.035, 0.07)])
+    L = 0.19
+    pose = np.eye(4)
+    pose[:3, :3] = rodrigues(np.array([1.0, 0, 0]), np.pi / 2)  # axis across the palm
+    pose[:3, 3] = [0.27 * L, -0.02, -(0.035 + 0.055 * L - 0.001)]  # 1 mm into the palm
+    whole = grip.hand_contacts(cylinder, np.eye(4), np.zeros(20), pose)
+    assert set(whole["phalanx"]) >= {15, 16, 17}  # the index, long and ring metacarpals
+    # Each of them 1 mm deep: the cylinder's top against the palm's flat underside.
+    np.testing.assert_allclose(whole["depth"][np.isin(whole["phalanx"], [15, 16])], 0.001, atol=1e-9)
+    paper = grip.hand_contacts(cylinder, np.eye(4), np.zeros(14), pose)
+    assert not np.any(paper["phalanx"] >= 14)
