@@ -108,13 +108,15 @@ struct PhalanxActuators {
   std::array<Scalar, hand_phalanx_count> limit{};  ///< Largest push (N) per phalanx, >= 0.
   PhalanxActuators() { limit.fill(Scalar(10)); }
 
+  /// What the actuators render in one frame.
   struct Command {
     std::array<Scalar, hand_phalanx_count> wanted{};  ///< F . direction (N)
     std::array<Scalar, hand_phalanx_count> force{};   ///< rendered (N)
-    int clipped{0};
-    Status status{Status::InvalidInput};
+    int clipped{0};                                   ///< phalanges in contact whose force != wanted
+    Status status{Status::InvalidInput};              ///< Ok, or InvalidInput (command zeroed)
   };
 
+  /// Renders `in` (its force and direction per phalanx) into `out`; see the file comment.
   Status render(const FeltForces<Scalar>& in, const HandPosture<Scalar>&, const HandJoints<Scalar>&,
                 Command& out) const {
     out = Command{};
@@ -138,14 +140,16 @@ struct VectorForces {
   bool fingertips_only{false};                     ///< Only the distal phalanges have a device.
   VectorForces() { limit.fill(Scalar(10)); }
 
+  /// What the device renders in one frame.
   struct Command {
     std::array<Vector3<Scalar>, hand_phalanx_count> force{};  ///< rendered (N, world)
     std::array<Scalar, hand_phalanx_count> scale{};           ///< rendered / wanted, in [0, 1]
-    int clipped{0};
-    Status status{Status::InvalidInput};
+    int clipped{0};                                           ///< phalanges scaled down (or off)
+    Status status{Status::InvalidInput};                      ///< Ok, or InvalidInput (command zeroed)
     Command() { force.fill(Vector3<Scalar>::Zero()); }
   };
 
+  /// Renders `in` (its force per phalanx) into `out`; see the file comment.
   Status render(const FeltForces<Scalar>& in, const HandPosture<Scalar>&, const HandJoints<Scalar>&,
                 Command& out) const {
     out = Command{};
@@ -182,7 +186,7 @@ struct JointCommand {
   HandJoints<Scalar> wanted{HandJoints<Scalar>::Zero()};  ///< J^T F (N m)
   HandJoints<Scalar> torque{HandJoints<Scalar>::Zero()};  ///< rendered (N m)
   int clipped{0};                                         ///< joints where torque != wanted
-  Status status{Status::InvalidInput};
+  Status status{Status::InvalidInput};                    ///< Ok, or InvalidInput (command zeroed)
 };
 
 /// J^T F clipped to [-limit, limit]; with `velocity`, a torque that would drive its joint
@@ -219,6 +223,7 @@ struct JointTorques {
 
   using Command = detail::JointCommand<Scalar>;  ///< wanted, torque, clipped, status
 
+  /// Renders the torques of `in` at the joints of `posture` into `out`; see the file comment.
   Status render(const FeltForces<Scalar>& in, const HandPosture<Scalar>& posture, const HandJoints<Scalar>&,
                 Command& out) const {
     return detail::render_joints(limit, in, posture, static_cast<const HandJoints<Scalar>*>(nullptr), out);
@@ -236,6 +241,8 @@ struct JointBrakes {
 
   using Command = detail::JointCommand<Scalar>;  ///< wanted, torque (resisting only), clipped, status
 
+  /// Renders the resisting part of the torques of `in` at the joints of `posture`, given the
+  /// joints' velocities (rad/s), into `out`; see the file comment.
   Status render(const FeltForces<Scalar>& in, const HandPosture<Scalar>& posture,
                 const HandJoints<Scalar>& joint_velocity, Command& out) const {
     return detail::render_joints(limit, in, posture, &joint_velocity, out);

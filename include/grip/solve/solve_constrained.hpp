@@ -173,7 +173,10 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
       sol.status = Status::Ok;
     } else {
       sol.status = Status::Infeasible;
-      sol.certificate = w_ext / sol.residual;
+      // Scaled by its largest component first: a denormal wrench's norm keeps too few bits to
+      // divide by (w = (1, 0, 0, 0, 21, 0) units of the least float gave a norm of 21 units).
+      const Wrench<S> unit = w_ext / w_ext.cwiseAbs().maxCoeff();
+      sol.certificate = unit / unit.norm();
     }
     return sol;
   }
