@@ -284,6 +284,27 @@ TEST_CASE_TEMPLATE("feedback is clamped to the device's limit and reported", S, 
   CHECK(clamped >= 1);  // the thumb's ~24 N at least
 }
 
+TEST_CASE_TEMPLATE("the default device's limits are the feedback's: one source", S, double, float) {
+  grip_test::HeldCylinder<S> h;
+  h.settings.device_limit.fill(S(2));
+  auto p = h.pipeline();
+  HapticFrame<S> f;
+  REQUIRE(p.step(h.wrist, h.closed, f) == Status::Ok);
+  const int k = phalanx_index(Finger::Thumb, Phalanx::Distal);
+  REQUIRE(f.phalanges[detail::idx(k)].actuated > S(3));  // pushed beyond both limits below
+  CHECK(f.phalanges[detail::idx(k)].command == S(2));
+  // Raised on the device only: the next frame's feedback follows it, and equals the device's.
+  p.device().limit[detail::idx(k)] = S(3);
+  REQUIRE(p.step(h.wrist, h.closed, f) == Status::Ok);
+  CHECK(f.phalanges[detail::idx(k)].command == S(3));
+  for (int j = 0; j < hand_phalanx_count; ++j) CHECK(f.phalanges[detail::idx(j)].command == p.device_command().force[detail::idx(j)]);
+  CHECK(f.clamped == p.device_command().clipped);
+  // Another device: the feedback keeps the settings' limits (the paper's actuator view).
+  auto v = h.template pipeline_with_device<VectorForces<S>>();
+  REQUIRE(v.step(h.wrist, h.closed, f) == Status::Ok);
+  CHECK(f.phalanges[detail::idx(k)].command == S(2));
+}
+
 TEST_CASE_TEMPLATE("bad input: InvalidInput, object unchanged", S, double, float) {
   grip_test::HeldCylinder<S> h;
   auto p = h.pipeline();

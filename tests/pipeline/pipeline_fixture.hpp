@@ -61,6 +61,11 @@ struct HeldCylinder {
   grip::HapticPipeline<S, grip::CylinderScene<S>, Solver> pipeline_with() const {
     return grip::HapticPipeline<S, grip::CylinderScene<S>, Solver>(settings, scene, object);
   }
+  /// The pipeline with another device policy.
+  template <class Device>
+  grip::HapticPipeline<S, grip::CylinderScene<S>, grip::RangeSpaceFrameSolver, Device> pipeline_with_device() const {
+    return grip::HapticPipeline<S, grip::CylinderScene<S>, grip::RangeSpaceFrameSolver, Device>(settings, scene, object);
+  }
 };
 
 /// The round-off tolerance (support/tolerance.hpp) of a held frame's forces, in newtons: k

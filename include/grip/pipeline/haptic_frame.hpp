@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 
+#include "grip/core/index.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
 #include "grip/dynamics/external_wrench.hpp"
@@ -45,8 +46,9 @@ struct HapticSettings {
   Scalar friction{Scalar(0.8)};                              ///< Coulomb mu of every hand contact
   Vector3<Scalar> gravity{Scalar(0), Scalar(0), Scalar(-9.81)};  ///< g (m/s^2)
   PenaltyMaterial<Scalar> obstacle_material{};               ///< object-obstacle spring-damper
-  /// The largest force per phalanx along its actuation direction (N): the limit of each
-  /// PhalanxFeedback::command and of the default device policy, PhalanxActuators.
+  /// The largest force per phalanx along its actuation direction (N): the default device
+  /// policy's (PhalanxActuators) limits when the pipeline is built (then device().limit), and
+  /// the limits of PhalanxFeedback::command under the other device policies.
   std::array<Scalar, hand_phalanx_count> device_limit{};
   Scalar dt{Scalar(1e-3)};                                   ///< frame period (s)
   int max_resolves{4};  ///< re-solves per frame after dropping separating contacts, >= 0
@@ -100,5 +102,19 @@ struct HapticFrame {
   bool held{false};     ///< the grasp is stable: the object moves with the hand
   Scalar min_margin{0};  ///< smallest Coulomb margin (N) over the contacts of the last solve
 };
+
+namespace detail {
+
+/// Sets phalanx k's command (N) in `frame`, and whether it differs from the force the phalanx
+/// should feel (PhalanxFeedback::clamped, counted in HapticFrame::clamped).
+template <class Scalar>
+void set_phalanx_command(HapticFrame<Scalar>& frame, int k, Scalar command) {
+  PhalanxFeedback<Scalar>& fb = frame.phalanges[idx(k)];
+  fb.command = command;
+  fb.clamped = fb.in_contact && fb.command != fb.actuated;
+  if (fb.clamped) ++frame.clamped;
+}
+
+}  // namespace detail
 
 }  // namespace grip

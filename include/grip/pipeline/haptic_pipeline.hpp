@@ -48,8 +48,9 @@ namespace grip {
 ///   own depth.
 /// - `Solver`: a frame solver policy (frame_solver.hpp: RangeSpaceFrameSolver, ...).
 /// - `Device`: a device policy (device_policy.hpp: PhalanxActuators, the paper's glove and the
-///   default, whose limits are settings.device_limit; VectorForces, JointTorques,
-///   JointBrakes). Its command of the last frame is device_command().
+///   default, whose limits start as settings.device_limit, then device().limit, and whose
+///   command is each PhalanxFeedback::command; VectorForces, JointTorques, JointBrakes). Its
+///   command of the last frame is device_command().
 /// - The hand: step() takes the paper's 14 flexion angles (a hand without a palm) or the
 ///   whole hand's 20 joints (hand_joints.hpp; the palm and the thenar then touch objects too).
 ///
@@ -73,7 +74,7 @@ class HapticPipeline {
   /// A pipeline over `scene` with `settings`, the object starting in state `object` (free).
   HapticPipeline(const HapticSettings<Scalar>& settings, const Scene& scene, const RigidBody<Scalar>& object)
       : settings_(settings), scene_(scene), object_(object) {
-    if constexpr (std::is_same<Device, PhalanxActuators<Scalar>>::value) device_.limit = settings.device_limit;
+    if constexpr (phalanx_device) device_.limit = settings.device_limit;
   }
 
   /// Runs one frame. `angles`: the 14 flexion angles (JointAngles) or the 20 joints
@@ -172,16 +173,19 @@ class HapticPipeline {
   /// step_free moves object_ by dt. Reads forces_, hand_, `wrist`; writes held_, offset_,
   /// object_, frame.unbalanced and frame.held.
   void move_object(const WristState<Scalar>& wrist, HapticFrame<Scalar>& frame);
-  /// 8. Feedback: each phalanx feels -f_i summed over its contacts, its command clamped to
-  /// [0, device_limit]; the palm's contacts sum into frame.palm_force. Reads forces_, hand_,
-  /// posture_, settings_; writes frame.phalanges, frame.palm_force, frame.clamped, felt_.
+  /// 8. Feedback: each phalanx feels -f_i summed over its contacts (command: see Device), the
+  /// palm frame.palm_force. Reads forces_, hand_, posture_, settings_; writes frame, felt_.
   void phalanx_feedback(HapticFrame<Scalar>& frame);
-  /// 9. Device: device_ renders felt_ (posture_, joint_velocity_) into command_. Writes
-  /// frame.device_clipped.
+  /// 9. Device: device_ renders felt_ (posture_, joint_velocity_) into command_; writes
+  /// frame.device_clipped (PhalanxActuators: each phalanx's command and frame.clamped).
   void render_device(HapticFrame<Scalar>& frame) {
     (void)device_.render(felt_, posture_, joint_velocity_, command_);
     frame.device_clipped = command_.clipped;
+    if constexpr (phalanx_device)
+      for (int k = 0; k < hand_phalanx_count; ++k) detail::set_phalanx_command(frame, k, command_.force[detail::idx(k)]);
   }
+  /// Whether Device is the default PhalanxActuators, whose command is PhalanxFeedback::command.
+  static constexpr bool phalanx_device = std::is_same<Device, PhalanxActuators<Scalar>>::value;
 
   Isometry object_pose() const {
     Isometry t = Isometry::Identity();
@@ -388,9 +392,8 @@ void HapticPipeline<Scalar, Scene, Solver, Device>::phalanx_feedback(HapticFrame
     PhalanxFeedback<Scalar>& fb = frame.phalanges[detail::idx(k)];
     fb.actuation_direction = felt_.direction[detail::idx(k)];
     fb.actuated = fb.force.dot(fb.actuation_direction);
-    fb.command = detail::push_command(fb.actuated, settings_.device_limit[detail::idx(k)]);
-    fb.clamped = fb.in_contact && fb.command != fb.actuated;
-    if (fb.clamped) ++frame.clamped;
+    if constexpr (!phalanx_device)  // else the device's own command (render_device)
+      detail::set_phalanx_command(frame, k, detail::push_command(fb.actuated, settings_.device_limit[detail::idx(k)]));
   }
 }
 
