@@ -164,30 +164,25 @@ inline grip::Isometry3<double> pose(const py::handle& obj, const char* name) {
   return t;
 }
 
-/// The whole hand's 20 joints (rad), finite.
-inline grip::HandJoints<double> joints(const py::handle& obj) {
+/// A finite vector of Size joint values (rad) named `name` in messages.
+template <int Size>
+Eigen::Matrix<double, Size, 1> joint_vector(const py::handle& obj, const char* name) {
   const Array a = Array::ensure(obj);
-  if (!a || a.ndim() != 1 || a.shape(0) != grip::hand_dof_count)
-    invalid("joints must have shape (20,) (rad, the joint order of docs/hand.md), not " + (a ? shape_of(a) : std::string("?")));
-  grip::HandJoints<double> q;
-  for (int k = 0; k < grip::hand_dof_count; ++k) {
+  if (!a || a.ndim() != 1 || a.shape(0) != Size)
+    invalid(std::string(name) + " must have shape (" + std::to_string(Size) +
+            ",) (rad, the joint order of docs/hand.md), not " + (a ? shape_of(a) : std::string("?")));
+  Eigen::Matrix<double, Size, 1> q;
+  for (int k = 0; k < Size; ++k) {
     q(k) = a.at(k);
-    if (!std::isfinite(q(k))) invalid("joints[" + std::to_string(k) + "] is not finite");
+    if (!std::isfinite(q(k))) invalid(std::string(name) + "[" + std::to_string(k) + "] is not finite");
   }
   return q;
 }
 
+/// The whole hand's 20 joints (rad), finite.
+inline grip::HandJoints<double> joints(const py::handle& obj) { return joint_vector<grip::hand_dof_count>(obj, "joints"); }
+
 /// The 14 joint angles (rad), finite.
-inline grip::JointAngles<double> angles(const py::handle& obj) {
-  const Array a = Array::ensure(obj);
-  if (!a || a.ndim() != 1 || a.shape(0) != grip::hand_joint_count)
-    invalid("angles must have shape (14,) (rad, the joint order of docs/hand.md), not " + (a ? shape_of(a) : std::string("?")));
-  grip::JointAngles<double> q;
-  for (int k = 0; k < grip::hand_joint_count; ++k) {
-    q(k) = a.at(k);
-    if (!std::isfinite(q(k))) invalid("angles[" + std::to_string(k) + "] is not finite");
-  }
-  return q;
-}
+inline grip::JointAngles<double> angles(const py::handle& obj) { return joint_vector<grip::hand_joint_count>(obj, "angles"); }
 
 }  // namespace grip_python
