@@ -173,7 +173,7 @@ void bind_pipeline(py::module_& m) {
   py::class_<PyHapticLoop>(m, "HapticLoop",
                            "grip's per-frame haptic pipeline over a solid cylinder (its axis the body's z) with box "
                            "obstacles; forces by the optimum inside the exact friction cones, warm-started frame to "
-                           "frame (max_passes: the deadline, none by default). contribution: the phalanges' shares d "
+                           "frame (max_passes: the deadline of each solve, 16 passes by default; a large value for the exact answer at any cost). contribution: the phalanges' shares d "
                            "(a ContributionTable, the cylindrical power grip by default); obstacle_stiffness (N/m) and obstacle_damping (N s/m) per obstacle contact point.")
       .def(py::init<double, double, double, const py::handle&, const py::handle&,
                     const std::vector<std::pair<py::object, py::object>>&, const grip::HandDimensions<double>&, double,
@@ -185,7 +185,7 @@ void bind_pipeline(py::module_& m) {
            py::arg("hand") = grip::HandDimensions<double>::standard(), py::arg("friction") = 0.8,
            py::arg("stiffness") = 3e4, py::arg("device_limit") = 10.0,
            py::arg("contribution") = grip::cylindrical_power_grip<double>(), py::arg("dt") = 1e-3,
-           py::arg("max_passes") = grip::ConstrainedSettings<double>{}.max_passes, py::arg("obstacle_stiffness") = 2e4, py::arg("obstacle_damping") = 50.0)
+           py::arg("max_passes") = grip::ConstrainedFrameSolver<double>::default_max_passes, py::arg("obstacle_stiffness") = 2e4, py::arg("obstacle_damping") = 50.0)
       .def("step", &PyHapticLoop::step, py::arg("wrist"), py::arg("angles"),
            py::arg("linear_velocity") = std::vector<double>{0, 0, 0}, py::arg("angular_velocity") = std::vector<double>{0, 0, 0},
            py::arg("linear_acceleration") = std::vector<double>{0, 0, 0},

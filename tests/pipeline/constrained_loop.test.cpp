@@ -1,8 +1,11 @@
 // The haptic loop with the friction-constrained solver, warm-started frame to frame.
 #include <doctest/doctest.h>
 
+#include <limits>
+
 #include <grip/pipeline/frame_solver.hpp>
 
+#include "../../examples/06_haptic_loop/session.hpp"
 #include "pipeline/pipeline_fixture.hpp"
 #include "support/allocation_counter.hpp"
 #include "support/tolerance.hpp"
@@ -65,9 +68,10 @@ TEST_CASE_TEMPLATE("constrained loop: a deadline set through solver() reaches ev
   h.settings.friction = S(0.2);
   HapticPipeline<S, CylinderScene<S>, ConstrainedFrameSolver<S>> free_run(h.settings, h.scene, h.object);
   HapticPipeline<S, CylinderScene<S>, ConstrainedFrameSolver<S>> bounded(h.settings, h.scene, h.object);
+  CHECK(free_run.solver().settings.max_passes == ConstrainedFrameSolver<S>::default_max_passes);
+  free_run.solver().settings.max_passes = std::numeric_limits<int>::max();
   bounded.solver().settings.max_passes = 1;
   REQUIRE(bounded.solver().settings.max_passes == 1);
-  CHECK(free_run.solver().settings.max_passes == ConstrainedSettings<S>{}.max_passes);
   HapticFrame<S> f, g;
   // Cold: the fast path, which spends no pass, so both hold the cylinder.
   REQUIRE(free_run.step(h.wrist, h.closed, f) == Status::Ok);
@@ -95,4 +99,34 @@ TEST_CASE_TEMPLATE("constrained loop: a deadline set through solver() reaches ev
     CHECK(!g.held);  // an answer cut short is not a stable grasp: the pipeline lets go
   }
   REQUIRE(stepped);
+}
+
+TEST_CASE("constrained loop: the default deadline bounds every solve of a slipping grasp") {
+  // The first 0.32 s of example 06's scripted session: the hand closes on the bottle standing
+  // on the table, and the grasp slips while it closes (solves without a deadline need up to
+  // hundreds of passes there). The default pipeline spends at most default_max_passes passes
+  // per solve; run beside it, the same loop without a deadline needs more on some frame.
+  using S = haptic_session::S;
+  const haptic_session::Script script;
+  using Pipeline = HapticPipeline<S, CylinderScene<S>, ConstrainedFrameSolver<S>>;
+  Pipeline exact(haptic_session::settings(), haptic_session::scene(), haptic_session::object());
+  Pipeline bounded(haptic_session::settings(), haptic_session::scene(), haptic_session::object());
+  exact.solver().settings.max_passes = std::numeric_limits<int>::max();
+  const int limit = ConstrainedFrameSolver<S>::default_max_passes;
+  REQUIRE(bounded.solver().settings.max_passes == limit);
+  HapticFrame<S> f, g;
+  int exact_most = 0, bounded_most = 0, cut = 0;
+  for (int i = 0; i < 320; ++i) {
+    const S t = S(i) / haptic_session::rate;
+    REQUIRE(exact.step(script.wrist(t), script.angles(t), f) == Status::Ok);
+    REQUIRE(bounded.step(script.wrist(t), script.angles(t), g) == Status::Ok);
+    exact_most = std::max(exact_most, exact.solver().passes);
+    bounded_most = std::max(bounded_most, bounded.solver().passes);
+    CHECK(bounded.solver().passes <= limit);
+    if (g.solve_status == Status::IterationLimit) ++cut;
+    for (const auto& ph : g.phalanges) CHECK(ph.force.allFinite());
+  }
+  CHECK(exact_most > 10 * limit);
+  CHECK(bounded_most == limit);
+  CHECK(cut >= 1);
 }

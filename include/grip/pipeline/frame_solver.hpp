@@ -11,7 +11,7 @@
 /// - RangeSpaceFrameSolver: the equality-constrained optimum of F2, O(n) (the default);
 /// - KktFrameSolver: the same optimum by the paper's section 5 method, O(n^3) (a baseline);
 /// - ConstrainedFrameSolver: the optimum with every force inside its exact cone,
-///   warm-started from the previous frame.
+///   warm-started from the previous frame, within a deadline of passes per solve.
 
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
@@ -47,17 +47,34 @@ struct KktFrameSolver {
   }
 };
 
-/// The exact optimum of F2 with every force inside its exact cone (solve_constrained). From
-/// the second frame on, each solve is warm-started from the multipliers of the previous Ok or
-/// IterationLimit solve (contacts change little between 1 kHz frames; the multipliers are a
-/// 6-vector, so they carry over whatever contacts come and go). `settings` are
-/// solve_constrained's (tolerances, iteration bound).
+/// The exact optimum of F2 with every force inside its exact cone (solve_constrained), within
+/// a deadline. From the second frame on, each solve is warm-started from the multipliers of
+/// the previous Ok or IterationLimit solve (contacts change little between 1 kHz frames; the
+/// multipliers are a 6-vector, so they carry over whatever contacts come and go). `settings`
+/// are solve_constrained's, with one difference: a real-time deadline of
+/// `default_max_passes` passes per solve, so that a frame whose grasp slips costs a bounded
+/// time (a solve cut short answers IterationLimit with forces in their cones, and the next
+/// frame goes on from its multipliers). For the exact answer at any cost, set
+/// settings.max_passes = std::numeric_limits<int>::max().
 template <class Scalar>
 struct ConstrainedFrameSolver {
   static constexpr bool enforces_cones = true;  ///< forces come back inside their exact cones
-  ConstrainedSettings<Scalar> settings{};      ///< tolerances and bounds of every solve
+  /// The default deadline of every solve (ConstrainedSettings::max_passes): 16 passes, which
+  /// keeps the slipping frames of the haptic loop's benchmark within about three times the
+  /// held frames' median, with as many frames held as without a deadline (bench/RESULTS.md).
+  static constexpr int default_max_passes = 16;
+  /// Tolerances and bounds of every solve: solve_constrained's defaults, max_passes excepted.
+  ConstrainedSettings<Scalar> settings{real_time_settings()};
   Wrench<Scalar> warm{Wrench<Scalar>::Zero()};  ///< multipliers of the last usable solve
   bool has_warm{false};                         ///< whether `warm` holds any
+  int passes{0};  ///< passes over the contacts of the last solve (settings.max_passes bounds it)
+
+  /// solve_constrained's default settings with max_passes = default_max_passes.
+  static ConstrainedSettings<Scalar> real_time_settings() {
+    ConstrainedSettings<Scalar> s;
+    s.max_passes = default_max_passes;
+    return s;
+  }
 
   /// min F2 s.t. G x + w_ext = 0 and x_i in K_i for this frame's grasp (GraspT::ScalarType must be
   /// Scalar), warm-started when `has_warm`; keeps the multipliers of an Ok or IterationLimit solve
@@ -66,6 +83,7 @@ struct ConstrainedFrameSolver {
   Solution<GraspT> operator()(const GraspT& grasp, const Wrench<Scalar>& w_ext) {
     const ConstrainedSolution<GraspT> sol =
         has_warm ? solve_constrained(grasp, w_ext, settings, warm) : solve_constrained(grasp, w_ext, settings);
+    passes = sol.passes;
     if ((sol.status == Status::Ok || sol.status == Status::IterationLimit) && sol.multipliers.allFinite()) {
       warm = sol.multipliers;
       has_warm = true;
