@@ -1,6 +1,7 @@
 // The inner polytope of the epsilon search (analysis/detail/epsilon_polytope.hpp): facet
-// normals against an SVD's null vector, the horizon against a count of every ridge, the scan
-// against a plain loop over the facets.
+// normals against an SVD's null vector; the breadth-first search for the facets a point sees
+// against a plain loop over the facets, its horizon against a count of every ridge, and the
+// adjacency, planes, convexity and nearest facet after each step of a growing hull.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -21,8 +22,6 @@ using namespace grip;
 
 namespace {
 
-using Ws = EpsilonWorkspace<double, 64, 256>;
-
 // Random sorted 6-subsets of 0 .. range - 1 (a small range makes ridges repeat).
 std::array<int, 6> random_facet(std::mt19937& rng, int range) {
   std::vector<int> all(static_cast<std::size_t>(range));
@@ -40,6 +39,7 @@ TEST_CASE_TEMPLATE("facet normals: unit, normal to every edge, the SVD's null ve
   std::mt19937 rng(41);
   grip_test::Normal n01(0.0, 1.0);
   auto ws = std::make_unique<EpsilonWorkspace<S, 64, 256>>();
+  auto normals = std::make_unique<std::array<std::array<S, 256>, 6>>();  // normals[i][f]
   for (int v = 0; v < 64; ++v)
     for (int i = 0; i < 6; ++i) ws->vertices[static_cast<std::size_t>(v)][i] = S(n01(rng));
   // Some simplices nearly flat in one direction: vertices 48 .. 63 copy vertex 0 but for a
@@ -52,13 +52,13 @@ TEST_CASE_TEMPLATE("facet normals: unit, normal to every edge, the SVD's null ve
     const int first = count % 5;
     for (int f = first; f < first + count; ++f)
       ws->facet_vertices[static_cast<std::size_t>(f)] = random_facet(rng, f % 2 ? 64 : 48);
-    detail::facet_normals<16>(ws->vertices.data(), ws->facet_vertices, first, count, ws->normals);
+    detail::facet_normals<16>(ws->vertices.data(), ws->facet_vertices, first, count, *normals);
     for (int f = first; f < first + count; ++f) {
       const auto fi = static_cast<std::size_t>(f);
       const std::array<int, 6>& fv = ws->facet_vertices[fi];
       Eigen::Matrix<double, 5, 6> e;
       Wrench<double> n;
-      for (int i = 0; i < 6; ++i) n[i] = double(ws->normals[static_cast<std::size_t>(i)][fi]);
+      for (int i = 0; i < 6; ++i) n[i] = double((*normals)[static_cast<std::size_t>(i)][fi]);
       double longest = 0;
       for (int k = 1; k < 6; ++k) {
         e.row(k - 1) = (ws->vertices[static_cast<std::size_t>(fv[static_cast<std::size_t>(k)])] -
@@ -85,55 +85,22 @@ TEST_CASE_TEMPLATE("facet normals: unit, normal to every edge, the SVD's null ve
   }
 }
 
-TEST_CASE("epsilon polytope: the horizon is every ridge one visible facet has") {
-  std::mt19937 rng(43);
-  auto ws = std::make_unique<Ws>();
-  detail::PolytopeFacets<double, Ws> facets(*ws, Wrench<double>::Zero(), 0.0);
-  for (int trial = 0; trial < 200; ++trial) {
-    const int nvis = 1 + trial % 40;  // up to 40 facets: 480 ridge slots of the table's 512
-    const int range = 7 + trial % 9;  // few vertices: ridges repeat, twice and more
-    std::map<std::uint64_t, int> met;
-    for (int a = 0; a < nvis; ++a) {
-      // The visible facets: every other slot, so the scan's list is not 0 .. nvis - 1.
-      const std::array<int, 6> f = random_facet(rng, range);
-      ws->facet_vertices[static_cast<std::size_t>(2 * a + 1)] = f;
-      ws->visible[static_cast<std::size_t>(a)] = 2 * a + 1;
-      for (int drop = 0; drop < 6; ++drop) {
-        std::array<int, 5> r{};
-        for (int k = 0, j = 0; k < 6; ++k)
-          if (k != drop) r[static_cast<std::size_t>(j++)] = f[static_cast<std::size_t>(k)];
-        std::uint64_t key = 0;  // the ridge's five indices, base 4096 (independent of ridge_key)
-        for (int m = 0; m < 5; ++m) key = key * 4096 + static_cast<std::uint64_t>(r[static_cast<std::size_t>(m)]);
-        ++met[key];
-      }
-    }
-    std::vector<std::uint64_t> expect;
-    for (const auto& [key, times] : met)
-      if (times == 1) expect.push_back(key);
-    const int nh = facets.horizon(nvis);
-    REQUIRE(nh == static_cast<int>(expect.size()));
-    std::vector<std::uint64_t> got(ws->ridges.begin(), ws->ridges.begin() + nh);
-    std::sort(got.begin(), got.end());
-    CHECK(got == expect);
-    for (int k = 0; k < nh; ++k) {  // and the keys decode to the ridges' sorted indices
-      const std::array<int, 5> r = detail::ridge_vertices(got[static_cast<std::size_t>(k)]);
-      CHECK(std::is_sorted(r.begin(), r.end()));
-      CHECK(std::adjacent_find(r.begin(), r.end()) == r.end());
-    }
-  }
-  // 43 visible facets need a table of 1 024 slots: more than the scratch holds.
-  for (int a = 0; a < 43; ++a) ws->visible[static_cast<std::size_t>(a)] = a;
-  CHECK(facets.horizon(43) == -1);
-}
-
-TEST_CASE_TEMPLATE("epsilon polytope: the scan finds the facets a point sees, and the nearest other", S, double,
+TEST_CASE_TEMPLATE("epsilon polytope: a growing hull keeps its visible sets, horizon, adjacency and planes", S, double,
                    float) {
-  std::mt19937 rng(47);
+  using W = EpsilonWorkspace<S, 64, 16384>;
+  std::mt19937 rng(43);
   grip_test::Normal n01(0.0, 1.0);
-  auto ws = std::make_unique<EpsilonWorkspace<S, 64, 256>>();
-  for (int trial = 0; trial < 50; ++trial) {
-    // A simplex about the origin: vertex k at e_k (k < 6), vertex 6 at -(1, ..., 1) / 6,
-    // jittered; the centre is their mean.
+  auto ws = std::make_unique<W>();
+  // Round-off of a plane through its vertices (norms below 3): k = 64 of 3 (the candidate
+  // normals are kept within 4 u of each edge, facet_normals() within a few u). The visibility
+  // threshold is that round-off, as in the search (a larger one leaves the hull non-convex
+  // by more than itself: facets a point barely sees stay, and later cones fold over them).
+  const double ro = grip_test::roundoff<S>(64, 1, 3.0);
+  const S threshold = S(ro);
+  int steps = 0, cone_facets = 0;
+  for (int trial = 0; trial < 3; ++trial) {
+    // A simplex about the origin (vertex k at e_k, vertex 6 at -(1, ..., 1) / 6, jittered),
+    // then random points of norm 1 to 2.5, each added when some facet sees it.
     Wrench<S> centre = Wrench<S>::Zero();
     for (int v = 0; v < 7; ++v) {
       Wrench<S> x = v < 6 ? Wrench<S>(Wrench<S>::Unit(v)) : Wrench<S>(Wrench<S>::Constant(S(-1) / S(6)));
@@ -141,23 +108,85 @@ TEST_CASE_TEMPLATE("epsilon polytope: the scan finds the facets a point sees, an
       ws->vertices[static_cast<std::size_t>(v)] = x;
       centre += x / S(7);
     }
-    detail::PolytopeFacets<S, EpsilonWorkspace<S, 64, 256>> facets(*ws, centre, S(0));
+    detail::PolytopeFacets<S, W> facets(*ws, centre, S(0));
     REQUIRE(facets.simplex());
-    REQUIRE(facets.count() == 7);
-    for (int f = 0; f < 7; ++f) CHECK(facets.normal(f).dot(centre) < facets.offset(f));  // outward
-    Wrench<S> p;
-    for (int i = 0; i < 6; ++i) p[i] = S(2 * n01(rng));
-    const S threshold = S(0.01);
-    int best = -2;
-    const int nvis = facets.scan(p, threshold, best);
-    std::vector<int> expect;
-    int expect_best = -1;
-    for (int f = 0; f < 7; ++f) {
-      if (facets.normal(f).dot(p) - facets.offset(f) > threshold) expect.push_back(f);
-      else if (expect_best < 0 || facets.offset(f) < facets.offset(expect_best)) expect_best = f;
+    int nv = 7;
+    for (int attempt = 0; attempt < 400 && nv < W::max_vertices; ++attempt) {
+      Wrench<S> p;
+      for (int i = 0; i < 6; ++i) p[i] = S(n01(rng));
+      p *= S(1 + 1.5 * (attempt % 7) / 6.0) / p.norm();
+      // The plain loop: the facets that see p, and the one that sees it most (the start).
+      std::vector<int> expect;
+      int start = -1;
+      for (int f = 0; f < facets.count(); ++f)
+        if (facets.margin(f, p) > threshold) {
+          expect.push_back(f);
+          if (start < 0 || facets.margin(f, p) > facets.margin(start, p)) start = f;
+        }
+      if (expect.empty()) continue;
+      ws->vertices[static_cast<std::size_t>(nv)] = p;
+      const int nvis = facets.find_visible(p, threshold, start);
+      REQUIRE(nvis >= 0);
+      std::vector<int> got(ws->visible.begin(), ws->visible.begin() + nvis);
+      std::sort(got.begin(), got.end());
+      CHECK(got == expect);
+      // The horizon: the ridges exactly one visible facet has, each with the facet across.
+      std::map<std::uint64_t, int> met;
+      for (const int f : expect)
+        for (int drop = 0; drop < 6; ++drop)
+          ++met[detail::ridge_key(ws->facet_vertices[static_cast<std::size_t>(f)], drop)];
+      std::vector<std::uint64_t> once;
+      for (const auto& [key, times] : met)
+        if (times == 1) once.push_back(key);
+      const int nh = facets.horizon_size();
+      std::vector<std::uint64_t> horizon(ws->horizon.begin(), ws->horizon.begin() + nh);
+      std::sort(horizon.begin(), horizon.end());
+      CHECK(horizon == once);
+      for (int k = 0; k < nh; ++k) {
+        const int out = ws->outside[static_cast<std::size_t>(k)];
+        REQUIRE(out >= 0);
+        CHECK_FALSE(std::binary_search(expect.begin(), expect.end(), out / 8));
+        CHECK(detail::ridge_key(ws->facet_vertices[static_cast<std::size_t>(out / 8)], out % 8) ==
+              ws->horizon[static_cast<std::size_t>(k)]);
+      }
+      if (facets.count() - nvis + nh > W::max_facets) break;
+      facets.replace_visible(nv++);
+      ++steps;
+      // Adjacency: every neighbour exists, has the ridge and points back across it.
+      const int count = facets.count();
+      int bad = 0;
+      for (int f = 0; f < count; ++f)
+        for (int r = 0; r < 6; ++r) {
+          const auto fi = static_cast<std::size_t>(f);
+          const int g = ws->neighbours[fi][static_cast<std::size_t>(r)];
+          if (g < 0 || g >= count || g == f) {
+            ++bad;
+            continue;
+          }
+          int back = 0;
+          for (int s = 0; s < 6; ++s)
+            if (ws->neighbours[static_cast<std::size_t>(g)][static_cast<std::size_t>(s)] == f &&
+                detail::ridge_key(ws->facet_vertices[static_cast<std::size_t>(g)], s) ==
+                    detail::ridge_key(ws->facet_vertices[fi], r))
+              ++back;
+          bad += back == 1 ? 0 : 1;
+        }
+      CHECK(bad == 0);
+      // Planes: unit, through the facet's vertices, every vertex on the inner side (convex);
+      // nearest(): the least offset, the first of ties.
+      int best = 0;
+      for (int f = 0; f < count; ++f) {
+        CHECK(std::abs(double(facets.normal(f).norm()) - 1.0) <= ro);
+        for (const int v : ws->facet_vertices[static_cast<std::size_t>(f)])
+          CHECK(std::abs(double(facets.margin(f, ws->vertices[static_cast<std::size_t>(v)]))) <= ro);
+        for (int v = 0; v < nv; ++v)
+          CHECK(double(facets.margin(f, ws->vertices[static_cast<std::size_t>(v)])) <= double(threshold) + ro);
+        if (facets.offset(f) < facets.offset(best)) best = f;
+        cone_facets += ws->facet_vertices[static_cast<std::size_t>(f)][5] == nv - 1 ? 1 : 0;
+      }
+      CHECK(facets.nearest() == best);
     }
-    REQUIRE(nvis == static_cast<int>(expect.size()));
-    for (int a = 0; a < nvis; ++a) CHECK(ws->visible[static_cast<std::size_t>(a)] == expect[static_cast<std::size_t>(a)]);
-    CHECK(best == expect_best);
   }
+  CHECK(steps > 100);
+  CHECK(cone_facets > 0);
 }

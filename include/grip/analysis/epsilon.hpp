@@ -21,13 +21,15 @@
 ///
 /// Method (exact, like the expanding polytope algorithm of van den Bergen used for
 /// penetration depth): keep an inner polytope Q of W (its vertices are support points of W),
-/// its facets as a flat list of 5-simplices (detail/epsilon_polytope.hpp). Take the facet of Q nearest the origin
-/// (normal u, offset b); query the support point p of W along u. If h_W(u) - b <= tolerance,
-/// then epsilon = b: b = dist(0, dQ) <= dist(0, dW) <= h_W(u) (Q inside W). Otherwise p
-/// is a further vertex of W beyond that facet: add it (remove the facets that see it, close
-/// the hole with the horizon). W has finitely many vertices, so this ends; it touches only
-/// the facets near the origin, never the whole hull. Support of W_inf is the sum of the
-/// per-contact supports, O(n K), so the exponentially large Minkowski sum is never built.
+/// its facets as 5-simplices with their adjacency (detail/epsilon_polytope.hpp). Take the
+/// facet of Q nearest the origin (normal u, offset b); query the support point p of W along
+/// u. If h_W(u) - b <= tolerance, then epsilon = b: b = dist(0, dQ) <= dist(0, dW) <= h_W(u)
+/// (Q inside W). Otherwise p is a further vertex of W beyond that facet: add it (remove the
+/// facets that see it, found by a breadth-first search over the adjacency from that facet,
+/// and close the hole with the horizon). W has finitely many vertices, so this ends; it
+/// touches only the facets near the origin, never the whole hull. Support of W_inf is the
+/// sum of the per-contact supports, O(n K), so the exponentially large Minkowski sum is never
+/// built.
 /// All storage is in a caller-visible EpsilonWorkspace (no heap).
 
 #include <algorithm>
@@ -59,33 +61,52 @@ enum class EpsilonNorm {
 };
 
 /// Storage of the expanding-polytope search: at most MaxVertices support points (7 to 4096)
-/// and MaxFacets facets. Default 6.6 MB for double (4.7 MB for float): keep one per thread
+/// and MaxFacets facets. Default 13.9 MB for double (9.7 MB for float): keep one per thread
 /// (static or heap in the caller), not in a small embedded stack. The default holds the
 /// L-infinity search of 20 hard contacts with 8-sided pyramids (up to about 50 000 facets
-/// and 550 vertices on random grasps). The ridge table holds the ridges of up to
-/// MaxFacets / 12 facets seen by one added point (MaxFacets / 6 when MaxFacets is a power of
+/// and 550 vertices on random grasps). The ridge table holds the cone of up to
+/// MaxFacets / 10 new facets of one added point (MaxFacets / 5 when MaxFacets is a power of
 /// two); past any of these bounds the answer is IterationLimit.
 template <class S, int MaxVertices = 1024, int MaxFacets = 65536>
 struct EpsilonWorkspace {
   static_assert(MaxVertices >= 7 && MaxVertices <= detail::max_ridge_vertex + 1, "7 to 4096 vertices");
-  static_assert(MaxFacets >= 7, "the first simplex has 7 facets");
+  static_assert(MaxFacets >= 7 && MaxFacets <= (1 << 27), "7 to 2^27 facets");
   static constexpr int max_vertices = MaxVertices;  ///< most support points kept
   static constexpr int max_facets = MaxFacets;      ///< most facets kept
-  /// Facet storage padded to a multiple of 8 (the planes are scanned 8 at a time).
-  static constexpr int facet_slots = (MaxFacets + 7) / 8 * 8;
   /// Support points of W found so far: the vertices of the inner polytope Q.
   std::array<Wrench<S>, detail::idx(MaxVertices)> vertices;
-  /// The facets of Q (Epsilon::facets of them in use at the end): sorted vertex indices,
-  /// unit outward normals component by component (normals[i][f]) and offsets (normal . x =
-  /// offset on the facet: the origin's distance to it when the origin is inside).
+  /// The facets of Q (the first Epsilon::facets of them in use at the end): sorted vertex
+  /// indices.
   std::array<std::array<int, 6>, detail::idx(MaxFacets)> facet_vertices;
-  std::array<std::array<S, detail::idx(facet_slots)>, 6> normals;  ///< see facet_vertices
-  std::array<S, detail::idx(facet_slots)> offsets;                   ///< see facet_vertices
-  /// Scratch of one step: indices of the facets that see the added support point.
+  /// The facets' planes: unit outward normal in [0, 6), offset in [6] (normal . x = offset on
+  /// the facet: the origin's distance to it when the origin is inside), [7] a mark (-1 if
+  /// removed, else the stamp of the last search that tested it): one 64-byte line per facet
+  /// in double.
+  alignas(64) std::array<std::array<S, 8>, detail::idx(MaxFacets)> planes;
+  /// The facets' adjacency: neighbours[f][r] is the facet across the ridge of f without its
+  /// vertex facet_vertices[f][r] (-1 if none), and has that ridge and points back.
+  std::array<std::array<int, 6>, detail::idx(MaxFacets)> neighbours;
+  /// Scratch of one step: the facets that see the added support point (the search's queue),
+  /// then the slots of the new facets.
   std::array<int, detail::idx(MaxFacets)> visible;
-  /// Scratch of one step: a hash table of the ridges (five sorted vertex indices, packed by
-  /// detail::ridge_key) of the facets that see the added point, then the horizon among them.
-  std::array<std::uint64_t, 2 * detail::idx(MaxFacets)> ridges;
+  /// Scratch of one step: the horizon's ridges (five sorted vertex indices, packed by
+  /// detail::ridge_key).
+  std::array<std::uint64_t, detail::idx(MaxFacets)> horizon;
+  /// Scratch of one step: the facet g across each horizon ridge and g's ridge s back, as
+  /// 8 g + s (-1 if none).
+  std::array<int, detail::idx(MaxFacets)> outside;
+  /// Scratch of one step: how far the added point lies beyond each facet tested.
+  std::array<S, detail::idx(MaxFacets)> margins;
+  /// Scratch of one step: per horizon ridge, a candidate unit normal of the new facet through
+  /// it (in the plane of the two facets' normals at the ridge; zero if there is none).
+  std::array<Wrench<S>, detail::idx(MaxFacets)> cone_normals;
+  /// Scratch of one step: the new facets whose candidate normal failed its check.
+  std::array<int, detail::idx(MaxFacets)> rejects;
+  /// Scratch of one step: a hash table of the new facets' ridges through the added point.
+  std::array<detail::RidgeEntry, detail::idx(MaxFacets)> ridges;
+  /// The facets' offsets again, contiguous and padded to a multiple of 8 (the nearest facet
+  /// is found 8 offsets at a time).
+  std::array<S, detail::idx((MaxFacets + 7) / 8 * 8)> offsets;
 };
 
 /// The outcome of ferrari_canny_epsilon().
@@ -109,8 +130,8 @@ struct Epsilon {
 
 /// Ferrari-Canny epsilon of `grasp` with K-sided linearised cones, the given norm and
 /// torque scale rho (m), using `ws` for storage. No heap. Cost: each step one support query
-/// (O(n K)), one pass over the current facets' planes, and work in proportion to the facets
-/// the added point sees (detail/epsilon_polytope.hpp).
+/// (O(n K)), work in proportion to the facets the added point sees and their neighbours
+/// (detail/epsilon_polytope.hpp), and a pass over the facets' offsets for the nearest one.
 template <int K, class GraspT, class Workspace>
 Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, EpsilonNorm norm,
                                                            typename GraspT::ScalarType torque_scale, Workspace& ws,
@@ -244,11 +265,10 @@ Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, 
     if (nv >= Workspace::max_vertices) break;
     const int np = nv;  // the largest index: last in every new facet's sorted list
     ws.vertices[detail::idx(nv++)] = p;
-    const int nvis = facets.scan(p, tol_visible, best);
-    const int nh = facets.horizon(nvis);
-    if (nh < 0 || facets.count() - nvis + nh > Workspace::max_facets) break;
-    facets.remove_visible(nvis, best);
-    facets.cone(np, nh, best);
+    const int nvis = facets.find_visible(p, tol_visible, best);
+    if (nvis < 0 || facets.count() - nvis + facets.horizon_size() > Workspace::max_facets) break;
+    facets.replace_visible(np);
+    best = facets.nearest();
     if (best < 0) break;  // no facet left (cannot happen: p lies outside a closed polytope)
   }
   out.vertices = nv;
@@ -258,7 +278,7 @@ Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, 
   return out;
 }
 
-/// As above with a workspace of the default size from the heap (6.6 MB for double, one
+/// As above with a workspace of the default size from the heap (13.9 MB for double, one
 /// allocation per call): an offline convenience. Repeated calls, and any thread that must not
 /// allocate, pass a workspace kept in static storage or a member. Never throws: when the
 /// allocation fails the answer is the one of a workspace full from the start, IterationLimit

@@ -1,22 +1,30 @@
 #pragma once
 /// \file
-/// The inner polytope of ferrari_canny_epsilon() (analysis/epsilon.hpp): its facets in the
-/// workspace's structure-of-arrays storage, and the steps of one expansion. Internal
-/// (grip::detail), may change.
+/// The inner polytope of ferrari_canny_epsilon() (analysis/epsilon.hpp): its facets and
+/// their adjacency in the workspace, and the steps of one expansion. Internal (grip::detail),
+/// may change.
 ///
-/// Facet f has sorted vertex indices facet_vertices[f], unit outward normal normals[.][f] and
-/// offset offsets[f] (normal . x = offset on it). The planes are stored component by
-/// component and padded to a multiple of 8 facets (padding: zero normal, largest offset), so
-/// that the scan for the facets an added point sees runs 8 facets per operation and reads
-/// 56 bytes per facet. One step, for an added support point p:
-/// - scan(): the facets that see p (p beyond the plane by more than the visibility threshold)
-///   and the nearest of the others;
-/// - horizon(): the ridges (5 of a facet's 6 vertices) that exactly one visible facet has,
-///   found with a hash table of the visible facets' ridge keys;
-/// - remove_visible() then cone(): the visible facets go (each replaced by the list's last
-///   one), and the facets joining p to the horizon come in, their normals computed 16 at a
-///   time in SIMD lanes (facet_normals()).
-/// Each step costs one pass over the planes plus O(V) for V visible facets.
+/// Facet f has sorted vertex indices facet_vertices[f], its plane planes[f] (unit outward
+/// normal in [0, 6), offset in [6]: normal . x = offset on it; [7] its mark) and
+/// neighbours[f][r], the facet across its ridge r (its vertices without
+/// facet_vertices[f][r]; -1 if none), which has that ridge and points back. The live facets
+/// are 0 .. count() - 1. One step, for an added support point p beyond the facet `best`
+/// nearest the origin:
+/// - find_visible(): a breadth-first search over the adjacency from `best` collects the
+///   facets that see p (p beyond the plane by more than the visibility threshold: the visible
+///   region of a convex polytope is connected) and the horizon, the ridges between a visible
+///   facet and one that is not. Its cost is the visible facets and their neighbours, not the
+///   polytope; the set is connected and holds `best` by construction, even where round-off
+///   makes a test near the threshold go either way, so the horizon is closed;
+/// - replace_visible(): the facets joining p to the horizon take the visible facets' slots
+///   (then the end of the list). The normal of each is first taken in the plane of the two
+///   normals at its horizon ridge (m_f n_g - m_g n_f, with m the margins of p over the visible
+///   facet f and the one across, g) and kept if it is normal to each of the facet's edges
+///   within 4 u of the edge's length (u the unit round-off); the others (a few in a hundred)
+///   are computed from the vertices, 16 at a time in SIMD lanes (facet_normals()). Each new
+///   facet is linked to the facet across its horizon ridge and, through a hash table of ridge
+///   keys, to the new facets beside it; slots left over are filled from the end of the list;
+/// - nearest(): the least offset, from a pass over the contiguous offsets, 8 at a time.
 
 #include <algorithm>
 #include <array>
@@ -26,94 +34,19 @@
 
 #include <Eigen/Core>
 
+#include "grip/analysis/detail/epsilon_normals.hpp"
 #include "grip/core/index.hpp"
 #include "grip/core/types.hpp"
 
 namespace grip {
 namespace detail {
 
-/// Ridge keys: five sorted vertex indices below 4096, 12 bits each, the first one highest, so
-/// that keys order as the index lists do lexicographically.
-constexpr int max_ridge_vertex = 4095;
-
-/// The key of the ridge of sorted facet vertices f (6) without f[drop].
-inline std::uint64_t ridge_key(const std::array<int, 6>& f, int drop) {
-  std::uint64_t key = 0;
-  for (int k = 0; k < 6; ++k)
-    if (k != drop) key = (key << 12) | static_cast<std::uint64_t>(f[idx(k)]);
-  return key;
-}
-
-/// The five sorted vertex indices of a ridge key.
-inline std::array<int, 5> ridge_vertices(std::uint64_t key) {
-  std::array<int, 5> r{};
-  for (int m = 4; m >= 0; --m, key >>= 12) r[idx(m)] = static_cast<int>(key & 0xfffu);
-  return r;
-}
-
-/// Unit normals of the hyperplanes through vertices[facet_vertices[f][0..6)] for f in
-/// [first, first + count) (5-simplices in wrench space), written to normals[i][f], Lanes
-/// facets at a time in SIMD lanes (several independent vectors per operation hide the latency
-/// of the sequential projections): per facet, the edges from its first vertex are
-/// orthonormalised by Gram-Schmidt, each projected out twice (which is enough for full
-/// accuracy), and the normal is the coordinate axis with the largest residual against them,
-/// projected the same way. An edge with nothing left is skipped (the simplex is flat there;
-/// the normal is then one of several, as QR would give). A normal that is not finite comes
-/// out as NaN.
-template <int Lanes, class S, class FacetVertices, class Normals>
-void facet_normals(const Wrench<S>* vertices, const FacetVertices& facet_vertices, int first, int count,
-                   Normals& normals) {
-  using A = Eigen::Array<S, Lanes, 1>;
-  for (int f0 = first; f0 < first + count; f0 += Lanes) {
-    const int lanes = first + count - f0 < Lanes ? first + count - f0 : Lanes;
-    alignas(64) S edges[5][6][Lanes];  // edge k of each lane's facet, transposed
-    for (int l = 0; l < Lanes; ++l) {  // padded lanes repeat the first facet
-      const std::array<int, 6>& fv = facet_vertices[idx(f0 + (l < lanes ? l : 0))];
-      const Wrench<S>& v0 = vertices[fv[0]];
-      for (int k = 0; k < 5; ++k) {
-        const Wrench<S>& vk = vertices[fv[idx(k + 1)]];
-        for (int i = 0; i < 6; ++i) edges[k][i][l] = vk[i] - v0[i];
-      }
-    }
-    std::array<std::array<A, 6>, 5> q;  // orthonormal edge directions (zero where skipped)
-    std::array<A, 6> e;
-    auto project_out = [&q, &e](int m) {
-      for (int pass = 0; pass < 2; ++pass)
-        for (int b = 0; b < m; ++b) {
-          A d = q[idx(b)][0] * e[0];
-          for (int i = 1; i < 6; ++i) d += q[idx(b)][idx(i)] * e[idx(i)];
-          for (int i = 0; i < 6; ++i) e[idx(i)] -= d * q[idx(b)][idx(i)];
-        }
-    };
-    for (int k = 0; k < 5; ++k) {
-      for (int i = 0; i < 6; ++i) e[idx(i)] = Eigen::Map<const A, Eigen::Aligned>(edges[k][i]);
-      project_out(k);
-      A n2 = e[0] * e[0];
-      for (int i = 1; i < 6; ++i) n2 += e[idx(i)] * e[idx(i)];
-      const A inv = (n2 > S(0)).select(n2.sqrt().inverse(), A::Zero());
-      for (int i = 0; i < 6; ++i) q[idx(k)][idx(i)] = e[idx(i)] * inv;
-    }
-    // The squared residual of axis i is 1 - sum_b q_b(i)^2: take the largest (first of ties).
-    std::array<A, 6> left;
-    A best = A::Constant(S(-1));
-    for (int i = 0; i < 6; ++i) {
-      left[idx(i)] = A::Ones();
-      for (int b = 0; b < 5; ++b) left[idx(i)] -= q[idx(b)][idx(i)].square();
-      best = best.max(left[idx(i)]);
-    }
-    A taken = A::Zero();
-    for (int i = 0; i < 6; ++i) {
-      e[idx(i)] = (left[idx(i)] >= best && taken == S(0)).select(A::Ones(), A::Zero());
-      taken += e[idx(i)];
-    }
-    project_out(5);
-    A n2 = e[0] * e[0];
-    for (int i = 1; i < 6; ++i) n2 += e[idx(i)] * e[idx(i)];
-    const A inv = n2.sqrt().inverse();
-    for (int i = 0; i < 6; ++i)
-      for (int l = 0; l < lanes; ++l) normals[idx(i)][idx(f0 + l)] = e[idx(i)][l] * inv[l];
-  }
-}
+/// One slot of the ridge table of replace_visible(): a ridge key and the facet and ridge
+/// (8 f + r) waiting for its partner (-1 once matched).
+struct RidgeEntry {
+  std::uint64_t key;  ///< detail::ridge_key() of the ridge, all ones if the slot is empty
+  int owner;          ///< 8 f + r, or -1
+};
 
 /// The facets of the inner polytope, over the arrays of an EpsilonWorkspace `ws` (see the
 /// file comment). `centre` is a point strictly inside the polytope; a new facet whose plane
@@ -123,141 +56,279 @@ class PolytopeFacets {
  public:
   PolytopeFacets(Workspace& ws, const Wrench<S>& centre, S flat) : ws_(ws), centre_(centre), flat_(flat) {}
 
+  /// Live facets: 0 .. count() - 1.
   int count() const { return count_; }
-  S offset(int f) const { return ws_.offsets[idx(f)]; }
+  /// The offset of facet f (normal . x on its plane).
+  S offset(int f) const { return ws_.planes[idx(f)][6]; }
+  /// The unit outward normal of facet f.
   Wrench<S> normal(int f) const {
     Wrench<S> n;
-    for (int i = 0; i < 6; ++i) n[i] = ws_.normals[idx(i)][idx(f)];
+    for (int i = 0; i < 6; ++i) n[i] = ws_.planes[idx(f)][idx(i)];
     return n;
   }
+  /// How far p lies beyond the plane of facet f (positive outside).
+  S margin(int f, const Wrench<S>& p) const {
+    const std::array<S, 8>& pl = ws_.planes[idx(f)];
+    S m = -pl[6];
+    for (int i = 0; i < 6; ++i) m += p[i] * pl[idx(i)];
+    return m;
+  }
+  /// Horizon ridges of the last find_visible().
+  int horizon_size() const { return nh_; }
 
-  /// The facets of the simplex of vertices 0 .. 6 (in general position). False if one is flat.
+  /// The facets of the simplex of vertices 0 .. 6 (in general position), with their
+  /// adjacency and offsets. False if one is flat.
   bool simplex() {
-    for (int skip = 0; skip < 7; ++skip)
+    stamp_ = 0;
+    for (int skip = 0; skip < 7; ++skip) {
       for (int k = 0, j = 0; k < 7; ++k)
         if (k != skip) ws_.facet_vertices[idx(skip)][idx(j++)] = k;
-    return add(0, 7) == 7;
+      // Across the ridge without vertex v lies the facet without v: facet v.
+      ws_.neighbours[idx(skip)] = ws_.facet_vertices[idx(skip)];
+      ws_.visible[idx(skip)] = skip;
+    }
+    count_ = 7;
+    if (planes(7, false) != 0) return false;
+    pad();
+    return true;
   }
 
-  /// The facet with the least offset (nearest the origin when it is inside).
+  /// The live facet with the least offset (the first of ties), -1 if none: a pass over the
+  /// offsets, 8 at a time.
   int nearest() const {
-    int best = 0;
-    for (int f = 1; f < count_; ++f)
-      if (offset(f) < offset(best)) best = f;
+    using A = Eigen::Array<S, 8, 1>;
+    int best = -1;
+    S best_offset = std::numeric_limits<S>::max();
+    for (int f0 = 0; f0 < count_; f0 += 8) {
+      const A off = Eigen::Map<const A>(&ws_.offsets[idx(f0)]);
+      if (!(off.minCoeff() < best_offset)) continue;
+      for (int l = 0; l < 8 && f0 + l < count_; ++l)
+        if (off[l] < best_offset) best_offset = off[l], best = f0 + l;
+    }
     return best;
   }
 
-  /// The facets that see p (p . n - offset > threshold) into ws.visible[0 .. returned count),
-  /// ascending, and in `best` the nearest of the others (-1 if none).
-  int scan(const Wrench<S>& p, S threshold, int& best) const {
-    using A = Eigen::Array<S, 8, 1>;
-    using Map = Eigen::Map<const A>;
+  /// The facets that see p (margin() > threshold), searched breadth first from `best` (taken
+  /// as seeing p), into ws.visible[0 .. returned count); the horizon into ws.horizon (ridge
+  /// keys), ws.outside (8 g + s for the facet g across and its ridge s back, -1 where there
+  /// is none) and ws.cone_normals (a candidate normal of the new facet), horizon_size() of
+  /// them. Returns -1, the polytope unchanged, if the scratch cannot hold the horizon or the
+  /// new facets' ridge table.
+  int find_visible(const Wrench<S>& p, S threshold, int best) {
+    stamp_ += 2;
+    const int seen = stamp_, sees = stamp_ + 1;  // marks of this search: tested, and seeing p
     int nvis = 0;
-    best = -1;
-    S best_offset = std::numeric_limits<S>::max();
-    for (int f0 = 0; f0 < count_; f0 += 8) {
-      const A off = Map(&ws_.offsets[idx(f0)]);
-      A margin = -off;
-      for (int i = 0; i < 6; ++i) margin += p[i] * Map(&ws_.normals[idx(i)][idx(f0)]);
-      if (!(margin.maxCoeff() > threshold) && !(off.minCoeff() < best_offset)) continue;
-      for (int l = 0; l < 8 && f0 + l < count_; ++l) {
-        if (margin[l] > threshold) {
-          ws_.visible[idx(nvis++)] = f0 + l;
-        } else if (off[l] < best_offset) {
-          best_offset = off[l];
-          best = f0 + l;
+    nh_ = 0;
+    mark(best) = S(sees);
+    ws_.margins[idx(best)] = margin(best, p);
+    ws_.visible[idx(nvis++)] = best;
+    for (int a = 0; a < nvis; ++a) {
+      const int f = ws_.visible[idx(a)];
+      for (int r = 0; r < 6; ++r) {
+        const int g = ws_.neighbours[idx(f)][idx(r)];
+        if (g >= 0) {
+          S& m = mark(g);
+          if (m == S(sees)) continue;
+          if (m != S(seen)) {
+            const S mg = margin(g, p);
+            ws_.margins[idx(g)] = mg;
+            m = mg > threshold ? S(sees) : S(seen);
+            if (m == S(sees)) {
+              ws_.visible[idx(nvis++)] = g;
+              continue;
+            }
+          }
+        }
+        if (nh_ == static_cast<int>(ws_.horizon.size())) return -1;
+        ws_.horizon[idx(nh_)] = ridge_key(ws_.facet_vertices[idx(f)], r);
+        int back = 0;  // g's ridge towards f (the adjacency is symmetric)
+        if (g >= 0)
+          while (back < 5 && ws_.neighbours[idx(g)][idx(back)] != f) ++back;
+        ws_.outside[idx(nh_)] = g < 0 ? -1 : 8 * g + back;
+        // The plane through the ridge and p is in the span of the two normals at the ridge:
+        // m_f n_g - m_g n_f (zero where there is no g). Checked in planes().
+        Wrench<S>& n0 = ws_.cone_normals[idx(nh_++)];
+        if (g >= 0) {
+          n0 = ws_.margins[idx(f)] * normal(g) - ws_.margins[idx(g)] * normal(f);
+          n0 /= n0.norm();
+        } else {
+          n0.setZero();
         }
       }
     }
+    if (table_slots(nh_) > ws_.ridges.size()) return -1;
+    nvis_ = nvis;
     return nvis;
   }
 
-  /// The horizon of the nvis visible facets: its ridge keys into ws.ridges[0 .. returned
-  /// count), or -1 if the scratch cannot hold the visible facets' ridges. The ridges go into
-  /// an open-addressing hash table (linear probing, at most half full) in ws.ridges; a ridge
-  /// met twice is marked shared (bit 63); the unshared ones are then moved to the front.
-  int horizon(int nvis) const {
-    const std::size_t nr = 6 * static_cast<std::size_t>(nvis);
-    std::size_t slots = 16;
-    int shift = 60;
-    while (slots < 2 * nr) slots *= 2, --shift;
-    if (slots > ws_.ridges.size()) return -1;
-    constexpr std::uint64_t empty = ~std::uint64_t(0), shared = std::uint64_t(1) << 63;
-    std::fill(ws_.ridges.begin(), ws_.ridges.begin() + static_cast<std::ptrdiff_t>(slots), empty);
-    for (int a = 0; a < nvis; ++a) {
-      const std::array<int, 6>& fv = ws_.facet_vertices[idx(ws_.visible[idx(a)])];
-      for (int drop = 0; drop < 6; ++drop) {
-        const std::uint64_t key = ridge_key(fv, drop);
-        std::size_t h = static_cast<std::size_t>((key * 0x9e3779b97f4a7c15u) >> shift);
-        while (ws_.ridges[h] != empty && (ws_.ridges[h] & ~shared) != key) h = (h + 1) & (slots - 1);
-        ws_.ridges[h] = ws_.ridges[h] == empty ? key : (key | shared);
-      }
-    }
-    int nh = 0;
-    for (std::size_t h = 0; h < slots; ++h)
-      if (ws_.ridges[h] != empty && (ws_.ridges[h] & shared) == 0) ws_.ridges[idx(nh++)] = ws_.ridges[h];
-    return nh;
-  }
-
-  /// Removes the nvis visible facets, the last one first, each replaced by the list's last
-  /// facet (never a visible one still to remove); `best` follows its facet.
-  void remove_visible(int nvis, int& best) {
-    for (int a = nvis - 1; a >= 0; --a) {
-      const int f = ws_.visible[idx(a)];
-      --count_;
-      if (count_ == best) best = f;
-      if (f != count_) move(count_, f);
-    }
-    pad();
-  }
-
-  /// Adds the facets joining vertex np (larger than every other index) to the nh horizon
-  /// ridges; `best` becomes the nearest facet if a new one is nearer (or if it was -1).
-  void cone(int np, int nh, int& best) {
-    const int first = count_;
+  /// Replaces the facets of the last find_visible() by those joining vertex np (larger than
+  /// every other index) to its horizon; the caller has checked that they fit.
+  void replace_visible(int np) {
+    const int nvis = nvis_, nh = nh_;
+    for (int k = nvis; k < nh; ++k) ws_.visible[idx(k)] = count_ + (k - nvis);  // slots past the end
+    count_ += std::max(0, nh - nvis);
+    for (int k = 0; k < nvis; ++k) mark(ws_.visible[idx(k)]) = dead;
     for (int k = 0; k < nh; ++k) {
-      std::array<int, 6>& v = ws_.facet_vertices[idx(first + k)];
-      const std::array<int, 5> r = ridge_vertices(ws_.ridges[idx(k)]);
+      std::array<int, 6>& v = ws_.facet_vertices[idx(ws_.visible[idx(k)])];
+      const std::array<int, 5> r = ridge_vertices(ws_.horizon[idx(k)]);
       for (int m = 0; m < 5; ++m) v[idx(m)] = r[idx(m)];
       v[5] = np;
     }
-    add(first, nh);
-    for (int f = first; f < count_; ++f)
-      if (best < 0 || offset(f) < offset(best)) best = f;
+    planes(nh, true);
+    link(nh);
+    // Fill the slots left dead (visible ones not reused, flat new ones) from the end.
+    for (int k = 0; k < std::max(nvis, nh); ++k) {
+      const int hole = ws_.visible[idx(k)];
+      if (mark(hole) != dead) continue;
+      while (count_ > 0 && mark(count_ - 1) == dead) --count_;
+      if (hole < count_) move(--count_, hole);
+    }
+    while (count_ > 0 && mark(count_ - 1) == dead) --count_;
+    pad();
   }
 
  private:
-  // Facets [first, first + n) with their vertex lists set get their planes, oriented away
-  // from the centre; flat ones are dropped. count_ becomes the end of those kept; returns
-  // how many were kept.
-  int add(int first, int n) {
-    facet_normals<16>(ws_.vertices.data(), ws_.facet_vertices, first, n, ws_.normals);
-    int end = first;
-    for (int k = first; k < first + n; ++k) {
-      const Wrench<S> nrm = normal(k);
-      S off = nrm.dot(ws_.vertices[idx(ws_.facet_vertices[idx(k)][0])]);
-      const S c = nrm.dot(centre_) - off;
-      if (!(std::abs(c) > flat_)) continue;
-      const S sign = c > S(0) ? S(-1) : S(1);
-      ws_.offsets[idx(k)] = sign * off;
-      for (int i = 0; i < 6; ++i) ws_.normals[idx(i)][idx(k)] *= sign;
-      if (k != end) move(k, end);
-      ++end;
-    }
-    count_ = end;
-    pad();
-    return end - first;
+  static constexpr S dead = S(-1);  // the mark of a removed facet (live ones: >= 0)
+  // The mark of facet f, kept in its plane's spare component (one cache line per facet).
+  S& mark(int f) { return ws_.planes[idx(f)][7]; }
+
+  // Offsets past the last facet, up to the next multiple of 8: never nearest.
+  void pad() {
+    for (int f = count_; f < (count_ + 7) / 8 * 8; ++f) ws_.offsets[idx(f)] = std::numeric_limits<S>::max();
   }
+
+  // Slots of the ridge table for the cone of nh new facets: a power of two, at least 5 nh
+  // (each ridge through p is met twice: at most half full).
+  static std::size_t table_slots(int nh, int* shift = nullptr) {
+    std::size_t slots = 16;
+    int bits = 4;
+    while (slots < 5 * static_cast<std::size_t>(nh)) slots *= 2, ++bits;
+    if (shift != nullptr) *shift = 64 - bits;
+    return slots;
+  }
+
+  // Views of facets slots[0 ..) as if they were 0 .. for facet_normals().
+  struct SlotVertices {
+    const Workspace& ws;
+    const int* slots;
+    const std::array<int, 6>& operator[](std::size_t k) const { return ws.facet_vertices[idx(slots[k])]; }
+  };
+  struct SlotNormals {
+    struct Component {
+      Workspace& ws;
+      const int* slots;
+      std::size_t i;
+      S& operator[](std::size_t k) const { return ws.planes[idx(slots[k])][i]; }
+    };
+    Workspace& ws;
+    const int* slots;
+    Component operator[](std::size_t i) const { return Component{ws, slots, i}; }
+  };
+
+  // The facets ws.visible[0 .. n), their vertex lists set, get their planes, oriented away
+  // from the centre, and the mark of a live facet; flat ones are marked dead. Returns how
+  // many were flat. For a cone (vertex 5 the added point), the candidate normals of
+  // find_visible() are kept where they pass the check of the file comment; the rest, or all
+  // if not a cone, come from facet_normals().
+  int planes(int n, bool cone) {
+    int nrej = n;
+    const int* rej = ws_.visible.data();
+    if (cone) {  // |n0 . e| <= 4 u |e| = 2 eps |e| for each edge e from the added point
+      nrej = 0;
+      const S tol2 = S(4) * std::numeric_limits<S>::epsilon() * std::numeric_limits<S>::epsilon();
+      for (int k = 0; k < n; ++k) {
+        const int f = ws_.visible[idx(k)];
+        const std::array<int, 6>& fv = ws_.facet_vertices[idx(f)];
+        const Wrench<S>& n0 = ws_.cone_normals[idx(k)];
+        const Wrench<S>& pv = ws_.vertices[idx(fv[5])];
+        bool ok = n0.squaredNorm() > S(0.5);
+        for (int j = 0; j < 5; ++j) {
+          const Wrench<S> e = ws_.vertices[idx(fv[idx(j)])] - pv;
+          const S r = n0.dot(e);
+          ok = ok && r * r <= tol2 * e.squaredNorm();
+        }
+        if (ok) {
+          for (int i = 0; i < 6; ++i) ws_.planes[idx(f)][idx(i)] = n0[i];
+        } else {
+          ws_.rejects[idx(nrej++)] = f;
+        }
+      }
+      rej = ws_.rejects.data();
+    }
+    SlotNormals normals{ws_, rej};
+    facet_normals<16>(ws_.vertices.data(), SlotVertices{ws_, rej}, 0, nrej, normals);
+    int flat = 0;
+    for (int k = 0; k < n; ++k) {
+      const int f = ws_.visible[idx(k)];
+      std::array<S, 8>& pl = ws_.planes[idx(f)];
+      const Wrench<S> nrm = normal(f);
+      const S off = nrm.dot(ws_.vertices[idx(ws_.facet_vertices[idx(f)][0])]);
+      const S c = nrm.dot(centre_) - off;
+      if (!(std::abs(c) > flat_)) {
+        mark(f) = dead;
+        ++flat;
+        continue;
+      }
+      const S sign = std::copysign(S(1), -c);
+      pl[6] = sign * off;
+      ws_.offsets[idx(f)] = pl[6];
+      for (int i = 0; i < 6; ++i) pl[idx(i)] *= sign;
+      mark(f) = S(0);
+    }
+    return flat;
+  }
+
+  // The adjacency of the nh new facets ws.visible[0 .. nh) (vertex np last in each): across
+  // ridge 5 the horizon's outside facet, which points back; across ridges 0 .. 4 (each
+  // through np) the new facet with the same ridge, matched in a hash table of ridge keys. A
+  // ridge left unmatched (a flat facet dropped, or a pinched horizon) gets -1.
+  void link(int nh) {
+    int shift = 0;
+    const std::size_t slots = table_slots(nh, &shift);
+    constexpr std::uint64_t empty = ~std::uint64_t(0);
+    std::fill(ws_.ridges.begin(), ws_.ridges.begin() + static_cast<std::ptrdiff_t>(slots), RidgeEntry{empty, -1});
+    for (int k = 0; k < nh; ++k) {
+      const int f = ws_.visible[idx(k)];
+      const bool live = mark(f) != dead;
+      const int out = ws_.outside[idx(k)];
+      if (out >= 0) ws_.neighbours[idx(out / 8)][idx(out % 8)] = live ? f : -1;
+      if (!live) continue;
+      std::array<int, 6>& nb = ws_.neighbours[idx(f)];
+      nb[5] = out < 0 ? -1 : out / 8;
+      for (int m = 0; m < 5; ++m) {
+        nb[idx(m)] = -1;
+        const std::uint64_t key = ridge_key(ws_.facet_vertices[idx(f)], m);
+        std::size_t h = static_cast<std::size_t>((key * 0x9e3779b97f4a7c15u) >> shift);
+        while (true) {
+          RidgeEntry& e = ws_.ridges[h];
+          if (e.key == empty) {  // first of the pair: wait for the other
+            e = RidgeEntry{key, 8 * f + m};
+            break;
+          }
+          if (e.key == key && e.owner >= 0) {  // second: link both
+            nb[idx(m)] = e.owner / 8;
+            ws_.neighbours[idx(e.owner / 8)][idx(e.owner % 8)] = f;
+            e.owner = -1;  // matched (a third one starts a new pair)
+            break;
+          }
+          h = (h + 1) & (slots - 1);
+        }
+      }
+    }
+  }
+
+  // Moves live facet `from` to dead slot `to`: its neighbours follow.
   void move(int from, int to) {
     ws_.facet_vertices[idx(to)] = ws_.facet_vertices[idx(from)];
+    ws_.planes[idx(to)] = ws_.planes[idx(from)];
     ws_.offsets[idx(to)] = ws_.offsets[idx(from)];
-    for (int i = 0; i < 6; ++i) ws_.normals[idx(i)][idx(to)] = ws_.normals[idx(i)][idx(from)];
-  }
-  // Lanes past the last facet, up to the next multiple of 8: seen by no point, never nearest.
-  void pad() {
-    for (int f = count_; f < (count_ + 7) / 8 * 8; ++f) {
-      ws_.offsets[idx(f)] = std::numeric_limits<S>::max();
-      for (int i = 0; i < 6; ++i) ws_.normals[idx(i)][idx(f)] = S(0);
+    ws_.neighbours[idx(to)] = ws_.neighbours[idx(from)];
+    mark(from) = dead;
+    for (int r = 0; r < 6; ++r) {
+      const int g = ws_.neighbours[idx(to)][idx(r)];
+      if (g < 0) continue;
+      for (int s = 0; s < 6; ++s)
+        if (ws_.neighbours[idx(g)][idx(s)] == from) ws_.neighbours[idx(g)][idx(s)] = to;
     }
   }
 
@@ -265,6 +336,9 @@ class PolytopeFacets {
   Wrench<S> centre_;
   S flat_;
   int count_{0};
+  int nvis_{0};       // visible facets of the last find_visible()
+  int nh_{0};         // its horizon ridges
+  int stamp_{0};      // marks of the current search: stamp_ (tested) and stamp_ + 1 (visible)
 };
 
 }  // namespace detail
