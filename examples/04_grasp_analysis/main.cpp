@@ -29,7 +29,7 @@ void row(const char* name, const GraspT& g, double rho) {
   grip::BatchSettings<double> s;
   s.torque_scale = rho;
   s.epsilon_linf = true;
-  static grip::EpsilonWorkspace<double> ws;  // 13.9 MB: off the stack
+  static grip::EpsilonWorkspace<double> ws;  // 10.6 MB: off the stack
   const auto m = grip::evaluate_grasp<8>(g, s, ws);
   grip::Wrench<double> down = grip::Wrench<double>::Zero();
   down(2) = -1.0;  // gravity-like load

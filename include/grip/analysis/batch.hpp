@@ -6,7 +6,7 @@
 /// std::thread allocates internally (its state and stack) and may fail to start, which
 /// terminates the program in builds without exceptions. The library code itself allocates
 /// nothing else: the caller provides the grasps and the result storage, and the workers'
-/// EpsilonWorkspaces (13.9 MB each for double) come from one heap allocation made on the
+/// EpsilonWorkspaces (10.6 MB each for double) come from one heap allocation made on the
 /// calling thread before any worker starts (evaluate_batch returns IterationLimit, nothing
 /// written, when it fails), never from a thread's stack (secondary threads get 512 KiB to 8 MB
 /// of stack, depending on the system).

@@ -61,7 +61,7 @@ enum class EpsilonNorm {
 };
 
 /// Storage of the expanding-polytope search: at most MaxVertices support points (7 to 4096)
-/// and MaxFacets facets. Default 13.9 MB for double (9.7 MB for float): keep one per thread
+/// and MaxFacets facets. Default 10.6 MB for double (7.6 MB for float): keep one per thread
 /// (static or heap in the caller), not in a small embedded stack. The default holds the
 /// L-infinity search of 20 hard contacts with 8-sided pyramids (up to about 50 000 facets
 /// and 550 vertices on random grasps). The ridge table holds the cone of up to
@@ -73,6 +73,8 @@ struct EpsilonWorkspace {
   static_assert(MaxFacets >= 7 && MaxFacets <= (1 << 27), "7 to 2^27 facets");
   static constexpr int max_vertices = MaxVertices;  ///< most support points kept
   static constexpr int max_facets = MaxFacets;      ///< most facets kept
+  /// Most new facets of one added point (its horizon ridges): the ridge table's load bound.
+  static constexpr int max_cone = MaxFacets / 5 + 1;
   /// Support points of W found so far: the vertices of the inner polytope Q.
   std::array<Wrench<S>, detail::idx(MaxVertices)> vertices;
   /// The facets of Q (the first Epsilon::facets of them in use at the end): sorted vertex
@@ -91,17 +93,17 @@ struct EpsilonWorkspace {
   std::array<int, detail::idx(MaxFacets)> visible;
   /// Scratch of one step: the horizon's ridges (five sorted vertex indices, packed by
   /// detail::ridge_key).
-  std::array<std::uint64_t, detail::idx(MaxFacets)> horizon;
+  std::array<std::uint64_t, detail::idx(max_cone)> horizon;
   /// Scratch of one step: the facet g across each horizon ridge and g's ridge s back, as
   /// 8 g + s (-1 if none).
-  std::array<int, detail::idx(MaxFacets)> outside;
+  std::array<int, detail::idx(max_cone)> outside;
   /// Scratch of one step: how far the added point lies beyond each facet tested.
   std::array<S, detail::idx(MaxFacets)> margins;
   /// Scratch of one step: per horizon ridge, a candidate unit normal of the new facet through
   /// it (in the plane of the two facets' normals at the ridge; zero if there is none).
-  std::array<Wrench<S>, detail::idx(MaxFacets)> cone_normals;
+  std::array<Wrench<S>, detail::idx(max_cone)> cone_normals;
   /// Scratch of one step: the new facets whose candidate normal failed its check.
-  std::array<int, detail::idx(MaxFacets)> rejects;
+  std::array<int, detail::idx(max_cone)> rejects;
   /// Scratch of one step: a hash table of the new facets' ridges through the added point.
   std::array<detail::RidgeEntry, detail::idx(MaxFacets)> ridges;
   /// The facets' offsets again, contiguous and padded to a multiple of 8 (the nearest facet
@@ -278,7 +280,7 @@ Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, 
   return out;
 }
 
-/// As above with a workspace of the default size from the heap (13.9 MB for double, one
+/// As above with a workspace of the default size from the heap (10.6 MB for double, one
 /// allocation per call): an offline convenience. Repeated calls, and any thread that must not
 /// allocate, pass a workspace kept in static storage or a member. Never throws: when the
 /// allocation fails the answer is the one of a workspace full from the start, IterationLimit
