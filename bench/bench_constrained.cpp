@@ -11,12 +11,13 @@
 //   ConstrainedWarm/n  warm start from the multipliers of a slightly perturbed previous frame
 //   FastPath/n, RangeSpace/n/false: instances whose unconstrained optimum is strictly inside
 //   FastPathRatio/n    both over those instances in one loop: counter fast_over_range
-//   Distribution/n     one pass over 10,000 fresh instances, each solve timed with
-//                      std::chrono: counters median_us, p99_us, worst_us, worst_over_median,
-//                      median_iter, worst_iter, range_median_us (and their ratio); each
-//                      instance is solved twice more and least3_* take the least of its three
-//                      times (the instance's own cost: the single-solve worst is set by the
-//                      machine's interruptions, tens of microseconds on the 2-core VM)
+//   Distribution/n     one pass over 100,000 fresh instances, each solve timed with
+//                      std::chrono: counters median_us, p99_us, p9999_us, worst_us,
+//                      worst_over_median, median_iter, worst_iter, worst_passes,
+//                      range_median_us (and their ratio); each instance is solved twice more
+//                      and least3_* take the least of its three times (the instance's own
+//                      cost: the single-solve worst is set by the machine's interruptions,
+//                      tens of microseconds on the 2-core VM)
 //   Deadline/n         ConstrainedSettings::max_passes: 64 grasps the fast path does not
 //                      answer, mu 0.3 to 1, loads of 0.5 to 200 N in random directions (many
 //                      slip), solved with no deadline and with max_passes = 1, 4 and 32 in
@@ -187,9 +188,9 @@ void FastPathRatio(benchmark::State& state) {
 
 template <int N>
 void Distribution(benchmark::State& state) {
-  const int count = 10000;
+  const int count = 100000;
   std::vector<double> t, tm, tr;
-  std::vector<int> it;
+  std::vector<int> it, passes;
   using clock = std::chrono::steady_clock;
   const auto us = [](clock::time_point a, clock::time_point b) {
     return std::chrono::duration<double, std::micro>(b - a).count();
@@ -199,6 +200,7 @@ void Distribution(benchmark::State& state) {
     tm.clear();
     tr.clear();
     it.clear();
+    passes.clear();
     std::mt19937 rng(3000 + N);
     for (int k = 0; k < count; ++k) {
       const Instance<N> in = make_instance<N>(rng, true);
@@ -221,6 +223,7 @@ void Distribution(benchmark::State& state) {
       tm.push_back(least);
       tr.push_back(us(t1, t2));
       it.push_back(s.iterations);
+      passes.push_back(s.passes);
     }
   }
   const auto at = [](std::vector<double> v, double q) {
@@ -232,14 +235,19 @@ void Distribution(benchmark::State& state) {
   state.counters["median_us"] = med;
   state.counters["p99_us"] = at(t, 0.99);
   state.counters["p999_us"] = at(t, 0.999);
+  state.counters["p9999_us"] = at(t, 0.9999);
   state.counters["worst_us"] = worst;
   state.counters["worst_over_median"] = worst / med;
   // Per instance the least of three solves: the worst instance against the median one.
   state.counters["least3_median_us"] = at(tm, 0.5);
+  state.counters["least3_p99_us"] = at(tm, 0.99);
+  state.counters["least3_p9999_us"] = at(tm, 0.9999);
+  state.counters["least3_p9999_over_median"] = at(tm, 0.9999) / at(tm, 0.5);
   state.counters["least3_worst_us"] = at(tm, 1.0);
   state.counters["least3_worst_over_median"] = at(tm, 1.0) / at(tm, 0.5);
   state.counters["median_iter"] = at(itd, 0.5);
   state.counters["worst_iter"] = at(itd, 1.0);
+  state.counters["worst_passes"] = *std::max_element(passes.begin(), passes.end());
   state.counters["range_median_us"] = at(tr, 0.5);
   state.counters["median_over_range"] = med / at(tr, 0.5);
 }
