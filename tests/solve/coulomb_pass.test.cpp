@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <grip/solve/coulomb_pass.hpp>
+#include <grip/solve/projection_jacobian.hpp>
 #include <grip/solve/solve_constrained.hpp>
 
 #include "support/allocation_counter.hpp"
@@ -224,6 +225,58 @@ TEST_CASE_TEMPLATE("coulomb pass: v beyond max_magnitude projects to zero with n
     CHECK(double((h.matrix() - h_ref.matrix()).norm()) <= tol.hessian);
     CHECK(double((p.residual - q.residual).norm()) <= tol.residual);
   }
+}
+
+TEST_CASE("coulomb pass: first_break is where the first projection changes region") {
+  // Independently of first_break's quadratics: each contact's region (projection_jacobian's,
+  // from CoulombCone) sampled along lambda + alpha d. Before the break no contact changes
+  // region; just past it (when it is before 1) one does. Random grasps, multipliers and
+  // directions of every scale; mu = 0 contacts (no break of their own) among them.
+  using S = double;
+  std::mt19937 rng(72);
+  int breaks = 0, none = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const int n = 1 + trial % 12;
+    auto g = grip_test::random_grasp<Grasp<Dynamic, HardFinger, S, 12>>(rng, n);
+    if (trial % 3 == 0) {
+      Contact<S> c = g.contact(0);
+      c.friction = S(0);
+      REQUIRE(g.set(0, c) == Status::Ok);
+    }
+    const detail::CoulombPassTable<decltype(g)> table(g);
+    const Wrench<S> lambda = random_lambda<S>(rng, trial % 2 == 0 ? 1.0 : 10.0);
+    const Wrench<S> d = random_lambda<S>(rng, trial % 4 < 2 ? 1.0 : 30.0);
+    const S brk = table.first_break(lambda, d);
+    REQUIRE(brk > S(0));
+    REQUIRE(brk <= S(1));
+    const auto regions = [&](S alpha) {
+      std::vector<int> r;
+      const Wrench<S> l = lambda + alpha * d;
+      for (int i = 0; i < n; ++i) {
+        const Contact<S>& c = g.contact(i);
+        if (!(c.friction > S(0))) continue;  // the ray: no break of its own
+        const CoulombCone<S> cone = CoulombCone<S>::from_contact(c);
+        const Vector3<S> v = HardFinger::target(c) + g.inverse_weight(i) * HardFinger::wrench_transpose(c, l);
+        r.push_back(static_cast<int>(projection_jacobian(cone, v, cone.project(v)).region));
+      }
+      return r;
+    };
+    // From just after the start to just before the break: one region per contact.
+    const std::vector<int> start = regions(brk * S(1e-6));
+    for (int k = 1; k <= 64; ++k) {
+      CAPTURE(trial);
+      CHECK(regions(brk * (S(1e-6) + (S(1) - S(2e-6)) * S(k) / S(64))) == start);
+    }
+    if (brk < S(1)) {
+      ++breaks;
+      CHECK(regions(brk * (S(1) + S(1e-6))) != regions(brk * (S(1) - S(1e-6))));
+    } else {
+      ++none;
+    }
+  }
+  MESSAGE("breaks before 1: " << breaks << ", none: " << none);
+  CHECK(breaks > 100);
+  CHECK(none > 20);
 }
 
 TEST_CASE("coulomb pass: no heap") {

@@ -453,6 +453,7 @@ TEST_CASE_TEMPLATE("solve_constrained: every tuning constant is range-checked, d
   invalid("jacobi_floor -1", [](ConstrainedSettings<S>& st) { st.jacobi_floor = S(-1); });
   invalid("stall_limit 0", [](ConstrainedSettings<S>& st) { st.stall_limit = 0; });
   invalid("infeasible_grace -1", [](ConstrainedSettings<S>& st) { st.infeasible_grace = -1; });
+  invalid("stall_growth_allowance -1", [](ConstrainedSettings<S>& st) { st.stall_growth_allowance = -1; });
   invalid("infeasibility_bar 0", [](ConstrainedSettings<S>& st) { st.infeasibility_bar = S(0); });
   invalid("certificate_attempts 0", [](ConstrainedSettings<S>& st) { st.certificate_attempts = 0; });
   invalid("certificate_retry_factor 2", [](ConstrainedSettings<S>& st) { st.certificate_retry_factor = S(2); });
@@ -472,9 +473,11 @@ TEST_CASE_TEMPLATE("solve_constrained: every tuning constant is range-checked, d
     invalid("least_residual_continuation not finite",
             [b](ConstrainedSettings<S>& st) { st.least_residual_continuation = b; });
   }
-  // In range: accepted (infeasible_grace 0 and certificate_retry_factor 1 are the bounds).
+  // In range: accepted (infeasible_grace 0, stall_growth_allowance 0 and
+  // certificate_retry_factor 1 are the bounds).
   ConstrainedSettings<S> edge;
   edge.infeasible_grace = 0;
+  edge.stall_growth_allowance = 0;
   edge.certificate_retry_factor = S(1);
   edge.multiplier_certificate = !single;
   CHECK(solve_constrained(g, w, edge).status != Status::InvalidInput);

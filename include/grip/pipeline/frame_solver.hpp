@@ -61,7 +61,8 @@ struct ConstrainedFrameSolver {
   static constexpr bool enforces_cones = true;  ///< forces come back inside their exact cones
   /// The default deadline of every solve (ConstrainedSettings::max_passes): 16 passes, which
   /// keeps the slipping frames of the haptic loop's benchmark within about three times the
-  /// held frames' median, with as many frames held as without a deadline (bench/RESULTS.md).
+  /// held frames' median, with at least as many frames held as without a deadline
+  /// (bench/RESULTS.md).
   static constexpr int default_max_passes = 16;
   /// Tolerances and bounds of every solve: solve_constrained's defaults, max_passes excepted.
   ConstrainedSettings<Scalar> settings{real_time_settings()};

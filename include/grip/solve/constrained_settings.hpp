@@ -15,7 +15,8 @@ namespace grip {
 ///
 /// The defaults depend on Scalar through ScalarTraits<Scalar>::is_single_precision (double:
 /// tolerance 1e-12; float: 1e-5) and are what the tests hold the solver to. Every real member
-/// must be finite and positive, counts >= 1 (infeasible_grace >= 0), armijo < 1,
+/// must be finite and positive, counts >= 1 (infeasible_grace and stall_growth_allowance
+/// >= 0), armijo < 1,
 /// certificate_retry_factor <= 1 and least_residual_continuation > 1, or the solver answers
 /// InvalidInput. An aggregate: set members by name after default construction.
 template <class Scalar>
@@ -68,13 +69,23 @@ struct ConstrainedSettings {
   /// normal through the reference point, rank < 6), the same in every unit of length.
   /// Float literal 1e-6f in both precisions.
   Scalar jacobi_floor{Scalar(1e-6f)};
-  /// Newton iterations in a row whose residual fails to halve after which infeasibility is
-  /// suspected and decided once by the least-residual problem. 8, not 3: feasible instances
-  /// whose active set is still settling (nearly infeasible ones, with forces of 1000 N for a
-  /// 5 N load) stall for 3 to 7 and then converge, and the least-residual solve spent on them
-  /// cost 20 to 30 iterations (bench_constrained's instances: mean iterations 21.7 -> 10.0 at
-  /// n = 3, worst 39 -> 8 at n = 20).
+  /// Newton iterations in a row that fail to halve the residual after which infeasibility is
+  /// suspected and decided once by the least-residual problem. Halving is measured against
+  /// the residual of the last iteration that halved it (not the previous iteration's), so that
+  /// a residual that swings up and down by orders of magnitude (a diverging iteration on an
+  /// infeasible grasp) is seen to stall. 8, not 3: feasible instances whose active set is
+  /// still settling (nearly infeasible ones, with forces of 1000 N for a 5 N load) stall for 3
+  /// to 7 and then converge, and the least-residual solve spent on them cost 20 to 30
+  /// iterations (bench_constrained's instances: mean iterations 21.7 -> 10.0 at n = 3, worst
+  /// 39 -> 8 at n = 20).
   int stall_limit{8};
+  /// Full Newton steps (no step halved) that at least double a positive dual q are not
+  /// counted as stalls, up to this many per solve: the multipliers of a nearly infeasible
+  /// grasp grow about tenfold per step toward an optimum far away, and the least-residual
+  /// problem that a stall starts would cost more than the few steps left. 8: beyond it a
+  /// growth that goes on is taken for divergence (an infeasible grasp). >= 0; 0 counts every
+  /// step that fails to halve.
+  int stall_growth_allowance{8};
   /// Newton iterations still allowed after an infeasibility certificate was found on a stall:
   /// Infeasible is answered only if Newton has not converged within them. Float 12: a nearly
   /// infeasible feasible instance can stall early and pass the float certificate tolerance
@@ -136,7 +147,7 @@ bool valid_settings(const ConstrainedSettings<Scalar>& s) {
   const auto pos = [](Scalar v) { return std::isfinite(v) && v > Scalar(0); };
   return pos(s.tolerance) && pos(s.gap_tolerance) && pos(s.regularisation) && pos(s.certificate_tolerance) &&
          pos(s.least_residual_weight) && s.max_iterations >= 1 && s.max_line_search >= 1 && s.max_passes >= 1 && pos(s.armijo) &&
-         s.armijo < Scalar(1) && pos(s.jacobi_floor) && s.stall_limit >= 1 && s.infeasible_grace >= 0 &&
+         s.armijo < Scalar(1) && pos(s.jacobi_floor) && s.stall_limit >= 1 && s.stall_growth_allowance >= 0 && s.infeasible_grace >= 0 &&
          pos(s.infeasibility_bar) && s.certificate_attempts >= 1 && pos(s.certificate_retry_factor) &&
          s.certificate_retry_factor <= Scalar(1) && pos(s.certificate_guard) &&
          pos(s.least_residual_stage_tolerance) && pos(s.least_residual_continuation) &&

@@ -25,9 +25,11 @@
 /// per pass.
 
 #include <cmath>
+#include <limits>
 #include <type_traits>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "grip/contact/contact_model.hpp"
 #include "grip/core/scalar_traits.hpp"
@@ -112,6 +114,49 @@ class CoulombPassTable {
   }
 
   /// Writes the forces of x into the stacked vector `out` (3 size() entries, already sized).
+  /// The least alpha in (0, 1) at which the projection of some contact changes region along
+  /// lambda + alpha d: its input v_i(alpha) = s_i a_i + k_i G_i^T (lambda + alpha d) crosses
+  /// the surface of the cone |v_t| = mu v_n (v_n >= 0) or of its polar cone mu |v_t| = -v_n
+  /// (v_n <= 0); 1 if none does before 1. Up to there the dual is smooth along the segment;
+  /// the line searches try it when the full step fails (a kink in the dual usually stops a
+  /// Newton step there, and halving would find it only after many passes). Each surface is
+  /// a quadratic in alpha per contact; roots within 64 eps of 0 (the current point on a
+  /// surface) are skipped. One scalar pass over the contacts, no projection.
+  Scalar first_break(const Wrench<Scalar>& lambda, const Wrench<Scalar>& d) const {
+    using S = Scalar;
+    const S tiny = S(64) * std::numeric_limits<S>::epsilon();
+    S first = S(1);
+    for (int i = 0; i < n_; ++i) {
+      if (!(mu_(i) > S(0))) continue;  // the ray: its region changes at v_n = 0 only
+      const Vector3<S> r(rx_(i), ry_(i), rz_(i)), a(ax_(i), ay_(i), az_(i));
+      const Vector3<S> v0 = s_(i) * a + k_(i) * (lambda.template head<3>() - r.cross(lambda.template tail<3>()));
+      const Vector3<S> u = k_(i) * (d.template head<3>() - r.cross(d.template tail<3>()));
+      const S n0 = v0.dot(a), nu = u.dot(a);
+      const Vector3<S> t0 = v0 - n0 * a, tu = u - nu * a;
+      for (int side = 0; side < 2; ++side) {  // |t|^2 = c n^2: c = mu^2 (cone), 1 / mu^2 (polar)
+        const S c = side == 0 ? mu_(i) * mu_(i) : S(1) / (mu_(i) * mu_(i));
+        const S qa = tu.squaredNorm() - c * nu * nu, qb = S(2) * (t0.dot(tu) - c * n0 * nu);
+        const S qc = t0.squaredNorm() - c * n0 * n0;
+        S roots[2];
+        int count = 0;
+        if (std::abs(qa) <= tiny * (tu.squaredNorm() + c * nu * nu)) {
+          if (qb != S(0)) roots[count++] = -qc / qb;
+        } else if (const S disc = qb * qb - S(4) * qa * qc; disc >= S(0)) {
+          const S q = qb >= S(0) ? -S(0.5) * (qb + std::sqrt(disc)) : -S(0.5) * (qb - std::sqrt(disc));
+          if (q != S(0)) {
+            roots[count++] = q / qa;
+            roots[count++] = qc / q;
+          }
+        }
+        for (int k = 0; k < count; ++k) {
+          const S alpha = roots[k], n = n0 + alpha * nu;
+          if (alpha > tiny && alpha < first && (side == 0 ? n >= S(0) : n <= S(0))) first = alpha;
+        }
+      }
+    }
+    return first;
+  }
+
   template <class Vec>
   void store(const Forces& x, Vec& out) const {
     for (int i = 0; i < n_; ++i) {

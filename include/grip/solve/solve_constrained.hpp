@@ -84,8 +84,9 @@ struct ConstrainedSolution : Solution<GraspT> {
 ///   broken by F2; within 1e-5 (double) and 1e-2 (float) of the forces' scale of it on the
 ///   cvxopt reference instances.
 ///   `multipliers` are then that problem's (y = multipliers / |(multipliers_f, L multipliers_m)|).
-///   Decided when the Newton iteration stalls (the residual fails to halve stall_limit = 8
-///   times in a row) or at its iteration bound; the least-residual solve has its own
+///   Decided when the Newton iteration stalls (stall_limit = 8 steps in a row fail to halve
+///   the residual of the last step that did: ConstrainedSettings) or at its iteration
+///   bound; the least-residual solve has its own
 ///   max_iterations bound. In float (the defaults of ConstrainedSettings) the least-residual
 ///   solve is retried with a 100 and 10^4 times smaller delta (within that one bound) if its
 ///   certificate misses the tolerance, the direction of the diverging Newton multipliers is

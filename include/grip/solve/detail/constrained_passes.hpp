@@ -196,6 +196,9 @@ class ContactPasses {
                                GramAccumulator<Scalar>* hessian) const {
     return constrained_pass(grasp_, w_ext, lambda, x, hessian);
   }
+  /// Where the projections change region along lambda + alpha d (CoulombPassTable::first_break):
+  /// not computed for these cones, so 1 (the line searches then only halve).
+  Scalar first_break(const Wrench<Scalar>&, const Wrench<Scalar>&) const { return Scalar(1); }
   template <class Vec>
   void store(const Forces& x, Vec& out) const {
     out = x;

@@ -8,6 +8,7 @@
 /// certificate up to a term of order delta, so one solve both decides infeasibility and gives
 /// the forces that an Infeasible answer returns.
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -115,6 +116,8 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
     ConstrainedPass<S> trial;
     S trial_phi = cur_phi;
     for (int ls = 0; ls < settings.max_line_search && budget.left(); ++ls, alpha *= S(0.5)) {
+      // The full step failed: try the first kink of phi along dir if it comes before the half.
+      if (ls == 1) alpha = std::min(alpha, passes.first_break(input(lambda), input(dir)));
       lt = lambda + alpha * dir;
       trial = budget.run(passes, w_ext, input(lt), xt, &trial_h);
       trial_phi = phi(trial, lt);
@@ -125,7 +128,7 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
         break;
       }
     }
-    if (!accepted) {
+    if (!accepted || lt == lambda) {  // none, or a step below lambda's resolution
       if (!next_stage()) break;
       continue;
     }

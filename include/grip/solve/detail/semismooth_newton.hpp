@@ -15,6 +15,7 @@
 /// and satisfies stationarity and complementarity exactly; only the equilibrium residual is
 /// driven to zero.
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -89,6 +90,7 @@ class SemismoothNewton {
     dinv_ = jacobi_.cwiseSqrt().cwiseInverse();
     cur_ = budget_.run(passes_, w_ext_, lambda_, x_, &cur_h_);  // always allowed: max_passes >= 1
     keep_best();
+    stall_ref_ = rn_;
   }
 
   /// Keeps the iterate if its residual is the least met so far: the answer under IterationLimit.
@@ -123,7 +125,7 @@ class SemismoothNewton {
       }
       if (it_ >= settings_.max_iterations) break;
       if (!newton_step(rn)) break;
-      if (!watch_stall(rn)) break;
+      if (!watch_stall()) break;
     }
     if (status_ == Status::IterationLimit) {
       if (pending_ || (!phase1_done_ && decide_infeasible())) apply_infeasible();
@@ -143,8 +145,8 @@ class SemismoothNewton {
   /// (H + mu D) d = -r, H = sum w^-1 G J G^T, solved Jacobi-scaled, with
   /// mu = min(damping, |r|/scale) + regularisation (quadratic convergence near the optimum, and
   /// steps that grow geometrically along a direction of unbounded ascent: infeasible problems),
-  /// then the Armijo line search on q. The accepted point becomes the iterate; false when no
-  /// step is accepted (no ascent left at round-off: Ok if the residual is within tolerance).
+  /// then the Armijo line search on q (its second trial at q's first kink, first_break, if
+  /// nearer than half). Its point becomes the iterate; false if none is accepted (Ok if in tolerance).
   bool newton_step(S rn) {
     const S reg = settings_.regularisation;
     Matrix6<S> h = cur_h_.matrix();
@@ -162,6 +164,7 @@ class SemismoothNewton {
     if (slope > S(0) && dir.allFinite()) {
       S alpha = S(1);
       for (; cuts < settings_.max_line_search && budget_.left(); ++cuts, alpha *= S(0.5)) {
+        if (cuts == 1) alpha = std::min(alpha, passes_.first_break(lambda_, dir));  // q's first kink
         lt = lambda_ + alpha * dir;
         trial = budget_.run(passes_, w_ext_, lt, xt_, &trial_h_);
         const S slack =
@@ -172,6 +175,7 @@ class SemismoothNewton {
         }
       }
     }
+    if (accepted && lt == lambda_) accepted = false;  // a step below lambda's resolution: none
     if (!accepted) {
       // No step left at round-off, unless the deadline cut the line search short.
       const bool deadline = !budget_.left() && cuts < settings_.max_line_search;
@@ -181,6 +185,7 @@ class SemismoothNewton {
     // Levenberg-Marquardt: /10 after a full step, *4 (up to 1) after a cut one.
     damping_ = cuts == 0 ? damping_ * S(0.1) : (damping_ * S(4) < S(1) ? damping_ * S(4) : S(1));
     if (damping_ < reg) damping_ = reg;
+    growing_ = cuts == 0 && cur_.dual > S(0) && trial.dual >= S(2) * cur_.dual;
     lambda_ = lt;
     x_ = xt_;
     cur_h_ = trial_h_;
@@ -189,12 +194,19 @@ class SemismoothNewton {
     return true;
   }
 
-  /// After a step from residual norm `rn`: slow progress (the residual no longer halves,
-  /// settings.stall_limit times in a row) suggests that no forces in the cones balance w_ext;
-  /// it is decided once by the least-residual problem. A verdict of infeasibility waits
-  /// settings.infeasible_grace iterations for Newton to converge after all. False: stop now.
-  bool watch_stall(S rn) {
-    stall_ = rn_ > S(0.5) * rn ? stall_ + 1 : 0;
+  /// After a step: settings.stall_limit steps in a row that fail to halve stall_ref_ (full
+  /// steps that double the dual excepted, settings.stall_growth_allowance of them) suggest that
+  /// no forces in the cones balance w_ext: decided once by phase 1. A verdict of infeasibility
+  /// waits settings.infeasible_grace iterations for Newton to converge. False: stop now.
+  bool watch_stall() {
+    if (rn_ <= S(0.5) * stall_ref_) {
+      stall_ref_ = rn_;
+      stall_ = 0;
+    } else if (growing_ && growth_ < settings_.stall_growth_allowance) {
+      ++growth_;
+    } else {
+      ++stall_;
+    }
     if (stall_ >= settings_.stall_limit && !phase1_done_) {
       phase1_done_ = true;
       if (decide_infeasible()) {
@@ -223,6 +235,7 @@ class SemismoothNewton {
       cur_h_ = trial_h_;
       cur_ = alt;
       stall_ = 0;
+      stall_ref_ = norm_(alt.residual);
       keep_best();
     }
   }
@@ -364,7 +377,10 @@ class SemismoothNewton {
   S damping_{1};  ///< Levenberg-Marquardt state: /10 after a full step, *4 after a cut one
   Status status_{Status::IterationLimit};
   int it_{0};
-  int stall_{0};              ///< steps in a row whose residual did not halve
+  int stall_{0};         ///< steps in a row that did not halve stall_ref_
+  S stall_ref_{0};       ///< the residual of the last step that halved it (or of the start)
+  int growth_{0};        ///< full steps that doubled the dual, not counted as stalls
+  bool growing_{false};  ///< the last step was one
   int phase1_iterations_{0};  ///< counted apart: the Newton budget stays max_iterations
   bool phase1_done_{false};
   // Phase 1's verdict, pending until apply_infeasible().
