@@ -261,7 +261,7 @@ TEST_CASE_TEMPLATE("a grasp the monitor finds slipping lets the object slip", S,
   CHECK(p.object().position.z() < x0.z() - S(1e-4));  // 0.1 mm: a distance it must slide, not a tolerance
 }
 
-TEST_CASE_TEMPLATE("feedback is clamped to the device's limit and reported", S, double, float) {
+TEST_CASE_TEMPLATE("feedback is clamped to the device's limit, which is the default device's", S, double, float) {
   grip_test::HeldCylinder<S> h;
   h.settings.device_limit.fill(S(2));
   auto p = h.pipeline();
@@ -282,14 +282,7 @@ TEST_CASE_TEMPLATE("feedback is clamped to the device's limit and reported", S, 
   }
   CHECK(clamped == f.clamped);
   CHECK(clamped >= 1);  // the thumb's ~24 N at least
-}
-
-TEST_CASE_TEMPLATE("the default device's limits are the feedback's: one source", S, double, float) {
-  grip_test::HeldCylinder<S> h;
-  h.settings.device_limit.fill(S(2));
-  auto p = h.pipeline();
-  HapticFrame<S> f;
-  REQUIRE(p.step(h.wrist, h.closed, f) == Status::Ok);
+  // One source: the default device's limits are the feedback's.
   const int k = phalanx_index(Finger::Thumb, Phalanx::Distal);
   REQUIRE(f.phalanges[detail::idx(k)].actuated > S(3));  // pushed beyond both limits below
   CHECK(f.phalanges[detail::idx(k)].command == S(2));
