@@ -119,6 +119,7 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
       // The full step failed: try the first kink of phi along dir if it comes before the half.
       if (ls == 1) alpha = std::min(alpha, passes.first_break(input(lambda), input(dir)));
       lt = lambda + alpha * dir;
+      if (lt == lambda) break;  // a step below lambda's resolution (at round-off Armijo takes it)
       trial = budget.run(passes, w_ext, input(lt), xt, &trial_h);
       trial_phi = phi(trial, lt);
       const S slack =
@@ -128,7 +129,7 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
         break;
       }
     }
-    if (!accepted || lt == lambda) {  // none, or a step below lambda's resolution
+    if (!accepted) {
       if (!next_stage()) break;
       continue;
     }

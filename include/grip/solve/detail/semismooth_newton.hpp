@@ -166,16 +166,15 @@ class SemismoothNewton {
       for (; cuts < settings_.max_line_search && budget_.left(); ++cuts, alpha *= S(0.5)) {
         if (cuts == 1) alpha = std::min(alpha, passes_.first_break(lambda_, dir));  // q's first kink
         lt = lambda_ + alpha * dir;
+        if (lt == lambda_) break;  // a step below lambda's resolution (at round-off Armijo takes it)
         trial = budget_.run(passes_, w_ext_, lt, xt_, &trial_h_);
-        const S slack =
-            S(constrained_roundoff) * eps() * (std::abs(trial.dual) + std::abs(cur_.dual) + std::abs(cur_.f2));
+        const S slack = S(constrained_roundoff) * eps() * (std::abs(trial.dual) + std::abs(cur_.dual) + std::abs(cur_.f2));
         if (trial.dual >= cur_.dual + settings_.armijo * alpha * slope - slack) {
           accepted = true;
           break;
         }
       }
     }
-    if (accepted && lt == lambda_) accepted = false;  // a step below lambda's resolution: none
     if (!accepted) {
       // No step left at round-off, unless the deadline cut the line search short.
       const bool deadline = !budget_.left() && cuts < settings_.max_line_search;
