@@ -19,6 +19,11 @@ namespace detail {
 template <class Int, std::enable_if_t<std::is_integral<Int>::value && std::is_signed<Int>::value, int> = 0>
 constexpr std::size_t idx(Int i) noexcept {
   GRIP_ASSERT(i >= 0);
+#if defined(__GNUC__)
+  // The precondition, told to the optimiser: without it g++ sees a path with i < 0 and warns
+  // of a subscript of 2^31 (-Warray-bounds, 32-bit targets), and it may drop the sign checks.
+  if (i < 0) __builtin_unreachable();
+#endif
   return static_cast<std::size_t>(i);
 }
 
