@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
 # Builds examples/07_embedded/ for a Cortex-M4F with Debian's arm-none-eabi-g++ (freestanding
-# style: -fno-exceptions -fno-rtti -DEIGEN_NO_MALLOC, -Os, no linking), then checks:
+# style: -fno-exceptions -fno-rtti -DEIGEN_NO_MALLOC, -Os with EIGEN_UNROLLING_LIMIT=0 so that
+# Eigen's fixed-size expressions stay loops, no linking), then checks:
 #   1. every translation unit compiles, warnings as errors;
 #   2. no object references malloc, free, calloc, realloc, operator new/delete or __cxa_throw;
-#   3. grasp_step.o (solve_range_space + StabilityMonitor): .text < 16 KiB;
-#   4. its worst-case stack < 2.5 KiB: the deepest call chain from grip_grasp_step, frames summed
-#      (-fstack-usage -fcallgraph-info=su, cmake/stack_depth.py; recursion or a dynamic frame fails).
+#   3. grasp_step.o (solve_range_space + StabilityMonitor): .text < 16 KiB, worst-case stack
+#      < 2.5 KiB (the deepest call chain from grip_grasp_step, frames summed: -fstack-usage
+#      -fcallgraph-info=su, cmake/stack_depth.py; recursion or a dynamic frame fails);
+#   4. constrained_step.o (solve_constrained + StabilityMonitor): stack < 3 KiB, .text < 20 KiB
+#      (a ceiling against growth: the goal, 16 KiB, is not met yet).
 # Usage: bash cmake/check_embedded.sh [build-dir]   (default build/embedded)
 # Prints a figures table and "checks: N passed, M failed"; exits non-zero on any failure.
 set -uo pipefail
@@ -14,11 +17,12 @@ out=${1:-build/embedded}
 mkdir -p "$out"
 cxx=arm-none-eabi-g++
 flags=(-std=c++17 -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -fno-exceptions -fno-rtti
-       -DEIGEN_NO_MALLOC -DNDEBUG -Os -fno-math-errno -ffunction-sections -fdata-sections -fstack-usage -fcallgraph-info=su
+       -DEIGEN_NO_MALLOC -DEIGEN_UNROLLING_LIMIT=0 -DNDEBUG -Os -fno-math-errno -ffunction-sections -fdata-sections -fstack-usage -fcallgraph-info=su
        -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wdouble-promotion -Werror
        -Iinclude -isystem /usr/include/eigen3)
-code_budget=16384
-stack_budget=2560
+# Budgets per object: .text and worst-case stack, bytes.
+declare -A code_budget=([grasp_step]=16384 [constrained_step]=20480)
+declare -A stack_budget=([grasp_step]=2560 [constrained_step]=3072)
 passed=0 failed=0
 check() {  # check NAME CONDITION-EXIT-CODE
   if [ "$2" -eq 0 ]; then passed=$((passed + 1)); echo "  ok    $1"; else failed=$((failed + 1)); echo "  FAIL  $1"; fi
@@ -48,9 +52,10 @@ for src in examples/07_embedded/*.cpp; do
   stack_rc=$?
   worst=$(echo "$depth" | awk 'NR == 1 {print $1}')
   printf '%-22s %10s %14s %18s\n' "$name.o" "$text" "$maxf" "$worst"
-  if [ "$name" = grasp_step ]; then
-    [ "$text" -lt "$code_budget" ]; check "$name: .text $text B < $code_budget B" $?
-    [ "$stack_rc" -eq 0 ] && [ "${worst:-99999}" -lt "$stack_budget" ]; check "$name: stack $worst B < $stack_budget B" $?
+  if [ -n "${code_budget[$name]:-}" ]; then
+    [ "$text" -lt "${code_budget[$name]}" ]; check "$name: .text $text B < ${code_budget[$name]} B" $?
+    [ "$stack_rc" -eq 0 ] && [ "${worst:-99999}" -lt "${stack_budget[$name]}" ]
+    check "$name: stack $worst B < ${stack_budget[$name]} B" $?
   fi
   echo "$depth" | sed 's/^/  /'
   echo "  largest frames ($name, bytes):"

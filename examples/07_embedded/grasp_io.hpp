@@ -3,7 +3,7 @@
 // (examples/07_embedded only).
 #include <grip/contact/contact.hpp>
 #include <grip/grasp/grasp.hpp>
-#include <grip/monitor/grasp_state.hpp>
+#include <grip/monitor/stability_monitor.hpp>
 
 constexpr int kGripFingers = 5;
 
@@ -23,8 +23,10 @@ struct GripStepOut {
   float residual;                 ///< |G f + w_ext| (N, N m)
 };
 
+/// The contacts into `grasp` (out of line, like monitor_and_store: its temporaries stay off the
+/// stack of the solve).
 template <class GraspT>
-grip::Status load_grasp(GraspT& grasp, const GripContactIn* in) {
+__attribute__((noinline)) grip::Status load_grasp(GraspT& grasp, const GripContactIn* in) {
   for (int i = 0; i < kGripFingers; ++i) {
     grip::Contact<float> c;
     c.position = grip::Vector3<float>(in[i].position[0], in[i].position[1], in[i].position[2]);
@@ -42,8 +44,13 @@ inline grip::Wrench<float> load_wrench(const float* w) {
   return r;
 }
 
-template <class Forces, class State>
-void store(const Forces& f, float residual, const State& state, GripStepOut* out) {
+/// Each contact's friction-cone mode (grip::monitor_grasp) and the forces into `out`. Out of
+/// line: the monitor's state is then not on the stack while the solver runs (the step's
+/// deepest call chain is the solve's).
+template <class GraspT, class Forces>
+__attribute__((noinline)) void monitor_and_store(const GraspT& grasp, const Forces& f, float residual,
+                                                 GripStepOut* out) {
+  const grip::GraspState<GraspT> state = grip::monitor_grasp(grasp, f);
   for (int i = 0; i < kGripFingers; ++i) {
     for (int k = 0; k < 3; ++k) out->force[i][k] = f(3 * i + k);
     out->mode[i] = static_cast<unsigned char>(state.status == grip::Status::Ok ? state.mode(i)

@@ -8,7 +8,6 @@
 // the O(n) solver) and each contact's friction-cone mode (StabilityMonitor) go out.
 #include "grasp_io.hpp"
 
-#include <grip/monitor/stability_monitor.hpp>
 #include <grip/solve/solve_range_space.hpp>
 
 using EmbeddedGrasp = grip::Grasp<kGripFingers, grip::HardFinger, float>;
@@ -18,7 +17,6 @@ extern "C" int grip_grasp_step(const GripContactIn* contacts, const float* w_ext
   if (load_grasp(grasp, contacts) != grip::Status::Ok) return static_cast<int>(grip::Status::InvalidInput);
   const grip::Wrench<float> w = load_wrench(w_ext);
   const grip::Solution<EmbeddedGrasp> sol = grip::solve_range_space(grasp, w);
-  const grip::GraspState<EmbeddedGrasp> state = grip::monitor_grasp(grasp, sol.forces);
-  store(sol.forces, sol.residual, state, out);
+  monitor_and_store(grasp, sol.forces, sol.residual, out);
   return static_cast<int>(sol.status);
 }

@@ -1,4 +1,5 @@
-// core/types.hpp: skew(), detail::stable_norm() and the size helpers against hand-worked values;
+// core/types.hpp: skew(), detail::stable_norm(), detail::scale_symmetric() and the size helpers
+// against hand-worked values;
 // core/version.hpp: its spellings agree.
 #include <doctest/doctest.h>
 
@@ -52,6 +53,28 @@ TEST_CASE("times_or_dynamic and plus_or_dynamic: products and sums of sizes, Dyn
   CHECK(times_or_dynamic(dynamic, 4) == Dynamic);
   CHECK(plus_or_dynamic(6, three * 3) == 15);  // the KKT size of three hard fingers: 6 + 3 n
   CHECK(plus_or_dynamic(6, dynamic) == Dynamic);
+}
+
+TEST_CASE_TEMPLATE("scale_symmetric: D a D in place, a hand-worked case and Eigen's products bit for bit", S, float,
+                   double) {
+  // A hand-worked entry: d = (1, 2, 3, 4, 5, 6), a(i, j) = i + 1 + 10 j: (D a D)(2, 5) = 3 * 53 * 6.
+  Matrix6<S> a;
+  for (int j = 0; j < 6; ++j)
+    for (int i = 0; i < 6; ++i) a(i, j) = S(i + 1 + 10 * j);
+  Wrench<S> d;
+  d << S(1), S(2), S(3), S(4), S(5), S(6);
+  Matrix6<S> b = a;
+  detail::scale_symmetric(b, d);
+  CHECK(b(2, 5) == S(3 * 53 * 6));
+  CHECK(b(0, 0) == S(1));
+  CHECK(b(5, 4) == S(6 * 46 * 5));
+  // Entries whose products round: the same bits as d.asDiagonal() * a * d.asDiagonal().
+  for (int j = 0; j < 6; ++j)
+    for (int i = 0; i < 6; ++i) a(i, j) = S(1) / S(3 + i + 7 * j);
+  for (int k = 0; k < 6; ++k) d(k) = std::sqrt(S(2 + k));
+  const Matrix6<S> ref = d.asDiagonal() * a * d.asDiagonal();
+  detail::scale_symmetric(a, d);
+  CHECK((a.array() == ref.array()).all());
 }
 
 TEST_CASE("version: the macros, the string literal and version() agree") {

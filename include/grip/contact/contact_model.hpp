@@ -45,16 +45,33 @@ struct GramAccumulator {
   /// The assembled symmetric 6x6 matrix.
   Matrix6<Scalar> matrix() const {
     Matrix6<Scalar> m = extra;
-    const Matrix3<Scalar> s = skew(s1);
-    m.template topLeftCorner<3, 3>().diagonal().array() += k0;
-    m.template topRightCorner<3, 3>() -= s;
-    m.template bottomLeftCorner<3, 3>() += s;
-    Matrix3<Scalar> sym = s2;  // add_point_force fills the upper triangle only
-    sym(1, 0) = sym(0, 1);
-    sym(2, 0) = sym(0, 2);
-    sym(2, 1) = sym(1, 2);
-    m.template bottomRightCorner<3, 3>() += sym;
+    add_closed_form(m, k0, s1, s2);
     return m;
+  }
+
+  /// m += [[k0 I, -[s1]x], [[s1]x, S2]], S2 read from the upper triangle of `s2`: the
+  /// closed-form part added to the other terms (matrix(), and solve_constrained's pass, which
+  /// sums the parts apart and assembles them in place).
+  /// Entry by entry (no temporaries: it runs under every pass of solve_constrained).
+  static void add_closed_form(Matrix6<Scalar>& m, Scalar k0, const Vector3<Scalar>& s1, const Matrix3<Scalar>& s2) {
+    const Scalar x = s1.x(), y = s1.y(), z = s1.z();
+    for (int i = 0; i < 3; ++i) m(i, i) += k0;
+    // [s1]x = [[0, -z, y], [z, 0, -x], [-y, x, 0]]: subtracted top right, added bottom left.
+    m(0, 4) += z;
+    m(0, 5) -= y;
+    m(1, 3) -= z;
+    m(1, 5) += x;
+    m(2, 3) += y;
+    m(2, 4) -= x;
+    m(3, 1) -= z;
+    m(3, 2) += y;
+    m(4, 0) += z;
+    m(4, 2) -= x;
+    m(5, 0) -= y;
+    m(5, 1) += x;
+    // S2 from its upper triangle (add_point_force fills only that).
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) m(3 + i, 3 + j) += i <= j ? s2(i, j) : s2(j, i);
   }
 
   /// Adds k [I; [r]x][I; [r]x]^T: the hard-finger block in closed form (plain scalar code:

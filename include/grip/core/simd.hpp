@@ -19,6 +19,16 @@
 #define GRIP_ALWAYS_INLINE inline
 #endif
 
+/// GRIP_UNROLL(n), written before a loop of at most n iterations: unrolls it fully where the
+/// build optimises for speed (a pass's sums then stay in registers), and leaves it a loop where
+/// it optimises for size (-Os, __OPTIMIZE_SIZE__: a microcontroller's flash).
+#if (defined(__GNUC__) || defined(__clang__)) && !defined(__OPTIMIZE_SIZE__)
+#define GRIP_DETAIL_PRAGMA(text) _Pragma(#text)
+#define GRIP_UNROLL(n) GRIP_DETAIL_PRAGMA(GCC unroll n)
+#else
+#define GRIP_UNROLL(n)
+#endif
+
 /// 1 when the vectorised passes use AVX-512 (the compiler targets AVX-512F and AVX-512VL and
 /// GRIP_NO_SIMD is not defined), else 0.
 #if defined(__AVX512F__) && defined(__AVX512VL__) && !defined(GRIP_NO_SIMD)

@@ -77,6 +77,14 @@ typename Derived::RealScalar stable_norm(const Eigen::MatrixBase<Derived>& v) {
   return scale * std::sqrt(sum);
 }
 
+/// a <- D a D with D = diag(d), in place (the same products, in the same order, as
+/// d.asDiagonal() * a * d.asDiagonal(), without the second 6x6 matrix on the stack).
+template <class Scalar>
+void scale_symmetric(Matrix6<Scalar>& a, const Wrench<Scalar>& d) {
+  for (int j = 0; j < 6; ++j)
+    for (int i = 0; i < 6; ++i) a(i, j) = d(i) * a(i, j) * d(j);
+}
+
 }  // namespace detail
 
 }  // namespace grip

@@ -6,7 +6,7 @@
 /// A pass at multipliers lambda takes every contact i through
 ///   v_i = s_i a_i + k_i G_i^T lambda          (k_i = 1/w_i; s_i a_i = t_i, eq. 7)
 ///   x_i = P_i(v_i)                             (projection onto the Coulomb cone of eq. 4-5)
-/// and sums what the Newton iteration reads: G x + w_ext, F2(x), |x| and, on request,
+/// and sums what the Newton iteration reads: G x + w_ext, F2(x), |x| and
 /// sum_i k_i G_i J_i G_i^T with J_i = dP_i/dv (minus the dual's generalised Hessian). Same
 /// regions and formulas as coulomb_project_accumulate in detail/constrained_passes.hpp (the
 /// contact-by-contact form, kept as the reference the tests compare with):
@@ -167,26 +167,17 @@ class CoulombPassTable {
   }
 
   /// One pass at multipliers `lambda` (see the file comment): x_i = P_i(v_i) into `x`, the
-  /// sums returned; with `hessian` given, sum_i k_i G_i J_i G_i^T written into it (replacing
-  /// its contents).
-  ConstrainedPass<Scalar> pass(const Wrench<Scalar>& w_ext, const Wrench<Scalar>& lambda, Forces& x,
-                               GramAccumulator<Scalar>* hessian) const {
-    return hessian != nullptr ? run<true>(w_ext, lambda, x, hessian) : run<false>(w_ext, lambda, x, nullptr);
-  }
-
- private:
-  // Per-lane sums, in this order: G x (6), w |x - t|^2, |x|^2; then, with the Hessian, the
-  // interior point-force sums k, k r (3), k (|r|^2 I - r r^T) upper triangle (6) and the 21
-  // upper-triangle entries of the rank-one terms.
-  static constexpr int base_sums = 8;
-  static constexpr int hessian_sums = 10 + 21;
-
-  template <bool WithHessian>
-  ConstrainedPass<Scalar> run(const Wrench<Scalar>& w_ext, const Wrench<Scalar>& l, Forces& x,
-                              GramAccumulator<Scalar>* hessian) const {
+  /// sums returned, and sum_i k_i G_i J_i G_i^T written into `hessian`, assembled and
+  /// symmetric (every pass of the solver reads it: an accepted line-search point for the next
+  /// Newton step).
+  ConstrainedPass<Scalar> pass(const Wrench<Scalar>& w_ext, const Wrench<Scalar>& l, Forces& x,
+                               Matrix6<Scalar>& hessian) const {
     using S = Scalar;
     using P = Pack;
-    constexpr int sums = (base_sums + (WithHessian ? hessian_sums : 0) + 7) / 8 * 8;  // whole groups of 8
+    // Per-lane sums, in this order: G x (6), w |x - t|^2, |x|^2; the interior point-force sums
+    // k, k r (3), k (|r|^2 I - r r^T) upper triangle (6); the 21 upper-triangle entries of the
+    // rank-one terms. In whole groups of 8.
+    constexpr int sums = (8 + 10 + 21 + 7) / 8 * 8;
     const P zero = P::set1(S(0)), one = P::set1(S(1)), big = P::set1(ScalarTraits<S>::max_magnitude);
     const P l0 = P::set1(l(0)), l1 = P::set1(l(1)), l2 = P::set1(l(2)), l3 = P::set1(l(3)), l4 = P::set1(l(4)),
             l5 = P::set1(l(5));
@@ -230,83 +221,69 @@ class CoulombPassTable {
       const P dx = px - s * ax, dy = py - s * ay, dz = pz - s * az;
       acc[6] = acc[6] + P::load(w_.data() + i) * (dx * dx + dy * dy + dz * dz);
       acc[7] = acc[7] + (px * px + py * py + pz * pz);
-      if constexpr (WithHessian) {
-        // Interior: k G G^T in GramAccumulator's closed form.
-        const P ki = select(inside, k, zero);
-        const P kx = ki * rx, ky = ki * ry, kz = ki * rz;
-        acc[8] = acc[8] + ki;
-        acc[9] = acc[9] + kx;
-        acc[10] = acc[10] + ky;
-        acc[11] = acc[11] + kz;
-        acc[12] = acc[12] + (ky * ry + kz * rz);
-        acc[13] = acc[13] + (kx * rx + kz * rz);
-        acc[14] = acc[14] + (kx * rx + ky * ry);
-        acc[15] = acc[15] - kx * ry;
-        acc[16] = acc[16] - kx * rz;
-        acc[17] = acc[17] - ky * rz;
-        // Boundary part: k beta g_b g_b^T + k ku g_d g_d^T; e = v_t/|v_t| (0 elsewhere, so that
-        // every term stays finite).
-        const auto dir = boundary & pos;
-        const P ex = select(dir, tx * inv, zero), ey = select(dir, ty * inv, zero), ez = select(dir, tz * inv, zero);
-        const P cb = select(boundary, k * beta, zero), cd = select(boundary, k * ku, zero);
-        const P bx = ay * ez - az * ey, by = az * ex - ax * ez, bz = ax * ey - ay * ex;  // b = a x e
-        const P dx2 = ax + m * ex, dy2 = ay + m * ey, dz2 = az + m * ez;                 // d = a + mu e
-        const P gb[6] = {bx, by, bz, ry * bz - rz * by, rz * bx - rx * bz, rx * by - ry * bx};
-        const P gd[6] = {dx2, dy2, dz2, ry * dz2 - rz * dy2, rz * dx2 - rx * dz2, rx * dy2 - ry * dx2};
-        const P wb[6] = {cb * gb[0], cb * gb[1], cb * gb[2], cb * gb[3], cb * gb[4], cb * gb[5]};
-        const P wd[6] = {cd * gd[0], cd * gd[1], cd * gd[2], cd * gd[3], cd * gd[4], cd * gd[5]};
-        // Written out (constant indices): the compiler keeps every term in registers.
-        acc[18] = mul_add(wb[0], gb[0], mul_add(wd[0], gd[0], acc[18]));
-        acc[19] = mul_add(wb[0], gb[1], mul_add(wd[0], gd[1], acc[19]));
-        acc[20] = mul_add(wb[0], gb[2], mul_add(wd[0], gd[2], acc[20]));
-        acc[21] = mul_add(wb[0], gb[3], mul_add(wd[0], gd[3], acc[21]));
-        acc[22] = mul_add(wb[0], gb[4], mul_add(wd[0], gd[4], acc[22]));
-        acc[23] = mul_add(wb[0], gb[5], mul_add(wd[0], gd[5], acc[23]));
-        acc[24] = mul_add(wb[1], gb[1], mul_add(wd[1], gd[1], acc[24]));
-        acc[25] = mul_add(wb[1], gb[2], mul_add(wd[1], gd[2], acc[25]));
-        acc[26] = mul_add(wb[1], gb[3], mul_add(wd[1], gd[3], acc[26]));
-        acc[27] = mul_add(wb[1], gb[4], mul_add(wd[1], gd[4], acc[27]));
-        acc[28] = mul_add(wb[1], gb[5], mul_add(wd[1], gd[5], acc[28]));
-        acc[29] = mul_add(wb[2], gb[2], mul_add(wd[2], gd[2], acc[29]));
-        acc[30] = mul_add(wb[2], gb[3], mul_add(wd[2], gd[3], acc[30]));
-        acc[31] = mul_add(wb[2], gb[4], mul_add(wd[2], gd[4], acc[31]));
-        acc[32] = mul_add(wb[2], gb[5], mul_add(wd[2], gd[5], acc[32]));
-        acc[33] = mul_add(wb[3], gb[3], mul_add(wd[3], gd[3], acc[33]));
-        acc[34] = mul_add(wb[3], gb[4], mul_add(wd[3], gd[4], acc[34]));
-        acc[35] = mul_add(wb[3], gb[5], mul_add(wd[3], gd[5], acc[35]));
-        acc[36] = mul_add(wb[4], gb[4], mul_add(wd[4], gd[4], acc[36]));
-        acc[37] = mul_add(wb[4], gb[5], mul_add(wd[4], gd[5], acc[37]));
-        acc[38] = mul_add(wb[5], gb[5], mul_add(wd[5], gd[5], acc[38]));
+      // Interior: k G G^T in GramAccumulator's closed form.
+      const P ki = select(inside, k, zero);
+      const P kx = ki * rx, ky = ki * ry, kz = ki * rz;
+      acc[8] = acc[8] + ki;
+      acc[9] = acc[9] + kx;
+      acc[10] = acc[10] + ky;
+      acc[11] = acc[11] + kz;
+      acc[12] = acc[12] + (ky * ry + kz * rz);
+      acc[13] = acc[13] + (kx * rx + kz * rz);
+      acc[14] = acc[14] + (kx * rx + ky * ry);
+      acc[15] = acc[15] - kx * ry;
+      acc[16] = acc[16] - kx * rz;
+      acc[17] = acc[17] - ky * rz;
+      // Boundary part: k beta g_b g_b^T + k ku g_d g_d^T; e = v_t/|v_t| (0 elsewhere, so that
+      // every term stays finite).
+      const auto dir = boundary & pos;
+      const P ex = select(dir, tx * inv, zero), ey = select(dir, ty * inv, zero), ez = select(dir, tz * inv, zero);
+      const P cb = select(boundary, k * beta, zero), cd = select(boundary, k * ku, zero);
+      const P bx = ay * ez - az * ey, by = az * ex - ax * ez, bz = ax * ey - ay * ex;  // b = a x e
+      const P dx2 = ax + m * ex, dy2 = ay + m * ey, dz2 = az + m * ez;                 // d = a + mu e
+      const P gb[6] = {bx, by, bz, ry * bz - rz * by, rz * bx - rx * bz, rx * by - ry * bx};
+      const P gd[6] = {dx2, dy2, dz2, ry * dz2 - rz * dy2, rz * dx2 - rx * dz2, rx * dy2 - ry * dx2};
+      // The 21 upper-triangle entries, row by row. Unrolled where the build optimises for
+      // speed (GRIP_UNROLL): constant indices keep every term in registers; a loop under -Os.
+      int e = 18;
+      GRIP_UNROLL(6)
+      for (int r = 0; r < 6; ++r) {
+        GRIP_UNROLL(6)
+        for (int c = r; c < 6; ++c, ++e) acc[e] = mul_add(cb * gb[r], gb[c], mul_add(cd * gd[r], gd[c], acc[e]));
       }
     }
-    S total[sums];
-    P::sum_each(acc, sums, total);
+    // The sums across the lanes (a one-lane pack is its own sum: no copy on the stack).
+    S lanes[P::width > 1 ? sums : 1];
+    if constexpr (P::width > 1) P::sum_each(acc, sums, lanes);
+    const auto total = [&](int e) -> S {
+      if constexpr (P::width > 1) return lanes[e];
+      else return acc[e].v;
+    };
     ConstrainedPass<S> p;
-    for (int r = 0; r < 6; ++r) p.residual(r) = w_ext(r) + total[r];
-    p.f2 = S(0.5) * total[6];
-    p.scale = w_ext.norm() + std::sqrt(total[7]);
+    for (int r = 0; r < 6; ++r) p.residual(r) = w_ext(r) + total(r);
+    p.f2 = S(0.5) * total(6);
+    p.scale = w_ext.norm() + std::sqrt(total(7));
     p.dual = p.f2 - l.dot(p.residual);
-    if constexpr (WithHessian) {
-      GramAccumulator<S>& h = *hessian;
-      h.k0 = total[8];
-      h.s1 = Vector3<S>(total[9], total[10], total[11]);
-      h.s2.setZero();
-      h.s2(0, 0) = total[12];
-      h.s2(1, 1) = total[13];
-      h.s2(2, 2) = total[14];
-      h.s2(0, 1) = total[15];
-      h.s2(0, 2) = total[16];
-      h.s2(1, 2) = total[17];
-      int e = 18;
-      for (int r = 0; r < 6; ++r)
-        for (int c = r; c < 6; ++c, ++e) {
-          h.extra(r, c) = total[e];
-          h.extra(c, r) = total[e];
-        }
-    }
+    // The Hessian: the rank-one terms, then the interior point forces' closed form added.
+    Matrix6<S>& h = hessian;
+    int e = 18;
+    for (int r = 0; r < 6; ++r)
+      for (int c = r; c < 6; ++c, ++e) {
+        h(r, c) = total(e);
+        h(c, r) = total(e);
+      }
+    Matrix3<S> s2;  // upper triangle
+    s2(0, 0) = total(12);
+    s2(1, 1) = total(13);
+    s2(2, 2) = total(14);
+    s2(0, 1) = total(15);
+    s2(0, 2) = total(16);
+    s2(1, 2) = total(17);
+    GramAccumulator<S>::add_closed_form(h, total(8), Vector3<S>(total(9), total(10), total(11)), s2);
     return p;
   }
 
+ private:
   int n_;
   int rows_;
   Column rx_, ry_, rz_, ax_, ay_, az_, mu_, ku_, k_, s_, w_;

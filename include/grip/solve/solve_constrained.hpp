@@ -122,7 +122,7 @@ namespace detail {
 /// contacts at once by detail::coulomb_all_inside, vectorised where compiled in). The diagonal
 /// of G W^-1 G^T goes to `gram_diagonal` (see range_space_solve).
 template <class GraspT>
-bool constrained_fast_path(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
+EIGEN_DONT_INLINE bool constrained_fast_path(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
                            ConstrainedSolution<GraspT>& sol, Wrench<typename GraspT::ScalarType>& lambda,
                            Wrench<typename GraspT::ScalarType>& gram_diagonal) {
   using S = typename GraspT::ScalarType;

@@ -3,7 +3,7 @@
 /// The passes of solve_constrained over the contacts (namespace grip::detail): at multipliers
 /// lambda, x_i = P_i(t_i + w_i^-1 G_i^T lambda) for every contact (P_i: the Euclidean
 /// projection onto the contact's exact cone K_i), the sums the iteration reads (G x + w_ext,
-/// F2(x), |x|, the dual q) and, on request, sum_i w_i^-1 G_i J_i G_i^T, J_i a generalised
+/// F2(x), |x|, the dual q) and sum_i w_i^-1 G_i J_i G_i^T, J_i a generalised
 /// Jacobian of P_i (projection_jacobian.hpp): minus the dual's generalised Hessian.
 ///
 /// Hard fingers copy the grasp once per solve (after the fast path) into columns and run every
@@ -193,8 +193,11 @@ class ContactPasses {
   explicit ContactPasses(const GraspT& grasp) : grasp_(grasp) {}
   Forces make_forces() const { return Forces(grasp_.unknowns()); }
   ConstrainedPass<Scalar> pass(const Wrench<Scalar>& w_ext, const Wrench<Scalar>& lambda, Forces& x,
-                               GramAccumulator<Scalar>* hessian) const {
-    return constrained_pass(grasp_, w_ext, lambda, x, hessian);
+                               Matrix6<Scalar>& hessian) const {
+    GramAccumulator<Scalar> acc;
+    const ConstrainedPass<Scalar> p = constrained_pass(grasp_, w_ext, lambda, x, &acc);
+    hessian = acc.matrix();
+    return p;
   }
   /// Where the projections change region along lambda + alpha d (CoulombPassTable::first_break):
   /// not computed for these cones, so 1 (the line searches then only halve).

@@ -23,6 +23,21 @@
 namespace grip {
 namespace detail {
 
+/// The Newton direction d of least_residual's dual: (T H T + delta I) d = delta g, H the
+/// Hessian `h` (overwritten: each iteration reads its Hessian once), T = `norm`'s weights, solved
+/// Jacobi-scaled with the floor of 16 eps. Out of line, so that its frame is not on the stack
+/// under the passes.
+template <class S>
+EIGEN_DONT_INLINE Wrench<S> least_residual_direction(Matrix6<S>& h, const EquilibriumNorm<S>& norm, S delta,
+                                                     const Wrench<S>& g) {
+  scale_symmetric(h, norm.weights());  // T H T
+  h.diagonal().array() += delta;
+  const Wrench<S> e = h.diagonal().cwiseSqrt().cwiseInverse();
+  scale_symmetric(h, e);  // Jacobi-scaled in place
+  const S floor = S(constrained_roundoff) * std::numeric_limits<S>::epsilon();
+  return e.cwiseProduct(solve_newton_6x6(h, Wrench<S>(delta * e.cwiseProduct(g)), floor));
+}
+
 /// Phase 1: forces in the cones that come closest to equilibrium. Solves
 ///   min over x in the cones of 1/2 |G x + w_ext|_L^2 + delta/2 sum_i w_i |x_i - t_i|^2
 /// (|.|_L = |T .|, T = diag(1, 1, 1, 1/L, 1/L, 1/L): EquilibriumNorm; delta small: the least
@@ -34,24 +49,26 @@ namespace detail {
 /// delta w_i |x_i - t_i| / |l|.
 /// `scale_shift` = |w_ext|_L - |w_ext| turns a pass's scale |w_ext| + |x| into the norm's units.
 /// Writes the forces into x, the multipliers l (in the norm's units) into lambda, and returns the iterations used (at
-/// most settings.max_iterations). Each pass is counted in `budget`; none is started once it is
+/// most `max_iterations`; the other bounds and constants from `settings`). Each pass is counted in `budget`; none is started once it is
 /// spent (then the best point met so far is the answer; with no pass left at the start,
-/// lambda = 0, f2 = 0 and x unchanged).
+/// lambda = 0, f2 = 0 and x unchanged). `xt` and `trial_h` are scratch lent by the caller (each
+/// pass's forces and the line search's Hessian; their contents on return are unspecified), so
+/// that phase 1 adds no second copy of them to the stack.
 template <class Passes>
 int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& w_ext,
                    const EquilibriumNorm<typename Passes::Scalar>& norm, typename Passes::Scalar scale_shift,
-                   typename Passes::Scalar delta,
-                   const ConstrainedSettings<typename Passes::Scalar>& settings, PassBudget& budget,
-                   typename Passes::Forces& x, Wrench<typename Passes::Scalar>& lambda,
-                   typename Passes::Scalar& f2) {
+                   typename Passes::Scalar delta, const ConstrainedSettings<typename Passes::Scalar>& settings,
+                   int max_iterations, PassBudget& budget, typename Passes::Forces& x,
+                   Wrench<typename Passes::Scalar>& lambda, typename Passes::Scalar& f2,
+                   typename Passes::Forces& xt, Matrix6<typename Passes::Scalar>& trial_h) {
   using S = typename Passes::Scalar;
   const S eps = std::numeric_limits<S>::epsilon();
   lambda.setZero();
   f2 = S(0);
   if (!budget.left()) return 0;
-  typename Passes::Forces xt = passes.make_forces();
-  // The Hessian sums at the current point and at the line-search point, from their passes.
-  GramAccumulator<S> cur_h, trial_h;
+  // The Hessian at the current point (trial_h: at the line-search point), from their passes;
+  // each iteration's direction consumes it.
+  Matrix6<S> cur_h;
   // Continuation: delta starts at delta_max (a well-scaled problem) and drops `drop`-fold (100)
   // each time the current problem is solved, down to the requested delta (warm-started each time).
   S dl = delta;
@@ -63,84 +80,77 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
   };
   // The pass's multipliers for l: -T l / dl (physical).
   const auto input = [&](const Wrench<S>& l) { return Wrench<S>(-norm.to_units(l) / dl); };
-  const Wrench<S> t = norm.weights();  // T's diagonal
-  ConstrainedPass<S> cur = budget.run(passes, w_ext, input(lambda), x, &cur_h);
+  // Every pass writes its forces into xt.
+  ConstrainedPass<S> cur = budget.run(passes, w_ext, input(lambda), xt, cur_h);
   S cur_phi = phi(cur, lambda);
-  // The forces returned are the best point met by the requested problem's objective
+  // The forces returned (into x) are the best point met by the requested problem's objective
   // |r|^2/2 + delta F2: at the last, tiny delta, x(l) is so sensitive to l that the last
   // iterate's forces can lie far from the least residual even though l itself is right.
-  typename Passes::Forces best = passes.make_forces();
   S best_objective = std::numeric_limits<S>::infinity(), best_f2 = S(0);
-  const auto keep = [&]() {
+  const auto keep = [&]() {  // after each new iterate's pass, whose forces are in xt
     const S p = S(0.5) * norm.to_units(cur.residual).squaredNorm() + delta * cur.f2;
     if (p < best_objective) {
       best_objective = p;
       best_f2 = cur.f2;
-      best = x;
+      x = xt;
     }
   };
   keep();
-  // The next stage of the continuation, from the current l: false when this one was the last.
-  const auto next_stage = [&]() {
-    if (!(dl > delta) || !budget.left()) return false;
-    dl = dl / drop < delta ? delta : dl / drop;
-    cur = budget.run(passes, w_ext, input(lambda), x, &cur_h);
-    cur_phi = phi(cur, lambda);
-    keep();
-    return true;
-  };
   int it = 0;
-  for (; it < settings.max_iterations; ++it) {
+  for (; it < max_iterations; ++it) {
+    // True when this iteration ends the current stage of the continuation (solved, at
+    // round-off, or no step accepted): the next one starts from the current l.
+    bool stage_end = false;
     const Wrench<S> g = norm.to_units(cur.residual) - lambda;  // grad phi
     const S scale = cur.scale + scale_shift;  // |w_ext|_L + |x|
     if (g.norm() <= settings.tolerance * scale ||
         (dl > delta && g.norm() <= settings.least_residual_stage_tolerance * scale)) {
-      if (!next_stage()) break;
-      continue;
-    }
-    Matrix6<S> h = t.asDiagonal() * cur_h.matrix() * t.asDiagonal();
-    h.diagonal().array() += dl;
-    const Wrench<S> e = h.diagonal().cwiseSqrt().cwiseInverse();
-    const Matrix6<S> hs = e.asDiagonal() * h * e.asDiagonal();
-    const S floor = S(constrained_roundoff) * eps;
-    const Wrench<S> dir = e.cwiseProduct(solve_newton_6x6(hs, Wrench<S>(dl * e.cwiseProduct(g)), floor));
-    const S slope = g.dot(dir);
-    if (dir.norm() <= S(4) * eps * (lambda.norm() + scale) || !(slope > S(0))) {  // at round-off
-      if (!next_stage()) break;
-      continue;
-    }
-    if (!dir.allFinite()) break;  // slope > 0 here: the branch above took the rest
-    bool accepted = false;
-    S alpha = S(1);
-    Wrench<S> lt;
-    ConstrainedPass<S> trial;
-    S trial_phi = cur_phi;
-    for (int ls = 0; ls < settings.max_line_search && budget.left(); ++ls, alpha *= S(0.5)) {
-      // The full step failed: try the first kink of phi along dir if it comes before the half.
-      if (ls == 1) alpha = std::min(alpha, passes.first_break(input(lambda), input(dir)));
-      lt = lambda + alpha * dir;
-      if (lt == lambda) break;  // a step below lambda's resolution (at round-off Armijo takes it)
-      trial = budget.run(passes, w_ext, input(lt), xt, &trial_h);
-      trial_phi = phi(trial, lt);
-      const S slack =
-          S(constrained_roundoff) * eps * (std::abs(cur_phi) + std::abs(trial_phi) + lt.squaredNorm());
-      if (trial_phi >= cur_phi + settings.armijo * alpha * slope - slack) {
-        accepted = true;
-        break;
+      stage_end = true;
+    } else {
+      const Wrench<S> dir = least_residual_direction(cur_h, norm, dl, g);
+      const S slope = g.dot(dir);
+      if (dir.norm() <= S(4) * eps * (lambda.norm() + scale) || !(slope > S(0))) {  // at round-off
+        stage_end = true;
+      } else {
+        if (!dir.allFinite()) break;  // slope > 0 here: the branch above took the rest
+        bool accepted = false;
+        S alpha = S(1);
+        Wrench<S> lt;
+        ConstrainedPass<S> trial;
+        S trial_phi = cur_phi;
+        for (int ls = 0; ls < settings.max_line_search && budget.left(); ++ls, alpha *= S(0.5)) {
+          // The full step failed: try the first kink of phi along dir if it comes before the half.
+          if (ls == 1) alpha = std::min(alpha, passes.first_break(input(lambda), input(dir)));
+          lt = lambda + alpha * dir;
+          if (lt == lambda) break;  // a step below lambda's resolution (at round-off Armijo takes it)
+          trial = budget.run(passes, w_ext, input(lt), xt, trial_h);
+          trial_phi = phi(trial, lt);
+          const S slack =
+              S(constrained_roundoff) * eps * (std::abs(cur_phi) + std::abs(trial_phi) + lt.squaredNorm());
+          if (trial_phi >= cur_phi + settings.armijo * alpha * slope - slack) {
+            accepted = true;
+            break;
+          }
+        }
+        if (accepted) {
+          lambda = lt;
+          cur_h = trial_h;
+          cur = trial;
+          cur_phi = trial_phi;
+          keep();
+        } else {
+          stage_end = true;
+        }
       }
     }
-    if (!accepted) {
-      if (!next_stage()) break;
-      continue;
+    if (stage_end) {  // the next stage, from the current l; none after the last
+      if (!(dl > delta) || !budget.left()) break;
+      dl = dl / drop < delta ? delta : dl / drop;
+      cur = budget.run(passes, w_ext, input(lambda), xt, cur_h);
+      cur_phi = phi(cur, lambda);
+      keep();
     }
-    lambda = lt;
-    x = xt;
-    cur_h = trial_h;
-    cur = trial;
-    cur_phi = trial_phi;
-    keep();
   }
-  x = best;
   f2 = best_f2;
   return it;
 }

@@ -88,7 +88,7 @@ class SemismoothNewton {
     const S floor = settings_.jacobi_floor * jacobi_max_;
     for (int k = 0; k < 6; ++k) jacobi_(k) = (scaled(k) > floor ? scaled(k) : floor) / t2(k);
     dinv_ = jacobi_.cwiseSqrt().cwiseInverse();
-    cur_ = budget_.run(passes_, w_ext_, lambda_, x_, &cur_h_);  // always allowed: max_passes >= 1
+    cur_ = budget_.run(passes_, w_ext_, lambda_, x_, cur_h_);  // always allowed: max_passes >= 1
     keep_best();
     stall_ref_ = rn_;
   }
@@ -149,13 +149,13 @@ class SemismoothNewton {
   /// nearer than half). Its point becomes the iterate; false if none is accepted (Ok if in tolerance).
   bool newton_step(S rn) {
     const S reg = settings_.regularisation;
-    Matrix6<S> h = cur_h_.matrix();
+    Matrix6<S> h = cur_h_;
     const S scale = scale_of(cur_);
     const S rel = scale > S(0) ? rn / scale : S(1);
     const S mu = (damping_ < rel ? damping_ : rel) + reg;
     h.diagonal() += mu * jacobi_;
-    const Matrix6<S> hs = dinv_.asDiagonal() * h * dinv_.asDiagonal();
-    const Wrench<S> dir = dinv_.cwiseProduct(solve_newton_6x6(hs, Wrench<S>(-dinv_.cwiseProduct(cur_.residual)), mu));
+    scale_symmetric(h, dinv_);  // Jacobi-scaled in place
+    const Wrench<S> dir = dinv_.cwiseProduct(solve_newton_6x6(h, Wrench<S>(-dinv_.cwiseProduct(cur_.residual)), mu));
     const S slope = -cur_.residual.dot(dir);  // q'(0) along dir, > 0
     bool accepted = false;
     ConstrainedPass<S> trial;
@@ -167,7 +167,7 @@ class SemismoothNewton {
         if (cuts == 1) alpha = std::min(alpha, passes_.first_break(lambda_, dir));  // q's first kink
         lt = lambda_ + alpha * dir;
         if (lt == lambda_) break;  // a step below lambda's resolution (at round-off Armijo takes it)
-        trial = budget_.run(passes_, w_ext_, lt, xt_, &trial_h_);
+        trial = budget_.run(passes_, w_ext_, lt, xt_, trial_h_);
         const S slack = S(constrained_roundoff) * eps() * (std::abs(trial.dual) + std::abs(cur_.dual) + std::abs(cur_.f2));
         if (trial.dual >= cur_.dual + settings_.armijo * alpha * slope - slack) {
           accepted = true;
@@ -227,7 +227,7 @@ class SemismoothNewton {
   /// there is not q (it can exceed the optimum, and Newton would stay on it).
   void restart_from_phase1() {
     if (!inputs_in_range(p_lambda_) || !budget_.left()) return;
-    ConstrainedPass<S> alt = budget_.run(passes_, w_ext_, p_lambda_, xt_, &trial_h_);
+    ConstrainedPass<S> alt = budget_.run(passes_, w_ext_, p_lambda_, xt_, trial_h_);
     if (alt.dual > cur_.dual && std::isfinite(alt.dual)) {
       lambda_ = p_lambda_;
       x_ = xt_;
@@ -249,11 +249,12 @@ class SemismoothNewton {
     return true;
   }
 
-  /// Phase 1: the least-residual forces; true (the verdict and its forces, multipliers and
-  /// certificate kept in p_*) if the direction of its multipliers, or in float that of the
-  /// diverging Newton multipliers, checks out as an infeasibility certificate.
+  /// Phase 1: the least-residual forces; true (the verdict pending: its forces in p_x_, its
+  /// multipliers and certificate in sol_, which finish() clears of them unless the answer is
+  /// Infeasible) if the direction of its multipliers, or in float that of the diverging Newton
+  /// multipliers, checks out as an infeasibility certificate.
   bool decide_infeasible() {
-    Wrench<S> y = Wrench<S>::Zero();
+    Wrench<S>& y = sol_.multipliers;  // finish() writes lambda_ over it
     S f2 = S(0);
     const int passes_before = budget_.used;
     S delta = settings_.least_residual_weight * jacobi_max_;
@@ -264,21 +265,20 @@ class SemismoothNewton {
     // The certificate's error is delta w_i |x_i - t_i| / |y|: nearly infeasible grasps need
     // large least-residual forces, so the solve may be retried with smaller delta
     // (settings.certificate_attempts) when the first certificate misses the tolerance.
-    const int tries = settings_.certificate_attempts;
     phase1_iterations_ = 0;
-    // The tries share one budget of settings.max_iterations iterations (and the solve's passes).
-    ConstrainedSettings<S> phase1 = settings_;
-    for (int k = 0; k < tries && !ok && phase1_iterations_ < settings_.max_iterations && budget_.left();
+    // The tries share one budget of settings.max_iterations iterations (and the solve's passes);
+    // xt_ and trial_h_ are free until Newton's next line search.
+    for (int k = 0; k < settings_.certificate_attempts && !ok && phase1_iterations_ < settings_.max_iterations && budget_.left();
          ++k, delta *= settings_.certificate_retry_factor) {
-      phase1.max_iterations = settings_.max_iterations - phase1_iterations_;
-      phase1_iterations_ +=
-          least_residual(passes_, w_ext_, norm_, scale_shift_, delta, phase1, budget_, p_x_, y, f2);
+      phase1_iterations_ += least_residual(passes_, w_ext_, norm_, scale_shift_, delta, settings_,
+                                           settings_.max_iterations - phase1_iterations_, budget_, p_x_, y, f2,
+                                           xt_, trial_h_);
       // y is in the norm's units; T y is the direction of physical multipliers.
       p_lambda_ = -norm_.to_units(y) / delta;  // the penalty estimate of the multipliers (x(p_lambda_) = p_x_)
       const S rn = y.norm();
       if (rn > bar) {
-        p_cert_ = norm_.to_units(y) / rn;  // |p_cert_|_L* = 1
-        ok = is_infeasibility_certificate(grasp_, w_ext_, p_cert_, norm_, settings_.certificate_tolerance,
+        sol_.certificate = norm_.to_units(y) / rn;  // |certificate|_L* = 1
+        ok = is_infeasibility_certificate(grasp_, w_ext_, sol_.certificate, norm_, settings_.certificate_tolerance,
                                           settings_.certificate_guard);
       }
     }
@@ -290,16 +290,16 @@ class SemismoothNewton {
     const bool solved = budget_.used > passes_before;
     const S ln = norm_.dual(lambda_);
     if (settings_.multiplier_certificate && solved && !ok && ln > S(0) && lambda_.allFinite()) {
-      p_cert_ = -lambda_ / ln;
-      ok = is_infeasibility_certificate(grasp_, w_ext_, p_cert_, norm_, settings_.certificate_tolerance,
+      sol_.certificate = -lambda_ / ln;
+      ok = is_infeasibility_certificate(grasp_, w_ext_, sol_.certificate, norm_, settings_.certificate_tolerance,
                                         settings_.certificate_guard);
     }
-    if (!ok) return false;
-    p_y_ = norm_.to_units(y);  // the multipliers of an Infeasible answer: T y, physical
+    if (!ok) {
+      sol_.certificate.setZero();
+      return false;
+    }
+    y = norm_.to_units(y);  // the multipliers of an Infeasible answer: T y, physical
     p_f2_ = f2;
-    typename GraspT::ForceVector forces(m_);
-    passes_.store(p_x_, forces);
-    p_r_ = grasp_.wrench(forces) + w_ext_;
     return true;
   }
 
@@ -307,12 +307,12 @@ class SemismoothNewton {
   /// certificate.
   void apply_infeasible() {
     status_ = Status::Infeasible;
-    sol_.certificate = p_cert_;
     x_ = p_x_;
-    lambda_ = p_y_;
-    cur_.residual = p_r_;
+    lambda_ = sol_.multipliers;  // T y, from decide_infeasible
+    passes_.store(p_x_, sol_.forces);  // sized by run(); finish() writes the same forces
+    cur_.residual = grasp_.wrench(sol_.forces) + w_ext_;
     cur_.f2 = p_f2_;
-    cur_.dual = p_f2_ - lambda_.dot(p_r_);
+    cur_.dual = p_f2_ - lambda_.dot(cur_.residual);
   }
 
   /// Writes the iterate into the solution; anything not finite becomes zero forces and
@@ -327,6 +327,7 @@ class SemismoothNewton {
     sol.iterations = it_ + phase1_iterations_;
     sol.passes = budget_.used;
     sol.status = status_;
+    if (status_ != Status::Infeasible) sol.certificate.setZero();  // a verdict dropped in grace
     if (!sol.forces.allFinite() || !sol.multipliers.allFinite() || !std::isfinite(sol.dual_objective)) {
       sol.forces.setZero(m_);
       sol.multipliers.setZero();
@@ -344,7 +345,7 @@ class SemismoothNewton {
   /// arms suggest (a soft finger's torsion on a grasp of micrometres, whose moment multiplier
   /// is then large and the residual steps by one of its units in the last place).
   S multiplier_resolution() const {
-    const Matrix6<S> h = cur_h_.matrix();
+    const Matrix6<S>& h = cur_h_;
     S sum = S(0);
     for (int k = 0; k < 6; ++k) sum += norm_(Wrench<S>(h.col(k))) * std::abs(lambda_(k));
     return sum;
@@ -367,7 +368,7 @@ class SemismoothNewton {
   const Passes passes_;  ///< hard fingers: the grasp copied into columns once
   Forces x_, xt_;        ///< the forces at lambda_ and at the line-search point
   Forces best_x_;        ///< the forces of the least-residual iterate met (best_lambda_)
-  GramAccumulator<S> cur_h_, trial_h_;  ///< the Hessian sums at lambda_ and at the line-search point
+  Matrix6<S> cur_h_, trial_h_;  ///< the Hessians (sum w^-1 G J G^T) at lambda_ and at the line-search point
   ConstrainedPass<S> cur_;              ///< the pass sums at lambda_
   ConstrainedPass<S> best_;             ///< the pass sums at best_lambda_
   Wrench<S> best_lambda_{Wrench<S>::Zero()};
@@ -382,8 +383,7 @@ class SemismoothNewton {
   bool growing_{false};  ///< the last step was one
   int phase1_iterations_{0};  ///< counted apart: the Newton budget stays max_iterations
   bool phase1_done_{false};
-  // Phase 1's verdict, pending until apply_infeasible().
-  Wrench<S> p_cert_{Wrench<S>::Zero()}, p_y_{Wrench<S>::Zero()}, p_r_{Wrench<S>::Zero()};
+  // Phase 1's verdict, pending until apply_infeasible() (multipliers, certificate: in sol_).
   S p_f2_{0};
   Forces p_x_;
   Wrench<S> p_lambda_{Wrench<S>::Zero()};
