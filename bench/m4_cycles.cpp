@@ -10,6 +10,7 @@
 // unconstrained optimum is inside every cone (the fast path).
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <random>
 

@@ -4,8 +4,9 @@
 Usage: python3 bench/m4_cycles.py [build-dir] [instances]   (defaults: build/m4-cycles, 24)
 
 Builds bench/m4_cycles.cpp with Debian's arm-linux-gnueabihf-g++ (GCC 12, as the embedded
-check's arm-none-eabi-g++) and the embedded check's flags (Cortex-M4, FPv4-SP, hard float, -Os,
-EIGEN_UNROLLING_LIMIT=0), runs it under qemu-arm with its translation and execution logs, and
+check's arm-none-eabi-g++) and the embedded check's flags, cmake/embedded.flags (Cortex-M4,
+FPv4-SP, hard float, -Os, EIGEN_UNROLLING_LIMIT=0; GRIP_M4_OPT=-O2 replaces -Os), runs it
+under qemu-arm with its translation and execution logs, and
 prices every instruction executed between m4_begin() and m4_end() with the Cortex-M4 cycle
 counts of ARM's Technical Reference Manual (integer core and FPU tables): an estimate, not a
 measurement on silicon. Assumed: no flash wait states, a taken branch refills the pipeline in
@@ -23,9 +24,11 @@ import subprocess
 import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-FLAGS = ['-std=c++17', '-mcpu=cortex-m4', '-mthumb', '-mfpu=fpv4-sp-d16', '-mfloat-abi=hard',
-         '-fno-exceptions', '-fno-rtti', '-DEIGEN_NO_MALLOC', '-DEIGEN_UNROLLING_LIMIT=0', '-DNDEBUG',
-         os.environ.get('GRIP_M4_OPT', '-Os'), '-fno-math-errno', '-I' + os.path.join(ROOT, 'include'), '-isystem', '/usr/include/eigen3']
+# The embedded check's target and code flags (one file for both), with the optimisation level
+# replaceable by GRIP_M4_OPT (e.g. -O2) to compare.
+with open(os.path.join(ROOT, 'cmake', 'embedded.flags')) as _f:
+    FLAGS = [os.environ.get('GRIP_M4_OPT', '-Os') if f == '-Os' else f for f in _f.read().split()]
+FLAGS += ['-I' + os.path.join(ROOT, 'include'), '-isystem', '/usr/include/eigen3']
 TAKEN_REFILL = 2
 
 # Cycles per instruction, Cortex-M4 TRM (integer core and FPU tables), by mnemonic with an

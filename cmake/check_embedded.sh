@@ -16,10 +16,12 @@ cd "$(dirname "$0")/.."
 out=${1:-build/embedded}
 mkdir -p "$out"
 cxx=arm-none-eabi-g++
-flags=(-std=c++17 -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -fno-exceptions -fno-rtti
-       -DEIGEN_NO_MALLOC -DEIGEN_UNROLLING_LIMIT=0 -DNDEBUG -Os -fno-math-errno -ffunction-sections -fdata-sections -fstack-usage -fcallgraph-info=su
-       -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wdouble-promotion -Werror
-       -Iinclude -isystem /usr/include/eigen3)
+# The target and code flags (cmake/embedded.flags, shared with bench/m4_cycles.py), then this
+# check's own: sections and stack use per function, warnings as errors.
+read -r -d '' -a flags < cmake/embedded.flags
+flags+=(-ffunction-sections -fdata-sections -fstack-usage -fcallgraph-info=su
+        -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wdouble-promotion -Werror
+        -Iinclude -isystem /usr/include/eigen3)
 # Budgets per object: .text and worst-case stack, bytes.
 declare -A code_budget=([grasp_step]=16384 [constrained_step]=20480)
 declare -A stack_budget=([grasp_step]=2560 [constrained_step]=3072)
