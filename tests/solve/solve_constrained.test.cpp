@@ -517,6 +517,37 @@ TEST_CASE_TEMPLATE("solve_constrained: IterationLimit by a bound that bites, for
   CHECK(std::abs(double(cut.residual) - res) <= grip_test::roundoff<S>(g.size() + 4, 1, terms));
 }
 
+TEST_CASE("solve_constrained: nearly infeasible grasps finish where the dual is flat at round-off") {
+  // Two of bench_constrained's Distribution/3 grasps (three hard fingers on a 4 cm sphere, mu
+  // 0.5, squeeze 0.3, about 5 N of load): equilibrium needs forces of hundreds of newtons, the
+  // multipliers reach 1e6 to 1e7, and near the optimum q's rise along a Newton step is below
+  // q's own rounding. Armijo on q alone then rejected every trial step but rare lucky ones
+  // (338 and 257 passes). The optimum must satisfy the KKT conditions and take few passes.
+  struct Case {
+    double theta[3], phi[3], w[6];
+  };
+  const Case cases[] = {
+      {{0x1.4ecff4a3f6ca2p+0, 0x1.31e4eba80858fp-1, 0x1.8ab7bd4e828f4p+0},
+       {0x1.74e68ed090b25p+2, 0x1.1fde80db868cbp+2, 0x1.66ddfaf91a7b4p+0},
+       {0x1.01fa4b0679a8fp-8, -0x1.1780a7d0fded2p-1, -0x1.c9a2f11decb8p+2, -0x1.114c6657f9665p-8,
+        -0x1.c7880a6fbf667p-7, -0x1.9fe80917fb6ep-8}},
+      {{0x1.a2a8546b79b68p-1, 0x1.91c5a504bb9adp+0, 0x1.4274f2ab1a69p+1},
+       {0x1.1517930563a82p+2, 0x1.ed7bf4f34892bp-3, 0x1.5b093c755f402p+2},
+       {-0x1.ae7f46a676e2ep-1, -0x1.0394b6195e3cep-1, -0x1.55f16191ec23fp+2, -0x1.9e536278b01a9p-8,
+        -0x1.25fda87939b32p-10, -0x1.8cdb14f50af2ap-7}},
+  };
+  for (const Case& k : cases) {
+    Grasp<3, HardFinger, double> g;
+    for (int i = 0; i < 3; ++i) REQUIRE(g.set(i, grip_test::sphere_contact<double>(k.theta[i], k.phi[i], 0.04, 0.5, 0.3)) == Status::Ok);
+    const Wrench<double> w = Eigen::Map<const Wrench<double>>(k.w);
+    const auto sol = solve_constrained(g, w);
+    REQUIRE(sol.status == Status::Ok);
+    CHECK(sol.multipliers.norm() > 1e6);  // the regime this case is about
+    check_kkt(g, w, sol);
+    CHECK(sol.passes <= 64);
+  }
+}
+
 TEST_CASE("solve_constrained allocates nothing (fixed, Dynamic, every model, infeasible too)") {
   std::mt19937 rng(31);
   Grasp<20, HardFinger, double> h = grip_test::random_grasp<Grasp<20, HardFinger, double>>(rng, 20);

@@ -60,8 +60,7 @@ class SemismoothNewton {
 
   /// Runs the iteration after the fast path failed: `lambda` and `gram_diagonal` as
   /// constrained_fast_path left them (the start, unless `warm` is given), every field of `sol`
-  /// written. Kept out of line so that the fast path (the common case of a real-time loop) does
-  /// not pay for its frame.
+  /// written. Out of line, so that the fast path (a real-time loop's common case) skips its frame.
   static EIGEN_DONT_INLINE void run(const GraspT& grasp, const Wrench<S>& w_ext, const ConstrainedSettings<S>& settings,
                                     const Wrench<S>* warm, const Wrench<S>& lambda, const Wrench<S>& gram_diagonal,
                                     ConstrainedSolution<GraspT>& sol) {
@@ -80,8 +79,7 @@ class SemismoothNewton {
         p_x_(passes_.make_forces()), budget_{settings.max_passes}, grace_(settings.infeasible_grace),
         norm_(EquilibriumNorm<S>::of(grasp)), w_norm_l_(norm_(w_ext)), scale_shift_(w_norm_l_ - w_ext.norm()) {
     // Jacobi scaling D of the Levenberg-Marquardt term: the unconstrained Gram diagonal, floored
-    // in the units of the equilibrium norm (moments per lever arm L, where a moment entry is
-    // about (|r_i| / L)^2 times a force entry), so that the floor is the same in every unit.
+    // in the equilibrium norm's units (moments per lever arm L), the same floor in every unit.
     const Wrench<S> t2 = norm_.weights().cwiseAbs2();  // (1, 1 / L^2)
     const Wrench<S> scaled = gram_diagonal.cwiseProduct(t2);
     jacobi_max_ = scaled.maxCoeff();
@@ -146,7 +144,10 @@ class SemismoothNewton {
   /// mu = min(damping, |r|/scale) + regularisation (quadratic convergence near the optimum, and
   /// steps that grow geometrically along a direction of unbounded ascent: infeasible problems),
   /// then the Armijo line search on q (its second trial at q's first kink, first_break, if
-  /// nearer than half). Its point becomes the iterate; false if none is accepted (Ok if in tolerance).
+  /// nearer than half; where q's rounding, `noise` (lambda.(G x + w_ext) sums terms of
+  /// |lambda|_L* scale: multipliers of 1e6 to 1e8 on a nearly infeasible grasp), hides the rise
+  /// Armijo asks, a point that keeps q within it and cuts the residual by the Armijo fraction).
+  /// Its point becomes the iterate; false if none is accepted (Ok if in tolerance).
   bool newton_step(S rn) {
     const S reg = settings_.regularisation;
     Matrix6<S> h = cur_h_;
@@ -161,6 +162,7 @@ class SemismoothNewton {
     ConstrainedPass<S> trial;
     Wrench<S> lt;
     int cuts = 0;
+    const S noise = S(constrained_roundoff) * eps() * (std::abs(cur_.f2) + norm_.dual(lambda_) * scale);
     if (slope > S(0) && dir.allFinite()) {
       S alpha = S(1);
       for (; cuts < settings_.max_line_search && budget_.left(); ++cuts, alpha *= S(0.5)) {
@@ -169,10 +171,11 @@ class SemismoothNewton {
         if (lt == lambda_) break;  // a step below lambda's resolution (at round-off Armijo takes it)
         trial = budget_.run(passes_, w_ext_, lt, xt_, trial_h_);
         const S slack = S(constrained_roundoff) * eps() * (std::abs(trial.dual) + std::abs(cur_.dual) + std::abs(cur_.f2));
-        if (trial.dual >= cur_.dual + settings_.armijo * alpha * slope - slack) {
-          accepted = true;
-          break;
-        }
+        const S rise = settings_.armijo * alpha * slope;
+        accepted = trial.dual >= cur_.dual + rise - slack ||
+                   (rise <= noise && trial.dual >= cur_.dual - noise &&
+                    norm_(trial.residual) <= (S(1) - settings_.armijo * alpha) * rn);
+        if (accepted) break;
       }
     }
     if (!accepted) {
@@ -303,8 +306,7 @@ class SemismoothNewton {
     return true;
   }
 
-  /// The pending verdict becomes the answer: Infeasible, with phase 1's forces, multipliers and
-  /// certificate.
+  /// The pending verdict becomes the answer: Infeasible, phase 1's forces, multipliers, certificate.
   void apply_infeasible() {
     status_ = Status::Infeasible;
     x_ = p_x_;
@@ -339,11 +341,9 @@ class SemismoothNewton {
   }
 
   static S eps() { return std::numeric_limits<S>::epsilon(); }
-  /// sum_k |H e_k|_L |lambda_k|: how far the residual moves (over eps) when each multiplier
-  /// moves by its own rounding, eps |lambda_k|. The residual cannot be resolved below eps times
-  /// this, whatever the iteration: it matters where one channel is far stiffer than the lever
-  /// arms suggest (a soft finger's torsion on a grasp of micrometres, whose moment multiplier
-  /// is then large and the residual steps by one of its units in the last place).
+  /// sum_k |H e_k|_L |lambda_k|: the residual's move (over eps) when each multiplier moves by its
+  /// rounding, eps |lambda_k|; no iteration resolves it below eps times this (it matters where a
+  /// channel is far stiffer than the lever arms suggest: a soft finger's torsion at micrometres).
   S multiplier_resolution() const {
     const Matrix6<S>& h = cur_h_;
     S sum = S(0);
