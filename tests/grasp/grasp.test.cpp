@@ -1,6 +1,10 @@
 // Grasp: storage, statuses, the grasp matrix G (eq. 3) and the KKT system H, b (eq. 9).
 #include <doctest/doctest.h>
 
+#include <cmath>
+#include <limits>
+#include <random>
+
 #include <grip/grasp/grasp.hpp>
 
 #include "support/allocation_counter.hpp"
@@ -196,4 +200,25 @@ TEST_CASE_TEMPLATE("cone_table() mirrors every stored contact's normal and frict
   g.clear();
   REQUIRE(g.add(grip_test::random_contact<S>(rng)) == Status::Ok);
   CHECK(mirrors(g));
+}
+
+TEST_CASE_TEMPLATE("a normal within its tolerance is stored unit, a unit one bit for bit", S, double, float) {
+  // validate() accepts |a|^2 within 2 normal_tolerance of 1; the cones need a unit axis, so
+  // the grasp scales such a normal to unit length. One already unit to round-off is kept as
+  // given (so a grasp built from unit normals is exactly the caller's).
+  std::mt19937 rng(6);
+  const double tol = double(ScalarTraits<S>::normal_tolerance), eps = double(std::numeric_limits<S>::epsilon());
+  Grasp<Dynamic, HardFinger, S, 8> g;
+  for (int i = 0; i < 8; ++i) {
+    Contact<S> c = grip_test::random_contact<S>(rng);
+    const Vector3<S> unit = c.normal;
+    if (i % 2 == 1) c.normal *= S(i % 4 == 1 ? 1 - 0.9 * tol : 1 + 0.9 * tol);
+    REQUIRE(g.add(c) == Status::Ok);
+    const Vector3<double> stored = g.contact(i).normal.template cast<double>();
+    CHECK(std::abs(stored.norm() - 1) <= 4 * eps);
+    if (i % 2 == 0) CHECK(g.contact(i).normal == unit);
+    // The direction is the caller's: the part across it is round-off.
+    CHECK(stored.cross(c.normal.template cast<double>().normalized()).norm() <= 4 * eps);
+    CHECK(g.cone_table().row(i).template head<3>().transpose() == g.contact(i).normal);
+  }
 }

@@ -79,18 +79,24 @@ void residual_of(const GraspT& g, const Vec& x, const grip::Wrench<typename Gras
 }
 
 /// 1/L, L the weighted RMS lever arm sqrt(sum k_i |r_i|^2 / sum k_i), k_i = 1/w_i, in double
-/// from the contacts (the solvers' unit balance); 1 when L is zero or 1/L overflows.
+/// from the contacts scaled by their largest coordinate (no underflow at any scale): the
+/// solvers' unit balance; 1 when L is zero or 1/L overflows the grasp's scalar (the solvers
+/// then balance nothing: D = I).
 template <class GraspT>
 double inverse_lever(const GraspT& g) {
+  using S = typename GraspT::ScalarType;
+  double big = 0;
+  for (int i = 0; i < g.size(); ++i) big = std::max(big, static_cast<double>(g.contact(i).position.cwiseAbs().maxCoeff()));
+  if (!(big > 0)) return 1.0;
   double k_sum = 0, kr2_sum = 0;
   for (int i = 0; i < g.size(); ++i) {
     const double k = 1.0 / static_cast<double>(g.contact(i).weight);
     k_sum += k;
-    kr2_sum += k * g.contact(i).position.template cast<double>().squaredNorm();
+    kr2_sum += k * (g.contact(i).position.template cast<double>() / big).squaredNorm();
   }
-  const double lever = k_sum > 0 ? std::sqrt(kr2_sum / k_sum) : 0.0;
-  const double inv_l = lever > 0 && std::isfinite(1 / lever) ? 1 / lever : 1.0;
-  return inv_l;
+  const double lever = k_sum > 0 ? big * std::sqrt(kr2_sum / k_sum) : 0.0;
+  const bool usable = lever > 0 && 1 / lever <= static_cast<double>(std::numeric_limits<S>::max());
+  return usable ? 1 / lever : 1.0;
 }
 
 /// The eigenvalues, ascending, of the unit-balanced Gram matrix A = D G W^-1 G^T D divided by

@@ -115,3 +115,24 @@ TEST_CASE("least squares holds with one contact far beyond the lever arm") {
   }
   CHECK(checked == 400);
 }
+
+TEST_CASE_TEMPLATE("least squares holds for grasps 1e-29 m across", S, double, float) {
+  std::mt19937 rng(44);
+  int checked = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    // Hard fingers of a random grasp shrunk to lever arms of about 1e-29 m: in float the
+    // squares of the coordinates underflow (the fuzzer's finding float_lever_of_1e-29), yet
+    // the moment rows, scaled by 1 / L, are as large as the force rows.
+    const int n = 2 + trial % 3;
+    Grasp<Dynamic, HardFinger, S, 4> g;
+    for (int i = 0; i < n; ++i) {
+      Contact<S> c = grip_test::random_contact<S>(rng);
+      c.position *= S(2.5e-28f);
+      REQUIRE(g.add(c) == Status::Ok);
+    }
+    Wrench<S> w = grip_test::random_wrench<S>(rng);
+    w.template tail<3>() *= S(2.5e-28f);  // moments on the grasp's own scale
+    check_least_squares(g, w, checked);
+  }
+  CHECK(checked == 400);
+}

@@ -548,6 +548,34 @@ TEST_CASE("solve_constrained: nearly infeasible grasps finish where the dual is 
   }
 }
 
+TEST_CASE("solve_constrained: a normal off unit within its tolerance keeps the forces in the cone") {
+  // The fuzzer's finding float_soft_finger_normal_off_unit: one float soft finger whose normal
+  // has |a| = 0.99992 (validate accepts |a|^2 within 2e-4 of 1), mu = 177, and a load it
+  // cannot hold. Its least-residual forces are the projection of a v of hundreds of newtons
+  // near the polar cone, and a cone whose axis is short by 8e-5 misplaces that projection by
+  // |v| times 1.6e-4: the forces missed the cone by 8e-4 N (0.14 N of margin) at |x| = 0.7 N.
+  Contact<float> c;
+  c.position << 0x1.5bcp-137f, 0x1.fffffep-60f, 0x1.0f5c28p-8f;
+  c.normal << -0x1.fff5c2p-1f, 0.0f, 0.0f;
+  c.friction = 0x1.62101ap+7f;
+  c.torsional_friction = 0x1.47ae14p-7f;
+  c.squeeze = 0x1.78002ap-126f;
+  Grasp<Dynamic, SoftFinger, float, 5> g;
+  REQUIRE(g.add(c) == Status::Ok);
+  Wrench<float> w;
+  w << 0x1.4c485ap-55f, 0x1.70a3d6p-9f, 0x1.ccccccp-9f, 0x1.028f5cp-7f, 0x1.333332p-8f, 0.0f;
+  for (int k = 0; k < 2; ++k) {
+    const auto sol = k == 0 ? solve_constrained(g, w) : solve_constrained(g, w, ConstrainedSettings<float>{}, Wrench<float>(Wrench<float>::Zero()));
+    CHECK(sol.status == Status::Infeasible);
+    // In the cone about the normal the user meant (c's, scaled to unit length in double), to a
+    // projection's few roundings of its own size (k = 8, through 1 + mu).
+    Contact<double> unit = grip_test::cast_contact<double>(c);
+    unit.normal.normalize();
+    const Eigen::Vector4d x = sol.forces.template segment<4>(0).template cast<double>();
+    CHECK(grip_test::cone_violation<SoftFinger>(unit, x) <= grip_test::roundoff<float>(8, 1 + unit.friction, x.norm()));
+  }
+}
+
 TEST_CASE("solve_constrained allocates nothing (fixed, Dynamic, every model, infeasible too)") {
   std::mt19937 rng(31);
   Grasp<20, HardFinger, double> h = grip_test::random_grasp<Grasp<20, HardFinger, double>>(rng, 20);

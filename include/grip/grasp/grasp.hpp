@@ -4,7 +4,9 @@
 /// system (H, b) of the paper's eq. 9.
 
 #include <array>
+#include <cmath>
 #include <cstddef>
+#include <limits>
 #include <type_traits>
 
 #include "grip/contact/contact.hpp"
@@ -22,7 +24,9 @@ namespace grip {
 ///   for `capacity` contacts lives inside the object.
 /// - `Model`: FrictionlessPoint, HardFinger (default, the paper's) or SoftFinger.
 ///
-/// Invariants: every stored contact satisfies validate(); `size() <= capacity`;
+/// Invariants: every stored contact satisfies validate(), its normal unit to 4 eps (a normal
+/// given within ScalarTraits::normal_tolerance of unit is stored scaled to unit length, one
+/// unit to round-off as given); `size() <= capacity`;
 /// inverse_weight(i) == 1 / contact(i).weight for every set slot; cone_table() row i holds
 /// contact(i).normal and contact(i).friction for every set slot.
 /// With a fixed N the grasp is `complete()` once each of the N slots has been set;
@@ -188,9 +192,16 @@ class Grasp {
   /// Stores contact c in slot k with the data derived from it.
   void store(std::size_t k, const ContactType& c) {
     contacts_[k] = c;
+    // The cones need a unit axis: their projections of a large v near the polar cone err by
+    // |v| ||a|^2 - 1|, far more than the small result's round-off. A normal that validate()
+    // accepted but that is not unit to round-off is scaled to unit length; unit ones are kept
+    // bit for bit.
+    Vector3<Scalar>& a = contacts_[k].normal;
+    const Scalar a2 = a.squaredNorm();
+    if (std::abs(a2 - Scalar(1)) > Scalar(8) * std::numeric_limits<Scalar>::epsilon()) a /= std::sqrt(a2);
     inverse_weights_[k] = Scalar(1) / c.weight;
     const auto r = static_cast<Eigen::Index>(k);
-    cone_table_.template block<1, 3>(r, 0) = c.normal.transpose();
+    cone_table_.template block<1, 3>(r, 0) = a.transpose();
     cone_table_(r, 3) = c.friction;
   }
 

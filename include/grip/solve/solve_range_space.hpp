@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "grip/contact/contact.hpp"
 #include "grip/contact/contact_model.hpp"
@@ -131,6 +132,24 @@ S lever_arm(S k_sum, S kr2_sum) {
   return k_sum > S(0) ? std::sqrt(kr2_sum / k_sum) : S(0);
 }
 
+/// lever_arm() of a grasp whose sums k_sum and kr2_sum are given. Where the squares of the
+/// coordinates may have underflowed (kr2_sum below k_sum min / eps: lever arms under about
+/// 3e-16 m in float), it is computed again from the positions scaled by their largest
+/// coordinate, so that a grasp at any representable scale gets its true lever arm.
+template <class GraspT>
+typename GraspT::ScalarType lever_arm(const GraspT& grasp, typename GraspT::ScalarType k_sum,
+                                      typename GraspT::ScalarType kr2_sum) {
+  using S = typename GraspT::ScalarType;
+  if (!(kr2_sum < k_sum * (std::numeric_limits<S>::min() / std::numeric_limits<S>::epsilon())))
+    return lever_arm(k_sum, kr2_sum);
+  S big(0), scaled(0);
+  for (int i = 0; i < grasp.size(); ++i) big = std::max(big, grasp.contact(i).position.cwiseAbs().maxCoeff());
+  if (!(big > S(0))) return S(0);
+  for (int i = 0; i < grasp.size(); ++i)
+    scaled += (grasp.contact(i).position / big).squaredNorm() * grasp.inverse_weight(i);
+  return big * lever_arm(k_sum, scaled);
+}
+
 /// lever_arm() of a grasp.
 template <class GraspT>
 typename GraspT::ScalarType lever_arm(const GraspT& grasp) {
@@ -141,7 +160,7 @@ typename GraspT::ScalarType lever_arm(const GraspT& grasp) {
     k_sum += grasp.inverse_weight(i);
     kr2_sum += c.position.squaredNorm() * grasp.inverse_weight(i);
   }
-  return lever_arm(k_sum, kr2_sum);
+  return lever_arm(grasp, k_sum, kr2_sum);
 }
 
 /// Solves (sum k G_i G_i^T) y = r from the sums of `acc` when the force block is k0 I
@@ -268,7 +287,7 @@ bool range_space_solve(const GraspT& grasp, const Wrench<typename GraspT::Scalar
   }
   if (gram_diagonal != nullptr) *gram_diagonal = acc.diagonal();
   Wrench<S> lambda;
-  const S length = lever_arm(k_sum, kr2_sum);
+  const S length = lever_arm(grasp, k_sum, kr2_sum);
   bool done = false;
   if constexpr (M::identity_force_block) {
     done = solve_gram_by_schur(acc, rhs, length, lambda, res);
