@@ -346,6 +346,55 @@ TEST_CASE_TEMPLATE("solve_constrained: fast path returns solve_range_space's opt
   check_kkt(g, w, sol);
 }
 
+TEST_CASE_TEMPLATE("solve_constrained: rank-deficient and ill-conditioned grasps reach the optimum by Newton",
+                   S, double, float) {
+  // The fast path declines any grasp whose Gram matrix needs a rank fallback
+  // (RankFallback::decline); the iteration then starts from zero multipliers.
+  // A pinch (rank 5) by hand: hard fingers at x = -/+3 cm, normals +/-x, squeeze 4 N, mu = 1,
+  // w_ext = (0, 0, -2, 0, 0, 0). By symmetry f_i = 4 a_i + (0, 0, 1): the moments
+  // r_i x (0, 0, 1) = (0, -/+0.03, 0) cancel, |f_t| = 1 < mu f_n = 4, F2 = 2 * 1/2 * 1 = 1.
+  Grasp<2, HardFinger, S> pinch;
+  for (int i = 0; i < 2; ++i) {
+    Contact<S> c;
+    const S side = i == 0 ? S(-1) : S(1);
+    c.position << S(0.03) * side, S(0), S(0);
+    c.normal << -side, S(0), S(0);
+    c.friction = S(1);
+    c.squeeze = S(4);
+    REQUIRE(pinch.set(i, c) == Status::Ok);
+  }
+  Wrench<S> w = Wrench<S>::Zero();
+  w(2) = S(-2);
+  const auto sol = solve_constrained(pinch, w);
+  REQUIRE(sol.status == Status::Ok);
+  CHECK_FALSE(sol.fast_path);
+  Eigen::Matrix<S, 6, 1> expect;
+  expect << S(4), S(0), S(1), S(-4), S(0), S(1);
+  CHECK(double((sol.forces - expect).norm()) <= grip_test::grasp_condition(pinch) * equilibrium_tolerance(pinch, w, sol.forces));
+  CHECK(std::abs(double(sol.objective) - 1.0) <= objective_tolerance(pinch, w, sol, 1.0));
+  check_kkt(pinch, w, sol);
+  // Full rank but ill-conditioned (grip_test::tetrahedron_cluster): the Schur complement's
+  // determinant is under rank_tolerance (declined) while pivoted LDL^T accepts it. The
+  // unconstrained optimum (solve_range_space's, Ok) is inside the cones and so is the answer.
+  const auto cluster = grip_test::tetrahedron_cluster<S>(S(10));
+  const S rho = std::abs(cluster.contact(0).position.y());
+  // A push of 39 N along +x against the four 10 N squeezes, with moments that the normal
+  // forces' differences (about 10 %) balance on the cluster's lever arms of rho (its corners'
+  // coordinates about the centre).
+  Wrench<S> load = Wrench<S>::Zero();
+  load(0) = S(39);
+  load(4) = S(0.4) * rho;
+  load(5) = S(-0.4) * rho;
+  const auto ref = solve_range_space(cluster, load);
+  REQUIRE(ref.status == Status::Ok);
+  const auto got = solve_constrained(cluster, load);
+  REQUIRE(got.status == Status::Ok);
+  CHECK_FALSE(got.fast_path);
+  CHECK(double((got.forces - ref.forces).norm()) <=
+        grip_test::grasp_condition(cluster) * equilibrium_tolerance(cluster, load, got.forces));
+  check_kkt(cluster, load, got);
+}
+
 TEST_CASE_TEMPLATE("solve_constrained: warm starts of a slowly moving grasp", S, double, float) {
   // 20 hard fingers on a 4 cm sphere, low squeeze (active cones); the object turns slowly and
   // the load swings: each frame solved cold and warm-started from the previous multipliers.

@@ -218,6 +218,49 @@ TEST_CASE_TEMPLATE("rank-deficient grasps are Singular with finite least-squares
   CHECK(std::abs(e.residual - w.norm()) <= tight<S>() * (S(1) + w.norm()));
 }
 
+TEST_CASE_TEMPLATE("RankFallback::decline: the same answer where accepted, zero multipliers elsewhere", S, double,
+                   float) {
+  // The variant of solve_constrained's fast path: bit for bit the default where the straight-line
+  // solve accepts; Singular with lambda = 0, x = t and res = -rhs where any rank fallback would
+  // be needed (rank-deficient grasps, and an ill-conditioned one whose Schur complement has a
+  // determinant under rank_tolerance but which pivoted LDL^T still accepts).
+  using detail::RankFallback;
+  std::mt19937 rng(43);
+  const Wrench<S> w = grip_test::random_wrench<S>(rng);
+  auto both = [&](const auto& g, bool accepted) {
+    using GraspT = std::decay_t<decltype(g)>;
+    Solution<GraspT> full, lean;
+    Wrench<S> rhs_full, res_full, rhs_lean, res_lean, diag_full, diag_lean;
+    REQUIRE(detail::range_space_solve(g, w, full, rhs_full, res_full, &diag_full));
+    REQUIRE(detail::range_space_solve<RankFallback::decline>(g, w, lean, rhs_lean, res_lean, &diag_lean));
+    CHECK(rhs_lean == rhs_full);
+    CHECK(diag_lean == diag_full);
+    if (accepted) {
+      CHECK(full.status == Status::Ok);
+      CHECK(lean.status == Status::Ok);
+      CHECK(lean.forces == full.forces);
+      CHECK(lean.multipliers == full.multipliers);
+      CHECK(res_lean == res_full);
+      return full.status;
+    }
+    CHECK(lean.status == Status::Singular);
+    CHECK(lean.multipliers.isZero(S(0)));
+    CHECK(res_lean == Wrench<S>(-rhs_lean));
+    for (int i = 0; i < g.size(); ++i)  // targets s_i a_i
+      CHECK(lean.forces.template segment<3>(3 * i) == Vector3<S>(g.contact(i).squeeze * g.contact(i).normal));
+    return full.status;
+  };
+  for (int k = 0; k < 20; ++k) both(grip_test::random_grasp<Grasp<6, HardFinger, S>>(rng, 6), true);
+  Grasp<2, HardFinger, S> two;
+  REQUIRE(two.set(0, grip_test::sphere_contact<S>(1.5707963267948966, 0.0, 0.04)) == Status::Ok);
+  REQUIRE(two.set(1, grip_test::sphere_contact<S>(1.5707963267948966, 3.141592653589793, 0.04)) == Status::Ok);
+  CHECK(both(two, false) == Status::Singular);
+  // Full rank, but the Schur complement's determinant is under rank_tolerance: the
+  // adjugate declines, the pivoted LDL^T fallback accepts (fixtures.hpp).
+  const auto cluster = grip_test::tetrahedron_cluster<S>(S(1));
+  CHECK(both(cluster, false) == Status::Ok);
+}
+
 TEST_CASE_TEMPLATE("bad input gives InvalidInput with zeros, never NaN", S, double, float) {
   std::mt19937 rng(41);
   const auto g = grip_test::random_grasp<Grasp<4, HardFinger, S>>(rng, 4);

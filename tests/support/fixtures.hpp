@@ -78,4 +78,26 @@ grip::Wrench<S> random_wrench(std::mt19937& rng) {
   return w;
 }
 
+/// Four hard fingers at the corners of a regular tetrahedron of circumradius
+/// 5 cm sqrt(30 tol) around (5 cm, 0, 0), tol = ScalarTraits<S>::rank_tolerance, all with
+/// normal -x, mu = 1 and `squeeze`: a full-rank grasp whose second moment about the centroid,
+/// on the rank test's scale, has three eigenvalues of about 10 tol, so that its determinant
+/// (about 1e3 tol^3) is under tol and a straight-line solve by the adjugate declines it, while
+/// every pivot of diagonally pivoted LDL^T (about 10 tol) passes.
+template <class S>
+grip::Grasp<4, grip::HardFinger, S> tetrahedron_cluster(S squeeze) {
+  const S rho = S(0.05) * std::sqrt(S(30) * grip::ScalarTraits<S>::rank_tolerance) / std::sqrt(S(3));
+  const S corner[4][3] = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}};
+  grip::Grasp<4, grip::HardFinger, S> g;
+  for (int i = 0; i < 4; ++i) {
+    grip::Contact<S> c;
+    c.position << S(0.05) + rho * corner[i][0], rho * corner[i][1], rho * corner[i][2];
+    c.normal << S(-1), S(0), S(0);
+    c.friction = S(1);
+    c.squeeze = squeeze;
+    g.set(i, c);
+  }
+  return g;
+}
+
 }  // namespace grip_test

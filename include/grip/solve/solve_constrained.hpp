@@ -63,7 +63,9 @@ struct ConstrainedSolution : Solution<GraspT> {
 /// in its cone with f_n > 0 it is the answer (status Ok, iterations 0, fast_path true).
 /// Otherwise the iteration starts from that optimum's multipliers (cold start), or from the
 /// previous frame's `multipliers` when given (warm start: a 6-vector, so the contact count may
-/// change between frames).
+/// change between frames). A grasp matrix of rank < 6 or close to it (one that
+/// solve_range_space's first factorisation does not accept) skips the fast path: the cold
+/// start is then zero multipliers (detail::RankFallback::decline).
 ///
 /// Wrenches are measured in the equilibrium norm |(f, m)|_L = |(f, m / L)|, L = max_i |r_i| the
 /// grasp's longest lever arm (1 m if every contact is at the reference point), so that every
@@ -114,7 +116,8 @@ ConstrainedSolution<GraspT> solve_constrained(const GraspT& grasp, const Wrench<
 
 namespace detail {
 
-/// The fast path: the unconstrained optimum (solve_range_space's), returned as the answer when
+/// The fast path: the unconstrained optimum (solve_range_space's first factorisation only:
+/// RankFallback::decline leaves Singular with zero multipliers), returned as the answer when
 /// every force is in its cone with f_n > 0 (a feasible minimiser of the relaxed problem solves
 /// the constrained one). Writes it into `sol` and its multipliers into `lambda`; returns true
 /// if it is the answer (status Ok, fast_path true). One solve_range_space plus one
@@ -130,7 +133,7 @@ EIGEN_DONT_INLINE bool constrained_fast_path(const GraspT& grasp, const Wrench<t
   constexpr int d = GraspT::dim;
   Wrench<S> rhs, res;
   // solve_constrained_impl has checked the grasp and w_ext.
-  if (!range_space_solve(grasp, w_ext, sol, rhs, res, &gram_diagonal, true)) return false;
+  if (!range_space_solve<RankFallback::decline>(grasp, w_ext, sol, rhs, res, &gram_diagonal, true)) return false;
   lambda = sol.multipliers;
   bool inside = sol.status == Status::Ok;
   if constexpr (std::is_same<Cone, CoulombCone<S>>::value) {

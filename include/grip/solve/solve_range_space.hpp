@@ -174,9 +174,10 @@ typename GraspT::ScalarType lever_arm(const GraspT& grasp) {
 /// One step of iterative refinement follows (the residual from the sums, one more pair of
 /// substitutions). Returns false when C is numerically rank deficient, k0 or L is not
 /// positive, or the result is not finite: the caller then falls back to solve_symmetric_6x6
-/// on acc.matrix().
+/// on acc.matrix(). With `Ldlt` false, C is solved by its adjugate only: a C whose determinant
+/// (on the rank test's scale) is not above rank_tolerance returns false without factoring.
 /// On success `residual` = M y - r, evaluated from the sums as well.
-template <class S>
+template <bool Ldlt = true, class S>
 bool solve_gram_by_schur(const GramAccumulator<S>& acc, const Wrench<S>& r, S length, Wrench<S>& y,
                          Wrench<S>& residual) {
   const S tol = ScalarTraits<S>::rank_tolerance;
@@ -205,6 +206,7 @@ bool solve_gram_by_schur(const GramAccumulator<S>& acc, const Wrench<S>& r, S le
   const bool by_adjugate = det > tol;
   SmallLdlt<3, S> ldlt;
   if (!by_adjugate) {
+    if constexpr (!Ldlt) return false;
     const S a[3][3] = {{a00, a01, a02}, {a01, a11, a12}, {a02, a12, a22}};
     if (!ldlt.factor(a, S(1), tol)) return false;
   }
@@ -254,14 +256,28 @@ bool solve_gram_by_schur(const GramAccumulator<S>& acc, const Wrench<S>& r, S le
   return y.allFinite() && residual.allFinite();
 }
 
+/// What range_space_solve does with a grasp matrix its first factorisation does not accept.
+enum class RankFallback {
+  /// Factor again (pivoted LDL^T, then an eigen-decomposition) and repair the residual:
+  /// solve_range_space's least-squares contract.
+  least_squares,
+  /// Report Singular with zero multipliers at once, without further factorisation: for a
+  /// caller that handles every rank itself (solve_constrained's fast path, whose iteration then
+  /// starts from zero multipliers). Hard and soft fingers accept only the Schur complement's
+  /// straight-line solve by its adjugate; an answer worse than x = 0 is declined too.
+  decline
+};
+
 /// solve_range_space() into `sol`, also giving the system's right-hand side
 /// rhs = -(w_ext + G t) and residual vector res = M lambda - rhs = G x + w_ext (up to the
 /// round-off of the recovery pass): with them F2(x) = lambda.(rhs + res) / 2 needs no other pass.
 /// With `gram_diagonal` given, also writes the diagonal of G W^-1 G^T there. Returns false (sol
 /// InvalidInput, rhs and res zero, `gram_diagonal` untouched) for invalid input.
 /// `inputs_checked`: the caller has already found the grasp complete and w_ext valid (as
-/// check_inputs would), so they are not checked again.
-template <class GraspT>
+/// check_inputs would), so they are not checked again. `Fallback`: see RankFallback; with
+/// `decline`, a declined solve leaves status Singular, zero multipliers, the forces t and
+/// res = -rhs.
+template <RankFallback Fallback = RankFallback::least_squares, class GraspT>
 bool range_space_solve(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext, Solution<GraspT>& sol,
                        Wrench<typename GraspT::ScalarType>& rhs, Wrench<typename GraspT::ScalarType>& res,
                        Wrench<typename GraspT::ScalarType>* gram_diagonal = nullptr, bool inputs_checked = false) {
@@ -289,14 +305,19 @@ bool range_space_solve(const GraspT& grasp, const Wrench<typename GraspT::Scalar
   Wrench<S> lambda;
   const S length = lever_arm(grasp, k_sum, kr2_sum);
   bool done = false;
+  constexpr bool least_squares = Fallback == RankFallback::least_squares;
   if constexpr (M::identity_force_block) {
-    done = solve_gram_by_schur(acc, rhs, length, lambda, res);
+    done = solve_gram_by_schur<least_squares>(acc, rhs, length, lambda, res);
     if (done) sol.status = Status::Ok;
   }
   if (!done) {
-    const Matrix6<S> gram = acc.matrix();
-    sol.status = solve_symmetric_6x6(gram, rhs, lambda, length);
-    res = gram * lambda - rhs;
+    if constexpr (least_squares || !M::identity_force_block) {
+      const Matrix6<S> gram = acc.matrix();
+      sol.status = solve_symmetric_6x6(gram, rhs, lambda, length);
+      res = gram * lambda - rhs;
+    } else {
+      sol.status = Status::Singular;
+    }
   }
   forces_from_multipliers(grasp, lambda, sol);
   // |D (G x + w_ext)| clearly above its value at x = 0 (beyond the round-off of the terms, and
@@ -308,7 +329,14 @@ bool range_space_solve(const GraspT& grasp, const Wrench<typename GraspT::Scalar
   const S floor2 = S(2) * balance.cwiseProduct(w_ext).squaredNorm() +
                    S(2) * eps64 * eps64 * balance.cwiseProduct(rhs).squaredNorm();
   const auto worse_than_zero = [&] { return balance.cwiseProduct(res).squaredNorm() > floor2; };
-  if ((sol.status == Status::Singular && residual_reducible(grasp, length, res)) || worse_than_zero()) {
+  if constexpr (!least_squares) {
+    if (sol.status != Status::Ok || worse_than_zero()) {
+      sol.status = Status::Singular;
+      lambda.setZero();
+      forces_from_multipliers(grasp, lambda, sol);
+      res = -rhs;
+    }
+  } else if ((sol.status == Status::Singular && residual_reducible(grasp, length, res)) || worse_than_zero()) {
     // Directions of round-off rank keep the residual of the starting point; when that is
     // still worse than x = 0, start again from x = 0.
     refine_least_squares(grasp, w_ext, length, sol, res);
