@@ -91,9 +91,11 @@ double objective_tolerance(const GraspT& g, const Wrench<typename GraspT::Scalar
 // KKT of min F2 s.t. G x + w = 0, x_i in K_i, checked from the definitions: x_i in K_i,
 // s_i = W_i (x_i - t_i) - G_i^T lambda in K_i^* (dual feasibility: -s_i in the normal cone at x_i),
 // s_i . x_i = 0 (complementarity), and G x + w = 0.
+// `resolution` widens the equilibrium test for answers accepted at the multipliers' own
+// resolution (ConstrainedSettings::resolution_bar).
 template <class GraspT>
 void check_kkt(const GraspT& g, const Wrench<typename GraspT::ScalarType>& w,
-               const ConstrainedSolution<GraspT>& sol) {
+               const ConstrainedSolution<GraspT>& sol, double resolution = 0) {
   using M = typename GraspT::ModelType;
   constexpr int d = M::dim;
   using S = typename GraspT::ScalarType;
@@ -117,7 +119,7 @@ void check_kkt(const GraspT& g, const Wrench<typename GraspT::ScalarType>& w,
     CHECK(std::abs(s.dot(x)) <= grip_test::roundoff<S>(8, ecc, v * (c.weight * x.norm() + s.norm())));
     r += M::wrench(c, x);
   }
-  CHECK(r.norm() <= equilibrium_tolerance(g, w, sol.forces));
+  CHECK(r.norm() <= equilibrium_tolerance(g, w, sol.forces) + resolution);
 }
 
 template <class Model, class S>
@@ -622,6 +624,55 @@ TEST_CASE("solve_constrained: a normal off unit within its tolerance keeps the f
     unit.normal.normalize();
     const Eigen::Vector4d x = sol.forces.template segment<4>(0).template cast<double>();
     CHECK(grip_test::cone_violation<SoftFinger>(unit, x) <= grip_test::roundoff<float>(8, 1 + unit.friction, x.norm()));
+  }
+}
+
+TEST_CASE("solve_constrained: warm starts near the optimum of nearly infeasible grasps") {
+  // Three more Distribution/3 grasps, multipliers of 1e6 to 1e7, warm-started within 1e-4
+  // (relative) of the optimum in random directions, as a haptic loop's next frame or another
+  // method's estimate gives. Newton's steps land on kinks of q (a contact's projection changing
+  // region); the next line search must not take the kink it stands on, to its rounding, for a
+  // kink ahead (it would stop there with IterationLimit: half of these starts did).
+  struct Case {
+    double theta[3], phi[3], w[6];
+  };
+  const Case cases[] = {
+      {{0x1.35b340937cddcp+0, 0x1.47a14bdaf9699p+1, 0x1.f32b8303baf66p+0},
+       {0x1.a8f88bd218781p+0, 0x1.69c845fca4b0ap+1, 0x1.e893bb120ef73p+1},
+       {0x1.18665eb73fa47p+0, -0x1.24ce4ecdba48ap-2, -0x1.699202bfb92aap+2, -0x1.785cad51c3d3ap-7,
+        -0x1.4b2abc43f205cp-18, -0x1.8b26211c19f24p-7}},
+      {{0x1.c91aed473fe55p+0, 0x1.777298b03533ap+1, 0x1.9b272e634a89p+0},
+       {0x1.93c6c31ea54fp+0, 0x1.074ae57ca2ffap+0, 0x1.670b2ba6200bap+2},
+       {-0x1.62bce38332d72p-2, -0x1.0158dc5274768p+0, -0x1.a0369f5a948a3p+2, -0x1.d28c4f29ce83ep-7,
+        -0x1.6466f2940e2dbp-8, 0x1.2ad73b70d9895p-8}},
+      {{0x1.d702fe877f2ccp+0, 0x1.38411fd48f239p+0, 0x1.0349b2fe776b1p+1},
+       {0x1.2181da7df7334p+1, 0x1.357a45051178dp-4, 0x1.e184bf97cd96ap+0},
+       {0x1.3b4e182683ecap+0, -0x1.452ce612472d4p-1, -0x1.51dac906fe794p+2, 0x1.8e05b71aacdeap-7,
+        0x1.df381a6e6dad1p-7, -0x1.91ef7a978f392p-8}},
+  };
+  std::mt19937 rng(11);
+  std::normal_distribution<double> n01(0, 1);
+  for (const Case& k : cases) {
+    Grasp<3, HardFinger, double> g;
+    for (int i = 0; i < 3; ++i) REQUIRE(g.set(i, grip_test::sphere_contact<double>(k.theta[i], k.phi[i], 0.04, 0.5, 0.3)) == Status::Ok);
+    const Wrench<double> w = Eigen::Map<const Wrench<double>>(k.w);
+    const auto cold = solve_constrained(g, w);
+    REQUIRE(cold.status == Status::Ok);
+    CHECK(cold.multipliers.norm() > 1e5);
+    for (int rep = 0; rep < 10; ++rep) {
+      Wrench<double> p;
+      for (int j = 0; j < 6; ++j) p(j) = n01(rng);
+      const Wrench<double> warm = cold.multipliers + 1e-4 * cold.multipliers.norm() / p.norm() * p;
+      const auto sol = solve_constrained(g, w, ConstrainedSettings<double>{}, warm);
+      CAPTURE(rep);
+      REQUIRE(sol.status == Status::Ok);
+      // With multipliers this large, moving each by its last place moves G x(lambda) by up to
+      // 16 eps |lambda| sum_i |G_i|^2 / w_i (|G_i| <= 1 + |r_i|, the projections' Jacobians
+      // <= 1): the residual cannot be resolved below that, and Ok may be given there.
+      double reach = 0;
+      for (int i = 0; i < 3; ++i) reach += std::pow(1 + g.contact(i).position.norm(), 2) / g.contact(i).weight;
+      check_kkt(g, w, sol, 16 * std::numeric_limits<double>::epsilon() * sol.multipliers.norm() * reach);
+    }
   }
 }
 

@@ -14,6 +14,7 @@
 /// tests compare CoulombPassTable with.
 
 #include <cmath>
+#include <limits>
 #include <type_traits>
 #include <utility>
 
@@ -210,6 +211,20 @@ class ContactPasses {
  private:
   const GraspT& grasp_;
 };
+
+/// The second trial of both line searches (after the full step failed) from multipliers `l`
+/// along `dir`: the first kink of their dual (`passes.first_break` at the passes' inputs `pl`,
+/// `pdir` for l, dir) if it comes before `alpha` and lies beyond l's rounding, a step of more
+/// than 16 eps |l|; else `alpha`. A step accepted at a kink leaves l on that surface, to its
+/// rounding, and first_break may find it again as a root just above its cut-off: a trial
+/// there would not move l (or by its last places), and the search would end on it.
+template <class Passes, class S>
+S second_trial(const Passes& passes, const Wrench<S>& pl, const Wrench<S>& pdir, const Wrench<S>& l,
+               const Wrench<S>& dir, S alpha) {
+  const S kink = passes.first_break(pl, pdir);
+  const bool ahead = kink * dir.norm() > S(constrained_roundoff) * std::numeric_limits<S>::epsilon() * l.norm();
+  return kink < alpha && ahead ? kink : alpha;
+}
 
 /// The pass engine of solve_constrained for a grasp type.
 template <class GraspT>

@@ -166,7 +166,7 @@ class SemismoothNewton {
     if (slope > S(0) && dir.allFinite()) {
       S alpha = S(1);
       for (; cuts < settings_.max_line_search && budget_.left(); ++cuts, alpha *= S(0.5)) {
-        if (cuts == 1) alpha = std::min(alpha, passes_.first_break(lambda_, dir));  // q's first kink
+        if (cuts == 1) alpha = second_trial(passes_, lambda_, dir, lambda_, dir, alpha);  // q's first kink
         lt = lambda_ + alpha * dir;
         if (lt == lambda_) break;  // a step below lambda's resolution (at round-off Armijo takes it)
         trial = budget_.run(passes_, w_ext_, lt, xt_, trial_h_);
