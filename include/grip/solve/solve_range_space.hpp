@@ -274,9 +274,8 @@ enum class RankFallback {
 /// With `gram_diagonal` given, also writes the diagonal of G W^-1 G^T there. Returns false (sol
 /// InvalidInput, rhs and res zero, `gram_diagonal` untouched) for invalid input.
 /// `inputs_checked`: the caller has already found the grasp complete and w_ext valid (as
-/// check_inputs would), so they are not checked again. `Fallback`: see RankFallback; with
-/// `decline`, a declined solve leaves status Singular, zero multipliers, the forces t and
-/// res = -rhs.
+/// check_inputs would), so they are not checked again. `Fallback`: see RankFallback (declined:
+/// status Singular, zero multipliers, the forces t and res = -rhs).
 template <RankFallback Fallback = RankFallback::least_squares, class GraspT>
 bool range_space_solve(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext, Solution<GraspT>& sol,
                        Wrench<typename GraspT::ScalarType>& rhs, Wrench<typename GraspT::ScalarType>& res,
@@ -315,8 +314,10 @@ bool range_space_solve(const GraspT& grasp, const Wrench<typename GraspT::Scalar
       const Matrix6<S> gram = acc.matrix();
       sol.status = solve_symmetric_6x6(gram, rhs, lambda, length);
       res = gram * lambda - rhs;
-    } else {
+    } else {  // declined: no multipliers were computed
       sol.status = Status::Singular;
+      lambda.setZero();
+      res = -rhs;
     }
   }
   forces_from_multipliers(grasp, lambda, sol);
