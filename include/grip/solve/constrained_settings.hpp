@@ -71,7 +71,8 @@ struct ConstrainedSettings {
   Scalar jacobi_floor{Scalar(1e-6f)};
   /// Newton iterations in a row that fail to halve the residual after which infeasibility is
   /// suspected and decided once by the least-residual problem. Halving is measured against
-  /// the residual of the last iteration that halved it (not the previous iteration's), so that
+  /// the residual of the last iteration that halved it or grew the dual (a growth step of
+  /// stall_growth_allowance; not the previous iteration's), so that
   /// a residual that swings up and down by orders of magnitude (a diverging iteration on an
   /// infeasible grasp) is seen to stall. 8, not 3: feasible instances whose active set is
   /// still settling (nearly infeasible ones, with forces of 1000 N for a 5 N load) stall for 3
@@ -86,6 +87,16 @@ struct ConstrainedSettings {
   /// growth that goes on is taken for divergence (an infeasible grasp). >= 0; 0 counts every
   /// step that fails to halve.
   int stall_growth_allowance{8};
+  /// From this many growth steps on (full steps that double the dual, see
+  /// stall_growth_allowance), each one tests the direction -lambda of the growing multipliers
+  /// as an infeasibility certificate (one O(n) loop, no pass), and one that checks out starts
+  /// the least-residual problem at once: an infeasible grasp's multipliers grow tenfold per
+  /// step along a certificate, and waiting for the stall costs 10 to 20 passes. Only a
+  /// trigger: the verdict is the least-residual problem's, as after a stall. Double 3 (the
+  /// growth has settled on its direction by then); float never (the largest int): its
+  /// certificate_tolerance of 2e-3 passes the growth direction of nearly infeasible grasps
+  /// that hold, and its least-residual solve then confirms them. >= 1.
+  int certificate_check_growth{ScalarTraits<Scalar>::is_single_precision ? std::numeric_limits<int>::max() : 3};
   /// Newton iterations still allowed after an infeasibility certificate was found on a stall:
   /// Infeasible is answered only if Newton has not converged within them. Float 12: a nearly
   /// infeasible feasible instance can stall early and pass the float certificate tolerance
@@ -147,7 +158,8 @@ bool valid_settings(const ConstrainedSettings<Scalar>& s) {
   const auto pos = [](Scalar v) { return std::isfinite(v) && v > Scalar(0); };
   return pos(s.tolerance) && pos(s.gap_tolerance) && pos(s.regularisation) && pos(s.certificate_tolerance) &&
          pos(s.least_residual_weight) && s.max_iterations >= 1 && s.max_line_search >= 1 && s.max_passes >= 1 && pos(s.armijo) &&
-         s.armijo < Scalar(1) && pos(s.jacobi_floor) && s.stall_limit >= 1 && s.stall_growth_allowance >= 0 && s.infeasible_grace >= 0 &&
+         s.armijo < Scalar(1) && pos(s.jacobi_floor) && s.stall_limit >= 1 && s.stall_growth_allowance >= 0 &&
+         s.certificate_check_growth >= 1 && s.infeasible_grace >= 0 &&
          pos(s.infeasibility_bar) && s.certificate_attempts >= 1 && pos(s.certificate_retry_factor) &&
          s.certificate_retry_factor <= Scalar(1) && pos(s.certificate_guard) &&
          pos(s.least_residual_stage_tolerance) && pos(s.least_residual_continuation) &&

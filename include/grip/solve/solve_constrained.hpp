@@ -87,8 +87,9 @@ struct ConstrainedSolution : Solution<GraspT> {
 ///   cvxopt reference instances.
 ///   `multipliers` are then that problem's (y = multipliers / |(multipliers_f, L multipliers_m)|).
 ///   Decided when the Newton iteration stalls (stall_limit = 8 steps in a row fail to halve
-///   the residual of the last step that did: ConstrainedSettings) or at its iteration
-///   bound; the least-residual solve has its own
+///   the residual of the last step that did: ConstrainedSettings), at its iteration bound,
+///   or (double) once its growing multipliers point along a certificate
+///   (certificate_check_growth); the least-residual solve has its own
 ///   max_iterations bound. In float (the defaults of ConstrainedSettings) the least-residual
 ///   solve is retried with a 100 and 10^4 times smaller delta (within that one bound) if its
 ///   certificate misses the tolerance, the direction of the diverging Newton multipliers is

@@ -179,5 +179,23 @@ bool is_infeasibility_certificate(const GraspT& grasp, const Wrench<typename Gra
   return true;
 }
 
+/// The direction of diverging Newton multipliers as a certificate: y = -lambda / |lambda|_L*,
+/// written into `y`; true if it checks out (is_infeasibility_certificate with the settings'
+/// certificate_tolerance and certificate_guard). x_i(lambda) is a projection, so -G_i^T lambda
+/// lies in K_i^* up to w_i |x_i - t_i| / |lambda|: a certificate once |lambda| has grown large
+/// along it. False (y unspecified) for lambda = 0 or not finite.
+template <class GraspT>
+bool multiplier_direction_certificate(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
+                                      const Wrench<typename GraspT::ScalarType>& lambda,
+                                      const EquilibriumNorm<typename GraspT::ScalarType>& norm,
+                                      const ConstrainedSettings<typename GraspT::ScalarType>& settings,
+                                      Wrench<typename GraspT::ScalarType>& y) {
+  using S = typename GraspT::ScalarType;
+  const S ln = norm.dual(lambda);
+  if (!(ln > S(0)) || !std::isfinite(ln)) return false;
+  y = -lambda / ln;
+  return is_infeasibility_certificate(grasp, w_ext, y, norm, settings.certificate_tolerance, settings.certificate_guard);
+}
+
 }  // namespace detail
 }  // namespace grip

@@ -196,20 +196,25 @@ class SemismoothNewton {
     return true;
   }
 
-  /// After a step: settings.stall_limit steps in a row that fail to halve stall_ref_ (full
-  /// steps that double the dual excepted, settings.stall_growth_allowance of them) suggest that
-  /// no forces in the cones balance w_ext: decided once by phase 1. A verdict of infeasibility
-  /// waits settings.infeasible_grace iterations for Newton to converge. False: stop now.
+  /// After a step: settings.stall_limit steps in a row that fail to halve stall_ref_ (growth
+  /// steps, settings.stall_growth_allowance of them, excepted: each resets it), or sooner a growth
+  /// step (certificate_check_growth on) whose -lambda is a certificate, suggest that no forces
+  /// in the cones balance w_ext: decided once by phase 1. A verdict of infeasibility waits
+  /// settings.infeasible_grace iterations for Newton to converge. False: stop now.
   bool watch_stall() {
     if (rn_ <= S(0.5) * stall_ref_) {
       stall_ref_ = rn_;
       stall_ = 0;
     } else if (growing_ && growth_ < settings_.stall_growth_allowance) {
+      stall_ref_ = rn_;  // the settling after a growth is measured from where it ended
       ++growth_;
     } else {
       ++stall_;
     }
-    if (stall_ >= settings_.stall_limit && !phase1_done_) {
+    Wrench<S> y;  // -lambda_ / |lambda_|_L*, tested on growth steps only
+    const bool diverging = growing_ && growth_ >= settings_.certificate_check_growth && !phase1_done_ &&
+                           multiplier_direction_certificate(grasp_, w_ext_, lambda_, norm_, settings_, y);
+    if ((diverging || stall_ >= settings_.stall_limit) && !phase1_done_) {
       phase1_done_ = true;
       if (decide_infeasible()) {
         pending_ = true;
@@ -286,17 +291,12 @@ class SemismoothNewton {
       }
     }
     // Second candidate (settings.multiplier_certificate, float by default): the direction
-    // -lambda of the diverging Newton multipliers. x_i(lambda) is a projection, so -G_i^T lambda
-    // lies in K_i^* up to w_i |x_i - t_i| / |lambda|: a certificate when |lambda| has grown large.
-    // Neither candidate without a least-residual solve (the deadline left no pass for it):
-    // an Infeasible answer carries its forces.
+    // -lambda of the diverging Newton multipliers (multiplier_direction_certificate). Neither
+    // without a least-residual solve (the deadline left no pass for it): an Infeasible answer
+    // carries its forces.
     const bool solved = budget_.used > passes_before;
-    const S ln = norm_.dual(lambda_);
-    if (settings_.multiplier_certificate && solved && !ok && ln > S(0) && lambda_.allFinite()) {
-      sol_.certificate = -lambda_ / ln;
-      ok = is_infeasibility_certificate(grasp_, w_ext_, sol_.certificate, norm_, settings_.certificate_tolerance,
-                                        settings_.certificate_guard);
-    }
+    if (settings_.multiplier_certificate && solved && !ok)
+      ok = multiplier_direction_certificate(grasp_, w_ext_, lambda_, norm_, settings_, sol_.certificate);
     if (!ok) {
       sol_.certificate.setZero();
       return false;
@@ -380,7 +380,7 @@ class SemismoothNewton {
   int stall_{0};         ///< steps in a row that did not halve stall_ref_
   S stall_ref_{0};       ///< the residual of the last step that halved it (or of the start)
   int growth_{0};        ///< full steps that doubled the dual, not counted as stalls
-  bool growing_{false};  ///< the last step was one
+  bool growing_{false};  ///< the last step was one (a growth step)
   int phase1_iterations_{0};  ///< counted apart: the Newton budget stays max_iterations
   bool phase1_done_{false};
   // Phase 1's verdict, pending until apply_infeasible() (multipliers, certificate: in sol_).
