@@ -267,6 +267,51 @@ TEST_CASE("coulomb pass: first_break is where the first projection changes regio
   CHECK(none > 20);
 }
 
+TEST_CASE("second_trial: Newton's trial lands past the first kink, in the region entered") {
+  // The kink itself is first_break's (checked above); here the trial point. With `past`
+  // (Newton's line search) some contact's region at the trial differs from its region just
+  // before the kink, and the trial is within a relative 2 sqrt(eps) of the kink; without it
+  // (the least-residual search) the trial is the kink. Beyond the halved step: the step.
+  using S = double;
+  std::mt19937 rng(73);
+  const S root_eps = std::sqrt(std::numeric_limits<S>::epsilon());
+  int kinks = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const int n = 1 + trial % 12;
+    const auto g = grip_test::random_grasp<Grasp<Dynamic, HardFinger, S, 12>>(rng, n);
+    const detail::CoulombPassTable<decltype(g)> table(g);
+    const Wrench<S> lambda = random_lambda<S>(rng, trial % 2 == 0 ? 1.0 : 10.0);
+    const Wrench<S> d = random_lambda<S>(rng, trial % 4 < 2 ? 1.0 : 30.0);
+    const S brk = table.first_break(lambda, d);
+    const S half = S(0.5);
+    const S newton = detail::second_trial(table, lambda, d, lambda, d, half);
+    const S least = detail::second_trial(table, lambda, d, lambda, d, half, false);
+    CAPTURE(trial);
+    if (!(brk < half)) {
+      CHECK(newton == half);
+      CHECK(least == half);
+      continue;
+    }
+    ++kinks;
+    CHECK(least == brk);
+    CHECK(newton > brk);
+    CHECK(newton <= brk * (1 + 2 * root_eps));
+    const auto regions = [&](S alpha) {
+      std::vector<int> r;
+      const Wrench<S> l = lambda + alpha * d;
+      for (int i = 0; i < n; ++i) {
+        const Contact<S>& c = g.contact(i);
+        const CoulombCone<S> cone = CoulombCone<S>::from_contact(c);
+        const Vector3<S> v = HardFinger::target(c) + g.inverse_weight(i) * HardFinger::wrench_transpose(c, l);
+        r.push_back(static_cast<int>(projection_jacobian(cone, v, cone.project(v)).region));
+      }
+      return r;
+    };
+    CHECK(regions(newton) != regions(brk * (1 - 1e-6)));
+  }
+  CHECK(kinks > 100);
+}
+
 TEST_CASE("coulomb pass: no heap") {
   std::mt19937 rng(74);
   const auto g = grip_test::random_grasp<Grasp<Dynamic, HardFinger, double, 32>>(rng, 19);

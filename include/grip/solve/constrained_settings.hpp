@@ -74,12 +74,13 @@ struct ConstrainedSettings {
   /// the residual of the last iteration that halved it or grew the dual (a growth step of
   /// stall_growth_allowance; not the previous iteration's), so that
   /// a residual that swings up and down by orders of magnitude (a diverging iteration on an
-  /// infeasible grasp) is seen to stall. 8, not 3: feasible instances whose active set is
-  /// still settling (nearly infeasible ones, with forces of 1000 N for a 5 N load) stall for 3
-  /// to 7 and then converge, and the least-residual solve spent on them cost 20 to 30
-  /// iterations (bench_constrained's instances: mean iterations 21.7 -> 10.0 at n = 3, worst
-  /// 39 -> 8 at n = 20).
-  int stall_limit{8};
+  /// infeasible grasp) is seen to stall. Not 3: feasible instances whose active set is still
+  /// settling (nearly infeasible ones, with forces of 1000 N for a 5 N load) stall for 3 to 15
+  /// and then converge, and the least-residual solve spent on them costs 30 to 100 passes.
+  /// Double 16: most slipping grasps are sent to the least-residual problem sooner, by
+  /// certificate_check_growth, so a longer wait costs them nothing. Float 8: without that
+  /// trigger, every slipping grasp pays the wait.
+  int stall_limit{ScalarTraits<Scalar>::is_single_precision ? 8 : 16};
   /// Full Newton steps (no step halved) that at least double a positive dual q are not
   /// counted as stalls, up to this many per solve: the multipliers of a nearly infeasible
   /// grasp grow about tenfold per step toward an optimum far away, and the least-residual

@@ -214,16 +214,22 @@ class ContactPasses {
 
 /// The second trial of both line searches (after the full step failed) from multipliers `l`
 /// along `dir`: the first kink of their dual (`passes.first_break` at the passes' inputs `pl`,
-/// `pdir` for l, dir) if it comes before `alpha` and lies beyond l's rounding, a step of more
-/// than 16 eps |l|; else `alpha`. A step accepted at a kink leaves l on that surface, to its
-/// rounding, and first_break may find it again as a root just above its cut-off: a trial
-/// there would not move l (or by its last places), and the search would end on it.
+/// `pdir` for l, dir), or with `past` just beyond it, kink (1 + sqrt(eps)), if the kink comes
+/// before `alpha` and lies beyond l's rounding, a step of more than 16 eps |l|; else `alpha`.
+/// A step accepted at a kink leaves l on that surface, to its rounding, and first_break may
+/// find it again as a root just above its cut-off: a trial there would not move l (or by its
+/// last places), and the search would end on it. Past it (Newton's search), the pass takes
+/// its Hessian from the region the step entered: on the surface rounding picks either side,
+/// and the side left behind gives the next step the same overshoot (Newton then zig-zags
+/// across the kink, the dual rising linearly). The dual is C^1, so the margin changes nothing
+/// else. The least-residual search stays on the kink: its dual's curvature grows as 1/delta.
 template <class Passes, class S>
 S second_trial(const Passes& passes, const Wrench<S>& pl, const Wrench<S>& pdir, const Wrench<S>& l,
-               const Wrench<S>& dir, S alpha) {
+               const Wrench<S>& dir, S alpha, bool past = true) {
+  const S eps = std::numeric_limits<S>::epsilon();
   const S kink = passes.first_break(pl, pdir);
-  const bool ahead = kink * dir.norm() > S(constrained_roundoff) * std::numeric_limits<S>::epsilon() * l.norm();
-  return kink < alpha && ahead ? kink : alpha;
+  const bool ahead = kink * dir.norm() > S(constrained_roundoff) * eps * l.norm();
+  return kink < alpha && ahead ? kink * (S(1) + (past ? std::sqrt(eps) : S(0))) : alpha;
 }
 
 /// The pass engine of solve_constrained for a grasp type.

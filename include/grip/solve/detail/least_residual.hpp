@@ -120,7 +120,7 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
         S trial_phi = cur_phi;
         for (int ls = 0; ls < settings.max_line_search && budget.left(); ++ls, alpha *= S(0.5)) {
           // The full step failed: try the first kink of phi along dir if it comes before the half.
-          if (ls == 1) alpha = second_trial(passes, input(lambda), input(dir), lambda, dir, alpha);
+          if (ls == 1) alpha = second_trial(passes, input(lambda), input(dir), lambda, dir, alpha, false);
           lt = lambda + alpha * dir;
           if (lt == lambda) break;  // a step below lambda's resolution (at round-off Armijo takes it)
           trial = budget.run(passes, w_ext, input(lt), xt, trial_h);
