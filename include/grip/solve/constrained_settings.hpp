@@ -72,7 +72,9 @@ struct ConstrainedSettings {
   /// Newton iterations in a row that fail to halve the residual after which infeasibility is
   /// suspected and decided once by the least-residual problem. Halving is measured against
   /// the residual of the last iteration that halved it or grew the dual (a growth step of
-  /// stall_growth_allowance; not the previous iteration's), so that
+  /// stall_growth_allowance; not the previous iteration's), and an iteration whose rise of the
+  /// dual is at most half that of the last one that reset the count is no stall either (a
+  /// zig-zag across a kink that converges), so that
   /// a residual that swings up and down by orders of magnitude (a diverging iteration on an
   /// infeasible grasp) is seen to stall. Not 3: feasible instances whose active set is still
   /// settling (nearly infeasible ones, with forces of 1000 N for a 5 N load) stall for 3 to 15

@@ -232,6 +232,17 @@ S second_trial(const Passes& passes, const Wrench<S>& pl, const Wrench<S>& pdir,
   return kink < alpha && ahead ? kink * (S(1) + (past ? std::sqrt(eps) : S(0))) : alpha;
 }
 
+/// True when every projection input t_i + w_i^-1 G_i^T lambda is within max_magnitude.
+template <class GraspT>
+bool projection_inputs_in_range(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& lambda) {
+  using M = typename GraspT::ModelType;
+  for (int i = 0; i < grasp.size(); ++i) {
+    const auto& c = grasp.contact(i);
+    if (!cone_input_valid(M::target(c) + grasp.inverse_weight(i) * M::wrench_transpose(c, lambda))) return false;
+  }
+  return true;
+}
+
 /// The pass engine of solve_constrained for a grasp type.
 template <class GraspT>
 using ConstrainedPasses = typename std::conditional<std::is_same<typename GraspT::ModelType, HardFinger>::value,

@@ -89,6 +89,7 @@ class SemismoothNewton {
     cur_ = budget_.run(passes_, w_ext_, lambda_, x_, cur_h_);  // always allowed: max_passes >= 1
     keep_best();
     stall_ref_ = rn_;
+    last_dual_ = cur_.dual;
   }
 
   /// Keeps the iterate if its residual is the least met so far: the answer under IterationLimit.
@@ -197,13 +198,20 @@ class SemismoothNewton {
   }
 
   /// After a step: settings.stall_limit steps in a row that fail to halve stall_ref_ (growth
-  /// steps, settings.stall_growth_allowance of them, excepted: each resets it), or sooner a growth
-  /// step (certificate_check_growth on) whose -lambda is a certificate, suggest that no forces
-  /// in the cones balance w_ext: decided once by phase 1. A verdict of infeasibility waits
-  /// settings.infeasible_grace iterations for Newton to converge. False: stop now.
+  /// steps, settings.stall_growth_allowance of them, excepted: each resets it) and q's rise of
+  /// the last step that did either (rise_ref_: a zig-zag converging on a kink), or sooner a
+  /// growth step (certificate_check_growth on) whose -lambda is a certificate, suggest that no
+  /// forces in the cones balance w_ext: decided once by phase 1. A verdict of infeasibility
+  /// waits settings.infeasible_grace iterations for Newton to converge. False: stop now.
   bool watch_stall() {
+    const S rise = cur_.dual - last_dual_;
+    last_dual_ = cur_.dual;
     if (rn_ <= S(0.5) * stall_ref_) {
       stall_ref_ = rn_;
+      rise_ref_ = rise;
+      stall_ = 0;
+    } else if (!growing_ && rise > S(0) && rise <= S(0.5) * rise_ref_) {
+      rise_ref_ = rise;
       stall_ = 0;
     } else if (growing_ && growth_ < settings_.stall_growth_allowance) {
       stall_ref_ = rn_;  // the settling after a growth is measured from where it ended
@@ -234,7 +242,7 @@ class SemismoothNewton {
   /// large, and the passes project an input beyond max_magnitude to zero, so that their dual
   /// there is not q (it can exceed the optimum, and Newton would stay on it).
   void restart_from_phase1() {
-    if (!inputs_in_range(p_lambda_) || !budget_.left()) return;
+    if (!projection_inputs_in_range(grasp_, p_lambda_) || !budget_.left()) return;
     ConstrainedPass<S> alt = budget_.run(passes_, w_ext_, p_lambda_, xt_, trial_h_);
     if (alt.dual > cur_.dual && std::isfinite(alt.dual)) {
       lambda_ = p_lambda_;
@@ -245,16 +253,6 @@ class SemismoothNewton {
       stall_ref_ = norm_(alt.residual);
       keep_best();
     }
-  }
-
-  /// True when every projection input t_i + w_i^-1 G_i^T lambda is within max_magnitude.
-  bool inputs_in_range(const Wrench<S>& lambda) const {
-    using M = typename GraspT::ModelType;
-    for (int i = 0; i < grasp_.size(); ++i) {
-      const auto& c = grasp_.contact(i);
-      if (!cone_input_valid(M::target(c) + grasp_.inverse_weight(i) * M::wrench_transpose(c, lambda))) return false;
-    }
-    return true;
   }
 
   /// Phase 1: the least-residual forces; true (the verdict pending: its forces in p_x_, its
@@ -379,6 +377,8 @@ class SemismoothNewton {
   int it_{0};
   int stall_{0};         ///< steps in a row that did not halve stall_ref_
   S stall_ref_{0};       ///< the residual of the last step that halved it (or of the start)
+  S last_dual_{0};       ///< q at the previous iterate (set by each step)
+  S rise_ref_{std::numeric_limits<S>::infinity()};  ///< q's rise at the last step that reset stall_
   int growth_{0};        ///< full steps that doubled the dual, not counted as stalls
   bool growing_{false};  ///< the last step was one (a growth step)
   int phase1_iterations_{0};  ///< counted apart: the Newton budget stays max_iterations
