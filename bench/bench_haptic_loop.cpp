@@ -279,6 +279,88 @@ void BM_FrameTimeHistogram(benchmark::State& state) {
   }
   if (const char* path = std::getenv("GRIP_HISTOGRAM_SVG")) write_histograms(path, none, bounded);
 }
+// The solver alone on the session's own frames (BM_SolveReplay): the pipeline runs the cylinder
+// scene once with ConstrainedFrameSolver and no deadline, and a recording solver keeps every
+// frame's problem (grasp, w_ext, and the warm start the pipeline handed that solve). Then each
+// recorded problem is solved again, from the same warm start, with no deadline and with the
+// default deadline of 16 passes, each timed as the least of three solves. The frames are
+// classed by the no-deadline answer: held (Ok) or slipping (anything else: Infeasible, or
+// IterationLimit). Both variants see the same problems, so a change of the solver can be
+// compared frame for frame, free of the session's path (which moves with any change of a frame).
+// Counters: per class and variant the count, median, p99 and worst (us) and the worst passes.
+struct RecordedSolve {
+  using GraspType = grip::HapticPipeline<S, grip::CylinderScene<S>, grip::ConstrainedFrameSolver<S>>::GraspType;
+  GraspType grasp;
+  grip::Wrench<S> w_ext;
+  grip::Wrench<S> warm;
+  bool has_warm;
+};
+
+struct RecordingFrameSolver : grip::ConstrainedFrameSolver<S> {
+  std::vector<RecordedSolve>* log{nullptr};
+  template <class GraspT>
+  grip::Solution<GraspT> operator()(const GraspT& grasp, const grip::Wrench<S>& w_ext) {
+    static_assert(std::is_same<GraspT, RecordedSolve::GraspType>::value, "the pipeline's grasp type");
+    if (log != nullptr && grasp.size() > 0) log->push_back({grasp, w_ext, warm, has_warm});
+    return grip::ConstrainedFrameSolver<S>::operator()(grasp, w_ext);
+  }
+};
+
+const std::vector<RecordedSolve>& recorded_session() {
+  static std::vector<RecordedSolve> log;
+  if (log.empty()) {
+    using Pipeline = grip::HapticPipeline<S, grip::CylinderScene<S>, RecordingFrameSolver>;
+    const Inputs& in = inputs();
+    auto pipeline = std::make_unique<Pipeline>(settings(), scene(), object());
+    pipeline->solver().settings.max_passes = std::numeric_limits<int>::max();
+    pipeline->solver().log = &log;
+    grip::HapticFrame<S> frame;
+    for (std::size_t i = 0; i < in.wrist.size(); ++i) pipeline->step(in.wrist[i], in.angles[i], frame);
+  }
+  return log;
+}
+
+void BM_SolveReplay(benchmark::State& state) {
+  const std::vector<RecordedSolve>& log = recorded_session();
+  grip::ConstrainedSettings<S> none, bounded = grip::ConstrainedFrameSolver<S>::real_time_settings();
+  none.max_passes = std::numeric_limits<int>::max();
+  std::vector<double> us[2][2];  // [held, slipping][no deadline, 16]
+  int passes[2][2] = {};
+  for (auto _ : state) {
+    for (const RecordedSolve& r : log) {
+      int cls = 0;
+      for (int v = 0; v < 2; ++v) {
+        const grip::ConstrainedSettings<S>& st = v == 0 ? none : bounded;
+        double least = std::numeric_limits<double>::infinity();
+        for (int rep = 0; rep < 3; ++rep) {
+          const auto t0 = std::chrono::steady_clock::now();
+          const auto sol = r.has_warm ? grip::solve_constrained(r.grasp, r.w_ext, st, r.warm)
+                                      : grip::solve_constrained(r.grasp, r.w_ext, st);
+          const auto t1 = std::chrono::steady_clock::now();
+          benchmark::DoNotOptimize(sol.forces.data());
+          least = std::min(least, std::chrono::duration<double, std::micro>(t1 - t0).count());
+          if (v == 0 && rep == 0) cls = sol.status == grip::Status::Ok ? 0 : 1;
+          if (rep == 0) passes[cls][v] = std::max(passes[cls][v], sol.passes);
+        }
+        us[cls][v].push_back(least);
+      }
+    }
+  }
+  const char* cls_names[2] = {"held", "slip"};
+  const char* var_names[2] = {"", "_16"};
+  for (int c = 0; c < 2; ++c)
+    for (int v = 0; v < 2; ++v) {
+      std::vector<double>& t = us[c][v];
+      std::sort(t.begin(), t.end());
+      const std::string k = std::string(cls_names[c]) + var_names[v];
+      state.counters[k + "_count"] = static_cast<double>(t.size());
+      state.counters[k + "_p50_us"] = quantile(t, 0.5);
+      state.counters[k + "_p99_us"] = quantile(t, 0.99);
+      state.counters[k + "_worst_us"] = t.empty() ? 0.0 : t.back();
+      state.counters[k + "_worst_passes"] = passes[c][v];
+    }
+}
+
 // The whole hand's power grasp: the hand palm down, the cylinder across the palm (1 mm into
 // it), the fingers closed on it with the thumb's CMC in opposition (0.5, 0.6 rad).
 struct PowerGrasp {
@@ -352,6 +434,7 @@ BENCHMARK(BM_WholeHandFrame_Actuators)->Iterations(20000)->Unit(benchmark::kMicr
 BENCHMARK(BM_PaperHandFrame_baseline)->Iterations(20000)->Unit(benchmark::kMicrosecond);
 
 BENCHMARK(BM_FrameTimeHistogram)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SolveReplay)->Iterations(1)->Unit(benchmark::kMillisecond);
 
 BENCHMARK(BM_Frame_AnalyticContacts_Constrained_deadline)
     ->Arg(32)->Arg(64)->Iterations(2 * session_frames)->Unit(benchmark::kMicrosecond);

@@ -60,9 +60,10 @@ template <class Scalar>
 struct ConstrainedFrameSolver {
   static constexpr bool enforces_cones = true;  ///< forces come back inside their exact cones
   /// The default deadline of every solve (ConstrainedSettings::max_passes): 16 passes, which
-  /// keeps the slipping frames of the haptic loop's benchmark within about three times the
-  /// held frames' median, with at least as many frames held as without a deadline
-  /// (bench/RESULTS.md).
+  /// keeps the p99 of the haptic loop benchmark's slipping frames within about three times the
+  /// held frames' median (bench/RESULTS.md). A solve it cuts answers its best iterate, so the
+  /// session it renders differs from one without a deadline (a few per cent of the frames
+  /// change from held to slipping or back).
   static constexpr int default_max_passes = 16;
   /// Tolerances and bounds of every solve: solve_constrained's defaults, max_passes excepted.
   ConstrainedSettings<Scalar> settings{real_time_settings()};
