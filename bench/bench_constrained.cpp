@@ -22,6 +22,12 @@
 //                      moved by 1 mm, load changed by 2 %), least of three solves likewise;
 //                      warm_not_ok counts warm solves whose status is not Ok (every instance
 //                      is feasible: its cold solve says Ok)
+//   Loads/n            100,000 fresh grasps the fast path does not answer, loads of 0.5 to
+//                      200 N in random directions (many slip), least of three solves each
+//                      with no deadline and with max_passes = 16: counters slip_frac (the
+//                      Infeasible ones), median_us, p99_us, p9999_us, worst_us, the same of
+//                      the slipping ones (slip_*) and with the deadline (deadline16_*), and
+//                      slip_median_passes, slip_worst_passes
 //   Deadline/n         ConstrainedSettings::max_passes: 64 grasps the fast path does not
 //                      answer, mu 0.3 to 1, loads of 0.5 to 200 N in random directions (many
 //                      slip), solved with no deadline and with max_passes = 1, 4 and 32 in
@@ -40,6 +46,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <string>
 #include <vector>
 
 #include <grip/grasp/grasp.hpp>
@@ -114,6 +121,20 @@ const std::vector<Instance<N>>& pool(bool active) {
     for (int k = 0; k < 64; ++k) v.push_back(make_instance<N>(rng, active));
   }
   return v;
+}
+
+/// The q-quantile of v (sorted in a copy); 0 for an empty v.
+double quantile(std::vector<double> v, double q) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[std::size_t(q * double(v.size() - 1))];
+}
+
+/// Counters <prefix>median_us, <prefix>p99_us, <prefix>p9999_us and <prefix>worst_us of `us`.
+void report_times(benchmark::State& state, const std::string& prefix, const std::vector<double>& us) {
+  state.counters[prefix + "median_us"] = quantile(us, 0.5);
+  state.counters[prefix + "p99_us"] = quantile(us, 0.99);
+  state.counters[prefix + "p9999_us"] = quantile(us, 0.9999);
+  state.counters[prefix + "worst_us"] = quantile(us, 1.0);
 }
 
 template <int N>
@@ -264,20 +285,14 @@ void Distribution(benchmark::State& state) {
   state.counters["worst_us"] = worst;
   state.counters["worst_over_median"] = worst / med;
   // Per instance the least of three solves: the worst instance against the median one.
-  state.counters["least3_median_us"] = at(tm, 0.5);
-  state.counters["least3_p99_us"] = at(tm, 0.99);
-  state.counters["least3_p9999_us"] = at(tm, 0.9999);
+  report_times(state, "least3_", tm);
   state.counters["least3_p9999_over_median"] = at(tm, 0.9999) / at(tm, 0.5);
-  state.counters["least3_worst_us"] = at(tm, 1.0);
   state.counters["least3_worst_over_median"] = at(tm, 1.0) / at(tm, 0.5);
   state.counters["median_iter"] = at(itd, 0.5);
   state.counters["worst_iter"] = at(itd, 1.0);
   state.counters["worst_passes"] = *std::max_element(passes.begin(), passes.end());
-  state.counters["warm_least3_median_us"] = at(tw, 0.5);
-  state.counters["warm_least3_p99_us"] = at(tw, 0.99);
-  state.counters["warm_least3_p9999_us"] = at(tw, 0.9999);
+  report_times(state, "warm_least3_", tw);
   state.counters["warm_least3_p9999_over_median"] = at(tw, 0.9999) / at(tw, 0.5);
-  state.counters["warm_least3_worst_us"] = at(tw, 1.0);
   state.counters["warm_worst_passes"] = *std::max_element(warm_passes.begin(), warm_passes.end());
   state.counters["warm_not_ok"] = warm_not_ok;
   state.counters["range_median_us"] = at(tr, 0.5);
@@ -300,6 +315,56 @@ Instance<N> make_hard_instance(std::mt19937& rng) {
     in.w_ext.template tail<3>() *= size;
     if (!grip::solve_constrained(in.grasp, in.w_ext).fast_path) return in;
   }
+}
+
+// 100 000 fresh grasps of make_hard_instance per n (about half slip at n = 3, fewer as n
+// grows), each solved three times cold with no deadline and three times with the pipeline's
+// deadline of 16 passes, timed by the least of the three: the worst case that a loop meets
+// when its grasps may slip.
+template <int N>
+void Loads(benchmark::State& state) {
+  const int count = 100000;
+  using clock = std::chrono::steady_clock;
+  const auto us = [](clock::time_point a, clock::time_point b) {
+    return std::chrono::duration<double, std::micro>(b - a).count();
+  };
+  grip::ConstrainedSettings<double> none, bounded;
+  bounded.max_passes = 16;
+  std::vector<double> all, slip, all16;
+  std::vector<int> slip_passes;
+  for (auto _ : state) {
+    all.clear();
+    slip.clear();
+    all16.clear();
+    slip_passes.clear();
+    std::mt19937 rng(5000 + N);
+    for (int k = 0; k < count; ++k) {
+      const Instance<N> in = make_hard_instance<N>(rng);
+      double least[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+      bool slips = false;
+      for (int v = 0; v < 2; ++v)
+        for (int rep = 0; rep < 3; ++rep) {
+          const auto a = clock::now();
+          const auto s = grip::solve_constrained(in.grasp, in.w_ext, v == 0 ? none : bounded);
+          least[v] = std::min(least[v], us(a, clock::now()));
+          benchmark::DoNotOptimize(s.forces.data());
+          if (v == 0 && rep == 0 && s.status == grip::Status::Infeasible) {
+            slips = true;
+            slip_passes.push_back(s.passes);
+          }
+        }
+      all.push_back(least[0]);
+      all16.push_back(least[1]);
+      if (slips) slip.push_back(least[0]);
+    }
+  }
+  const std::vector<double> sp(slip_passes.begin(), slip_passes.end());
+  state.counters["slip_frac"] = double(slip.size()) / double(count);
+  report_times(state, "", all);
+  report_times(state, "slip_", slip);
+  state.counters["slip_median_passes"] = quantile(sp, 0.5);
+  state.counters["slip_worst_passes"] = quantile(sp, 1.0);
+  report_times(state, "deadline16_", all16);
 }
 
 template <int N>
@@ -386,6 +451,7 @@ void Deadline(benchmark::State& state) {
   BENCHMARK_TEMPLATE(RangeSpace, N, false);                          \
   BENCHMARK_TEMPLATE(FastPathRatio, N);                              \
   BENCHMARK_TEMPLATE(Distribution, N)->Iterations(1)->Unit(benchmark::kMillisecond); \
+  BENCHMARK_TEMPLATE(Loads, N)->Iterations(1)->Unit(benchmark::kMillisecond);        \
   BENCHMARK_TEMPLATE(Deadline, N)->Unit(benchmark::kMillisecond)
 
 GRIP_BENCH_N(3);
