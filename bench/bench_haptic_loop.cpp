@@ -7,6 +7,9 @@
 // kinematics, collision with the palm, solve, monitor and a device policy (joint torques: the
 // Jacobians); baseline in the same run, the paper's hand (14 angles, no palm, one actuator
 // per phalanx) closed on the same object.
+// By what the grasp does (BM_FrameTimeHistogram: holding, shaking, slipping frames, with and
+// without the solver's deadline), and the solver alone on the session's recorded solves
+// (BM_SolveReplay: the same problems for every solver variant).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
