@@ -121,8 +121,12 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
         for (int ls = 0; ls < settings.max_line_search && budget.left(); ++ls, alpha *= S(0.5)) {
           // The full step failed: try the first kink of phi along dir if it comes before the half.
           if (ls == 1) alpha = second_trial(passes, input(lambda), input(dir), lambda, dir, alpha, false);
+          // A step below l's resolution, 16 eps |l|, moves it by rounding alone, yet the
+          // round-off slack of the Armijo test can accept it, and the next iteration would
+          // take the same step again, to the iteration bound: it ends the stage instead.
+          if (alpha * dir.norm() <= S(constrained_roundoff) * eps * lambda.norm()) break;
           lt = lambda + alpha * dir;
-          if (lt == lambda) break;  // a step below lambda's resolution (at round-off Armijo takes it)
+          if (lt == lambda) break;  // (l = 0: a step that rounds away entirely)
           trial = budget.run(passes, w_ext, input(lt), xt, trial_h);
           trial_phi = phi(trial, lt);
           const S slack =
