@@ -272,31 +272,27 @@ void Distribution(benchmark::State& state) {
       passes.push_back(s.passes);
     }
   }
-  const auto at = [](std::vector<double> v, double q) {
-    std::sort(v.begin(), v.end());
-    return v[std::size_t(q * double(v.size() - 1))];
-  };
   std::vector<double> itd(it.begin(), it.end());
-  const double med = at(t, 0.5), worst = at(t, 1.0);
+  const double med = quantile(t, 0.5), worst = quantile(t, 1.0);
   state.counters["median_us"] = med;
-  state.counters["p99_us"] = at(t, 0.99);
-  state.counters["p999_us"] = at(t, 0.999);
-  state.counters["p9999_us"] = at(t, 0.9999);
+  state.counters["p99_us"] = quantile(t, 0.99);
+  state.counters["p999_us"] = quantile(t, 0.999);
+  state.counters["p9999_us"] = quantile(t, 0.9999);
   state.counters["worst_us"] = worst;
   state.counters["worst_over_median"] = worst / med;
   // Per instance the least of three solves: the worst instance against the median one.
   report_times(state, "least3_", tm);
-  state.counters["least3_p9999_over_median"] = at(tm, 0.9999) / at(tm, 0.5);
-  state.counters["least3_worst_over_median"] = at(tm, 1.0) / at(tm, 0.5);
-  state.counters["median_iter"] = at(itd, 0.5);
-  state.counters["worst_iter"] = at(itd, 1.0);
+  state.counters["least3_p9999_over_median"] = quantile(tm, 0.9999) / quantile(tm, 0.5);
+  state.counters["least3_worst_over_median"] = quantile(tm, 1.0) / quantile(tm, 0.5);
+  state.counters["median_iter"] = quantile(itd, 0.5);
+  state.counters["worst_iter"] = quantile(itd, 1.0);
   state.counters["worst_passes"] = *std::max_element(passes.begin(), passes.end());
   report_times(state, "warm_least3_", tw);
-  state.counters["warm_least3_p9999_over_median"] = at(tw, 0.9999) / at(tw, 0.5);
+  state.counters["warm_least3_p9999_over_median"] = quantile(tw, 0.9999) / quantile(tw, 0.5);
   state.counters["warm_worst_passes"] = *std::max_element(warm_passes.begin(), warm_passes.end());
   state.counters["warm_not_ok"] = warm_not_ok;
-  state.counters["range_median_us"] = at(tr, 0.5);
-  state.counters["median_over_range"] = med / at(tr, 0.5);
+  state.counters["range_median_us"] = quantile(tr, 0.5);
+  state.counters["median_over_range"] = med / quantile(tr, 0.5);
 }
 
 // A grasp the fast path does not answer, with a load of 0.5 to 200 N (log-uniform) in a
