@@ -438,6 +438,61 @@ TEST_CASE_TEMPLATE("solve_constrained: warm starts of a slowly moving grasp", S,
   CHECK(warm_total < cold_total);
 }
 
+TEST_CASE_TEMPLATE("solve_constrained: a contact at its apex can be dropped, the others' optimum unchanged", S, double,
+                   float) {
+  // What lets the haptic pipeline skip a second solve after dropping separating contacts: if
+  // x_j = 0 at the optimum, the remaining forces are feasible for the grasp without contact j
+  // (G_j 0 = 0) and optimal there (a better one, with x_j = 0 added, would beat the optimum),
+  // and F2 drops by the constant w_j |t_j|^2 / 2. Checked on seeded random grasps of 12
+  // contacts with low squeeze (many at their apex), hard and soft fingers, against a cold solve
+  // of the reduced grasp: both answers meet the solver's acceptance for the reduced problem.
+  const auto check_model = [](auto model_tag) {
+    using M = decltype(model_tag);
+    using GraspT = Grasp<Dynamic, M, S, 12>;
+    constexpr int d = M::dim;
+    std::mt19937 rng(77 + d);
+    int compared = 0;
+    for (int k = 0; k < 60; ++k) {
+      const GraspT g = grip_test::random_grasp<GraspT>(rng, 12);
+      const Wrench<S> w = grip_test::random_wrench<S>(rng);
+      const auto full = solve_constrained(g, w);
+      if (full.status != Status::Ok) continue;
+      GraspT reduced;
+      typename GraspT::ForceVector kept(g.unknowns());
+      double dropped_f2 = 0;
+      int nk = 0;
+      for (int i = 0; i < g.size(); ++i) {
+        const auto xi = full.forces.template segment<d>(i * d);
+        if (xi.isZero(0)) {  // exactly the apex: a projection onto it writes zeros
+          const Contact<double> c = grip_test::cast_contact<double>(g.contact(i));
+          dropped_f2 += 0.5 * c.weight * M::target(c).squaredNorm();
+          continue;
+        }
+        REQUIRE(reduced.add(g.contact(i)) == Status::Ok);
+        kept.template segment<d>(nk++ * d) = xi;
+      }
+      if (nk == g.size() || nk < 3) continue;
+      kept.conservativeResize(nk * d);
+      const auto part = solve_constrained(reduced, w);
+      REQUIRE(part.status == Status::Ok);
+      ++compared;
+      // As for two warm and cold answers of one problem (above): F2 within the objective
+      // tolerances, forces within the reduced grasp's condition times the accepted residuals.
+      const double f2 = double(part.objective);
+      CHECK(std::abs(double(full.objective) - dropped_f2 - f2) <=
+            objective_tolerance(reduced, w, part, f2) + objective_tolerance(g, w, full, double(full.objective)) +
+                grip_test::roundoff<S>(g.unknowns() + 4, 1, double(full.objective)));
+      CHECK(double((part.forces - kept).norm()) <=
+            grip_test::grasp_condition(reduced) *
+                (equilibrium_tolerance(reduced, w, part.forces) + equilibrium_tolerance(g, w, full.forces)));
+    }
+    MESSAGE("model dim ", d, ": ", compared, " grasps with contacts at the apex compared");
+    CHECK(compared >= 10);
+  };
+  check_model(HardFinger{});
+  check_model(SoftFinger{});
+}
+
 TEST_CASE_TEMPLATE("solve_constrained: bad input gives InvalidInput and zeros", S, double, float) {
   std::mt19937 rng(9);
   using GraspT = Grasp<Dynamic, HardFinger, S, 6>;

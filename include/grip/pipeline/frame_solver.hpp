@@ -1,12 +1,17 @@
 #pragma once
 /// \file
 /// How a frame's forces are solved: the frame solver policies of the haptic pipeline. One
-/// object per pipeline, called once per solve (a few times a frame when contacts are dropped),
-/// holding whatever it carries between frames. A policy provides
+/// object per pipeline, called once per solve, holding whatever it carries between frames. A
+/// policy provides
 ///
-///     static constexpr bool enforces_cones;  // whether its forces come back inside the cones
+///     static constexpr bool enforces_cones;
 ///     template <class GraspT>
 ///     Solution<GraspT> operator()(const GraspT& grasp, const Wrench<Scalar>& w_ext);
+///
+/// enforces_cones true promises forces inside the cones, a separating contact's force exactly
+/// zero and the others the answer for the grasp without it: the pipeline then solves each
+/// frame once. False: the pipeline drops separating contacts and solves again (a few solves
+/// in a frame).
 ///
 /// - RangeSpaceFrameSolver: the equality-constrained optimum of F2, O(n) (the default);
 /// - KktFrameSolver: the same optimum by the paper's section 5 method, O(n^3) (a baseline);
@@ -58,7 +63,8 @@ struct KktFrameSolver {
 /// settings.max_passes = std::numeric_limits<int>::max().
 template <class Scalar>
 struct ConstrainedFrameSolver {
-  static constexpr bool enforces_cones = true;  ///< forces come back inside their exact cones
+  /// Forces come back inside their exact cones, a separating one at the apex (zero): one solve a frame.
+  static constexpr bool enforces_cones = true;
   /// The default deadline of every solve (ConstrainedSettings::max_passes): 16 passes, which
   /// keeps the p99 of the haptic loop benchmark's slipping frames within about three times the
   /// held frames' median (bench/RESULTS.md). A solve it cuts answers its best iterate, so the

@@ -51,7 +51,9 @@ struct HapticSettings {
   /// the limits of PhalanxFeedback::command under the other device policies.
   std::array<Scalar, hand_phalanx_count> device_limit{};
   Scalar dt{Scalar(1e-3)};                                   ///< frame period (s)
-  int max_resolves{4};  ///< re-solves per frame after dropping separating contacts, >= 0
+  /// Re-solves per frame after dropping separating contacts, >= 0 (none with a solver that
+  /// enforces the cones: its separating forces are zero and the rest already the answer).
+  int max_resolves{4};
   /// Weight of contact i in F2: 1 (the paper's F2) when false; when true
   /// `w_i = 1 / max(s_i, weight_floor)` (1/N), so that each contact's share of the
   /// equilibrium correction grows with its squeeze: strongly pressed phalanges, which have

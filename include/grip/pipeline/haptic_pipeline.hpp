@@ -161,7 +161,9 @@ class HapticPipeline {
   bool object_wrench(const WristState<Scalar>& wrist, HapticFrame<Scalar>& frame);
   /// 5-6. Forces: build_grasp() of the contacts kept, solved by solver_, checked by
   /// monitor_cones(); separating contacts dropped and the rest solved again, up to
-  /// max_resolves times; the last solve resolve()d into what the fingers transmit. Reads
+  /// max_resolves times (never when Solver::enforces_cones: its separating forces are exactly
+  /// zero and the rest are the reduced problem's answer, so one solve per frame, within its
+  /// deadline); the last solve resolve()d into what the fingers transmit. Reads
   /// hand_, object_, forces_.w_ext; writes grasp_, index_, forces_'s other fields, and
   /// frame.solve_status, solves, iterations, sliding, separating and min_margin.
   void solve_forces(HapticFrame<Scalar>& frame);
@@ -320,8 +322,12 @@ void HapticPipeline<Scalar, Scene, Solver, Device>::solve_forces(HapticFrame<Sca
     const GraspState<GraspType> state = monitor_cones(sol, frame);
     if (state.status != Status::Ok) return;
     frame.separating += state.separating_count;
-    if (state.separating_count == 0 || round == rounds) {  // the last solve: what the fingers transmit
-      forces_.stable = sol.status == Status::Ok && state.stable;
+    // A solver that keeps forces in their cones answers a separating contact with the apex,
+    // exactly zero, and the other forces are already the answer without it (zero is feasible
+    // for that contact and costs F2 a constant): solving again would only repeat the solve.
+    if (state.separating_count == 0 || round == rounds || Solver::enforces_cones) {  // the last solve
+      forces_.stable = sol.status == Status::Ok && state.sliding_count == 0 && state.sticking_count > 0 &&
+                       (Solver::enforces_cones || state.separating_count == 0);
       const Resolution<GraspType> res = resolve(grasp_, sol.forces, state, forces_.w_ext);
       for (int j = 0; j < grasp_.size(); ++j) {
         const auto i = detail::idx(index_[detail::idx(j)]);
