@@ -66,8 +66,8 @@ struct ConstrainedFrameSolver {
   /// Forces come back inside their exact cones, a separating one at the apex (zero): one solve a frame.
   static constexpr bool enforces_cones = true;
   /// The default deadline of every solve (ConstrainedSettings::max_passes): 16 passes, which
-  /// keeps the p99 of the haptic loop benchmark's slipping frames within about three times the
-  /// held frames' median (bench/RESULTS.md). A solve it cuts answers its best iterate, so the
+  /// keeps the p99 of the haptic loop benchmark's slipping frames within two times the held
+  /// frames' median (bench/RESULTS.md). A solve it cuts answers its best iterate, so the
   /// session it renders differs from one without a deadline (a few per cent of the frames
   /// change from held to slipping or back).
   static constexpr int default_max_passes = 16;
