@@ -103,9 +103,10 @@ TEST_CASE_TEMPLATE("constrained loop: a deadline set through solver() reaches ev
 
 TEST_CASE("constrained loop: the default deadline bounds every solve of a slipping grasp") {
   // The first 0.32 s of example 06's scripted session: the hand closes on the bottle standing
-  // on the table, and the grasp slips while it closes (solves without a deadline need up to
-  // hundreds of passes there). The default pipeline spends at most default_max_passes passes
-  // per solve; run beside it, the same loop without a deadline needs more on some frame.
+  // on the table, and the grasp slips while it closes (solves without a deadline need about a
+  // hundred passes there). The default pipeline spends at most default_max_passes passes per
+  // solve; run beside it, the same loop without a deadline needs several times more on some
+  // frame (121 to 160 passes, by instruction set).
   using S = haptic_session::S;
   const haptic_session::Script script;
   using Pipeline = HapticPipeline<S, CylinderScene<S>, ConstrainedFrameSolver<S>>;
@@ -126,25 +127,37 @@ TEST_CASE("constrained loop: the default deadline bounds every solve of a slippi
     if (g.solve_status == Status::IterationLimit) ++cut;
     for (const auto& ph : g.phalanges) CHECK(ph.force.allFinite());
   }
-  CHECK(exact_most > 10 * limit);
+  CHECK(exact_most > 4 * limit);
   CHECK(bounded_most == limit);
   CHECK(cut >= 1);
 }
+
+// ConstrainedFrameSolver keeping the residual |G x + w_ext| of its last solve.
+struct ResidualKeepingSolver : ConstrainedFrameSolver<haptic_session::S> {
+  double residual{0};
+  template <class GraspT>
+  Solution<GraspT> operator()(const GraspT& grasp, const Wrench<haptic_session::S>& w_ext) {
+    const Solution<GraspT> sol = ConstrainedFrameSolver<haptic_session::S>::operator()(grasp, w_ext);
+    residual = double(sol.residual);
+    return sol;
+  }
+};
 
 TEST_CASE("constrained loop: separating contacts are dropped without a second solve") {
   // The same 0.32 s (the bottle closing on the table: contacts at their apex in every frame).
   // A cone-enforcing solver answers a separating contact with zero force and the rest are the
   // answer without it (tests/solve: "a contact at its apex can be dropped"), so the pipeline
   // solves once per frame; the range-space solver beside it needs the re-solves. On frames that
-  // solve Ok with separating contacts, the forces the fingers transmit still balance w_ext.
-  // No deadline here, so that every Ok answer is the solver's exact one.
+  // solve Ok with separating contacts, what the fingers transmit balances w_ext as the solve
+  // did: the force part of the feedback's residual is within the solve's own residual, plus
+  // the rounding of the feedback's sum (n + 4 roundings of its scale, as equilibrium_tol).
   using S = haptic_session::S;
   const haptic_session::Script script;
-  HapticPipeline<S, CylinderScene<S>, ConstrainedFrameSolver<S>> p(haptic_session::settings(), haptic_session::scene(),
-                                                                   haptic_session::object());
+  HapticPipeline<S, CylinderScene<S>, ResidualKeepingSolver> p(haptic_session::settings(), haptic_session::scene(),
+                                                                haptic_session::object());
   HapticPipeline<S, CylinderScene<S>, RangeSpaceFrameSolver> range(haptic_session::settings(), haptic_session::scene(),
                                                                     haptic_session::object());
-  p.solver().settings.max_passes = std::numeric_limits<int>::max();
+  p.solver().settings.max_passes = std::numeric_limits<int>::max();  // more frames solve Ok
   HapticFrame<S> f, g;
   int balanced = 0, range_resolves = 0;
   for (int i = 0; i < 320; ++i) {
@@ -155,15 +168,15 @@ TEST_CASE("constrained loop: separating contacts are dropped without a second so
     if (f.contacts == 0) continue;
     CHECK(f.solves == 1);
     if (f.held) CHECK((f.solve_status == Status::Ok && f.sliding == 0));
-    const Vector3<S> load = f.external.total().template head<3>();
-    // Loads of 1 mN or more: below that (the bottle pressed on the table by its last
-    // micronewtons) the solver may accept a residual at its multipliers' own resolution
-    // (ConstrainedSettings::resolution_bar), coarser than equilibrium_tol.
-    if (f.solve_status == Status::Ok && f.separating > 0 && double(load.norm()) >= 1e-3) {
-      CHECK(double((grip_test::total_feedback(f) - load).norm()) <= equilibrium_tol(p, f));
+    if (f.solve_status == Status::Ok && f.separating > 0) {
+      const Vector3<S> load = f.external.total().template head<3>();
+      double scale = double(load.norm());
+      for (const auto& ph : f.phalanges) scale += double(ph.force.norm());
+      CHECK(double((grip_test::total_feedback(f) - load).norm()) <=
+            p.solver().residual + grip_test::roundoff<S>(f.contacts + 4, 1, scale));
       ++balanced;
     }
   }
-  CHECK(balanced >= 5);
+  CHECK(balanced >= 10);
   CHECK(range_resolves >= 10);
 }
