@@ -53,9 +53,13 @@ def test_holding_still_the_phalanges_feel_the_weight(run, exact):
             assert f.sliding_count == 0 and f.contacts >= 10
 
 
-def test_the_table_edge_pushes_during_the_impact_and_nothing_is_felt_after_release(run):
-    times, frames = run
+def test_the_table_edge_pushes_during_the_impact_and_nothing_is_felt_after_release(run, exact):
+    # The impact on the exact session: under the default deadline the grasp the hand settles
+    # into depends on the frames cut while it closes (see exact), and in some builds it holds
+    # the cylinder a few millimetres higher, clear of the edge.
+    times, frames = exact
     assert max(f.obstacles for t, f in zip(times, frames) if 4.4 <= t <= 4.8) > 0
+    times, frames = run
     assert all(f.obstacles == 0 for t, f in zip(times, frames) if 1.0 <= t <= 3.3)
     for t, f in zip(times, frames):
         if t > 6.1:
