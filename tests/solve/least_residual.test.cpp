@@ -8,6 +8,8 @@
 
 #include <grip/solve/solve_constrained.hpp>
 
+#include "support/fixtures.hpp"
+
 using namespace grip;
 
 namespace {
@@ -71,4 +73,68 @@ TEST_CASE("least_residual: a step below the multipliers' resolution ends the sta
   // It ends on the ridge: on the plane to within a few of l's last places.
   CHECK(std::abs(l(0) - passes.l_star(0)) <= 1e-6);
   CHECK(std::abs(l(1) - passes.l_star(1)) <= 1e-9 * std::abs(passes.l_star(1)) + 1e-9);
+}
+
+namespace {
+
+// solve_constrained's own passes over a grasp, recording how many passes repeat the previous
+// pass's input (to a few of its last places): such a pass gives the same forces and sums
+// again and tells the iteration nothing.
+template <class GraspT>
+struct RecordingPasses {
+  using Inner = detail::ConstrainedPasses<GraspT>;
+  using Scalar = typename Inner::Scalar;
+  using Forces = typename Inner::Forces;
+  explicit RecordingPasses(const GraspT& grasp) : inner(grasp) {}
+  Inner inner;
+  mutable Wrench<Scalar> last{Wrench<Scalar>::Constant(std::numeric_limits<Scalar>::quiet_NaN())};
+  mutable int repeats{0};
+  Forces make_forces() const { return inner.make_forces(); }
+  detail::ConstrainedPass<Scalar> pass(const Wrench<Scalar>& w_ext, const Wrench<Scalar>& input, Forces& x,
+                                       Matrix6<Scalar>& hessian) const {
+    if ((input - last).norm() <= 64 * std::numeric_limits<Scalar>::epsilon() * input.norm()) ++repeats;
+    last = input;
+    return inner.pass(w_ext, input, x, hessian);
+  }
+  Scalar first_break(const Wrench<Scalar>& input, const Wrench<Scalar>& input_dir) const {
+    return inner.first_break(input, input_dir);
+  }
+};
+
+}  // namespace
+
+TEST_CASE("least_residual: a stage solved to its tolerance hands its pass to the next stage") {
+  // Three hard fingers near the top of a 4 cm sphere (mu 0.5, squeeze 0.3 N), pushing down
+  // within 27 degrees of the vertical, under a weight of 20 N: a slip.
+  // The continuation takes delta from delta / least_residual_weight down 100-fold per stage and
+  // scales l with it, so the pass's input -T l / delta, hence the forces and every sum, stay
+  // those of the stage just solved: a pass there would repeat the last one (one per stage, about
+  // six per slip, before this was seen).
+  using GraspT = Grasp<3, HardFinger, double>;
+  GraspT g;
+  const double theta[3] = {0.3, 0.4, 0.5}, phi[3] = {0.0, 2.1, 4.2};
+  for (int i = 0; i < 3; ++i)
+    REQUIRE(g.set(i, grip_test::sphere_contact<double>(theta[i], phi[i], 0.04, 0.5, 0.3)) == Status::Ok);
+  Wrench<double> w;
+  w << 0, 0, -20, 0, 0, 0;
+  REQUIRE(solve_constrained(g, w).status == Status::Infeasible);
+  const RecordingPasses<GraspT> passes(g);
+  const ConstrainedSettings<double> settings;
+  const auto norm = detail::EquilibriumNorm<double>::of(g);
+  const double delta = settings.least_residual_weight;  // seven stages: delta 1, 1e-2, ..., 1e-12
+  detail::PassBudget budget{std::numeric_limits<int>::max()};
+  auto x = passes.make_forces(), xt = passes.make_forces();
+  Matrix6<double> trial_h;
+  Wrench<double> y;
+  double f2 = 0;
+  detail::least_residual(passes, w, norm, norm(w) - w.norm(), delta, settings, settings.max_iterations, budget, x,
+                         y, f2, xt, trial_h);
+  CHECK(passes.repeats == 0);
+  // Still the least residual: |y| is |G x + w|_L at the solve's end (to delta's share).
+  Eigen::Matrix<double, 9, 1> f;
+  passes.inner.store(x, f);
+  Wrench<double> r = w;
+  for (int i = 0; i < 3; ++i) r += HardFinger::wrench(g.contact(i), Vector3<double>(f.segment<3>(3 * i)));
+  CHECK(y.norm() > 1.0);
+  CHECK(std::abs(norm(r) - y.norm()) <= 1e-6 * y.norm());
 }

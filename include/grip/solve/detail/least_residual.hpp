@@ -67,8 +67,9 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
   f2 = S(0);
   if (!budget.left()) return 0;
   // The Hessian at the current point (trial_h: at the line-search point), from their passes;
-  // each iteration's direction consumes it.
+  // each iteration's direction consumes it (h_fresh: not yet consumed).
   Matrix6<S> cur_h;
+  bool h_fresh = true;
   // Continuation: delta starts at delta_max (a well-scaled problem) and drops `drop`-fold (100)
   // each time the current problem is solved, down to the requested delta (each stage
   // warm-started from the last one's forces).
@@ -109,6 +110,7 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
       stage_end = true;
     } else {
       const Wrench<S> dir = least_residual_direction(cur_h, norm, dl, g);
+      h_fresh = false;
       const S slope = g.dot(dir);
       if (dir.norm() <= S(4) * eps * (lambda.norm() + scale) || !(slope > S(0))) {  // at round-off
         stage_end = true;
@@ -140,6 +142,7 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
         if (accepted) {
           lambda = lt;
           cur_h = trial_h;
+          h_fresh = true;
           cur = trial;
           cur_phi = trial_phi;
           keep();
@@ -157,7 +160,12 @@ int least_residual(const Passes& passes, const Wrench<typename Passes::Scalar>& 
       const S next = dl / drop < delta ? delta : dl / drop;
       lambda *= next / dl;
       dl = next;
-      cur = budget.run(passes, w_ext, input(lambda), xt, cur_h);
+      // Same pass input, so the same forces and sums: a stage solved to its tolerance keeps
+      // them and its unconsumed Hessian (forces in xt: no trial since), and only phi changes.
+      if (!h_fresh) {
+        cur = budget.run(passes, w_ext, input(lambda), xt, cur_h);
+        h_fresh = true;
+      }
       cur_phi = phi(cur, lambda);
       keep();
     }
