@@ -15,6 +15,7 @@
 #include "support/equilibrium_norm.hpp"
 #include "support/fixtures.hpp"
 #include "support/random.hpp"
+#include "support/test_scale.hpp"
 #include "support/tolerance.hpp"
 
 using namespace grip;
@@ -75,8 +76,9 @@ void check_cut(const GraspT& g, const Wrench<typename GraspT::ScalarType>& w,
 }
 
 template <class Model, class S, int N>
-void deadline_on_random_instances(std::uint32_t seed, int count) {
+void deadline_on_random_instances(std::uint32_t seed, int full_count) {
   using GraspT = Grasp<N, Model, S>;
+  const int count = grip_test::scaled(full_count, 30);  // GRIP_TEST_SCALE (sanitizers: a quarter)
   std::mt19937 rng(seed);
   const int deadlines[] = {1, 2, 3, 5, 8, 13, 21, 34};
   int cut_count = 0, infeasible_count = 0, unchanged_count = 0, compared_best = 0;

@@ -15,6 +15,7 @@
 #include "support/equilibrium_norm.hpp"
 #include "support/fixtures.hpp"
 #include "support/random.hpp"
+#include "support/test_scale.hpp"
 #include "support/tolerance.hpp"
 
 using namespace grip;
@@ -821,7 +822,8 @@ TEST_CASE("solve_constrained: grasps that hold converge in a bounded number of p
   std::uniform_real_distribution<double> u01(0, 1);
   std::normal_distribution<double> n01(0, 1);
   std::vector<int> passes;
-  while (passes.size() < 3000) {
+  const std::size_t wanted = static_cast<std::size_t>(grip_test::scaled(3000, 1000));  // GRIP_TEST_SCALE
+  while (passes.size() < wanted) {
     const Grasp<3, HardFinger, double> g = three_fingers(rng, u01);
     Wrench<double> w;
     w << n01(rng), n01(rng), -4.905 + n01(rng), 0.01 * n01(rng), 0.01 * n01(rng), 0.01 * n01(rng);
