@@ -23,22 +23,17 @@
 //                      warm_not_ok counts warm solves whose status is not Ok (every instance
 //                      is feasible: its cold solve says Ok)
 //   Loads/n            100,000 fresh grasps the fast path does not answer, loads of 0.5 to
-//                      200 N in random directions (many slip), least of three solves each
-//                      with no deadline and with max_passes = 16: counters slip_frac (the
-//                      Infeasible ones), median_us, p99_us, p9999_us, worst_us, the same of
-//                      the slipping ones (slip_*) and with the deadline (deadline16_*), and
-//                      slip_median_passes, slip_worst_passes
-//   Deadline/n         ConstrainedSettings::max_passes: 64 grasps the fast path does not
-//                      answer, mu 0.3 to 1, loads of 0.5 to 200 N in random directions (many
-//                      slip), solved with no deadline and with max_passes = 1, 4 and 32 in
-//                      one loop; counters: passes per solve (mean, worst), microseconds per
-//                      solve, ns_per_pass = the slope between deadlines 1 and 4,
-//                      fixed_ns = what a solve costs besides its passes (fast path, set-up),
-//                      deep_ns_per_pass = the slope between 4 and 32 over the grasps that
-//                      need 32 passes or more (least-residual passes among them),
-//                      least3_worst_us_32 = the slowest instance at max_passes = 32 (least of
-//                      three solves) against bound_us_32 = fixed_ns + 32 times the larger
-//                      slope
+//                      200 N in random directions (many slip), least of three cold solves
+//                      each: counters slip_frac (the Infeasible ones), limit_count (must be
+//                      0), median_us, p99_us, p9999_us, worst_us and their ratios to the
+//                      median, the same of the slipping ones (slip_*), and interior-point
+//                      iterations (median and worst of the slipping ones, worst of all)
+//   Bound/n            the bound of a solve: 64 grasps the fast path does not answer (many
+//                      slip): ns_per_iteration (an interior-point iteration, the slope between
+//                      max_iterations 2 and 12 with newton_passes 0), ns_per_pass (a Newton
+//                      pass, the slope between newton_passes 1 and 8), fixed_ns, and
+//                      bound_us = fixed + the default settings' passes and iterations against
+//                      least3_worst_us, the slowest grasp at the defaults (least of three)
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -314,9 +309,8 @@ Instance<N> make_hard_instance(std::mt19937& rng) {
 }
 
 // 100 000 fresh grasps of make_hard_instance per n (about half slip at n = 3, fewer as n
-// grows), each solved three times cold with no deadline and three times with the pipeline's
-// deadline of 16 passes, timed by the least of the three: the worst case that a loop meets
-// when its grasps may slip.
+// grows), each solved three times cold, timed by the least of the three: the worst case that a
+// loop meets when its grasps may slip. Every solve must end Ok or Infeasible (limit_count 0).
 template <int N>
 void Loads(benchmark::State& state) {
   const int count = 100000;
@@ -324,119 +318,113 @@ void Loads(benchmark::State& state) {
   const auto us = [](clock::time_point a, clock::time_point b) {
     return std::chrono::duration<double, std::micro>(b - a).count();
   };
-  grip::ConstrainedSettings<double> none, bounded;
-  bounded.max_passes = 16;
-  std::vector<double> all, slip, all16;
-  std::vector<int> slip_passes;
+  std::vector<double> all, slip, hold_iter, slip_iter;
+  int limits = 0, worst_iterations = 0;
   for (auto _ : state) {
     all.clear();
     slip.clear();
-    all16.clear();
-    slip_passes.clear();
+    hold_iter.clear();
+    slip_iter.clear();
+    limits = 0;
+    worst_iterations = 0;
     std::mt19937 rng(5000 + N);
     for (int k = 0; k < count; ++k) {
       const Instance<N> in = make_hard_instance<N>(rng);
-      double least[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
-      bool slips = false;
-      for (int v = 0; v < 2; ++v)
-        for (int rep = 0; rep < 3; ++rep) {
-          const auto a = clock::now();
-          const auto s = grip::solve_constrained(in.grasp, in.w_ext, v == 0 ? none : bounded);
-          least[v] = std::min(least[v], us(a, clock::now()));
-          benchmark::DoNotOptimize(s.forces.data());
-          if (v == 0 && rep == 0 && s.status == grip::Status::Infeasible) {
-            slips = true;
-            slip_passes.push_back(s.passes);
-          }
-        }
-      all.push_back(least[0]);
-      all16.push_back(least[1]);
-      if (slips) slip.push_back(least[0]);
+      double least = std::numeric_limits<double>::infinity();
+      grip::Status status = grip::Status::Ok;
+      int iterations = 0;
+      for (int rep = 0; rep < 3; ++rep) {
+        const auto a = clock::now();
+        const auto s = grip::solve_constrained(in.grasp, in.w_ext);
+        least = std::min(least, us(a, clock::now()));
+        benchmark::DoNotOptimize(s.forces.data());
+        status = s.status;
+        iterations = s.iterations;
+      }
+      all.push_back(least);
+      limits += status == grip::Status::IterationLimit ? 1 : 0;
+      worst_iterations = std::max(worst_iterations, iterations);
+      if (status == grip::Status::Infeasible) {
+        slip.push_back(least);
+        slip_iter.push_back(iterations);
+      } else {
+        hold_iter.push_back(iterations);
+      }
     }
   }
-  const std::vector<double> sp(slip_passes.begin(), slip_passes.end());
   state.counters["slip_frac"] = double(slip.size()) / double(count);
+  state.counters["limit_count"] = limits;
   report_times(state, "", all);
+  state.counters["p9999_over_median"] = quantile(all, 0.9999) / quantile(all, 0.5);
+  state.counters["worst_over_median"] = quantile(all, 1.0) / quantile(all, 0.5);
   report_times(state, "slip_", slip);
-  state.counters["slip_median_passes"] = quantile(sp, 0.5);
-  state.counters["slip_worst_passes"] = quantile(sp, 1.0);
-  report_times(state, "deadline16_", all16);
+  state.counters["worst_iterations"] = worst_iterations;
+  state.counters["slip_median_iterations"] = quantile(slip_iter, 0.5);
+  state.counters["slip_worst_iterations"] = quantile(slip_iter, 1.0);
+  state.counters["hold_worst_iterations"] = quantile(hold_iter, 1.0);
 }
 
+// The bound of a solve (docs/solve.md): 64 grasps the fast path does not answer, loads of 0.5 to
+// 200 N (many slip). An interior-point iteration's cost is the slope between max_iterations 2
+// and 12 with Newton off; a Newton pass's, the slope between newton_passes 1 and 8 with one
+// interior-point iteration allowed. fixed_ns: a solve's cost besides them (the fast path and the
+// set-up). bound_us: fixed plus the default settings' 2 newton_passes passes and max_iterations
+// iterations, against least3_worst_us, the slowest grasp at the defaults (least of three).
 template <int N>
-void Deadline(benchmark::State& state) {
+void Bound(benchmark::State& state) {
   static std::vector<Instance<N>> p;
   if (p.empty()) {
     std::mt19937 rng(4000 + N);
     for (int k = 0; k < 64; ++k) p.push_back(make_hard_instance<N>(rng));
   }
   using clock = std::chrono::steady_clock;
-  // No deadline, then 1, 4 and 32 passes; the slope between 1 and 4 (which every instance
-  // reaches) is the cost of a pass with its share of 6x6 solves.
-  const int deadline[4] = {std::numeric_limits<int>::max(), 1, 4, 32};
   grip::ConstrainedSettings<double> st[4];
-  for (int v = 0; v < 4; ++v) st[v].max_passes = deadline[v];
+  st[0].newton_passes = st[1].newton_passes = 0;
+  st[0].max_iterations = 2;
+  st[1].max_iterations = 12;
+  st[2].newton_passes = 1;
+  st[3].newton_passes = 8;
+  st[2].max_iterations = st[3].max_iterations = 1;
   double t[4] = {0, 0, 0, 0};
-  long passes[4] = {0, 0, 0, 0};
-  int worst_passes = 0;
+  long iterations[4] = {0, 0, 0, 0}, passes[4] = {0, 0, 0, 0};
   for (auto _ : state) {
     for (int v = 0; v < 4; ++v) {
       const auto t0 = clock::now();
       for (const auto& in : p) {
         const auto s = grip::solve_constrained(in.grasp, in.w_ext, st[v]);
         benchmark::DoNotOptimize(s.forces.data());
+        iterations[v] += s.iterations;
         passes[v] += s.passes;
-        if (v == 0) worst_passes = std::max(worst_passes, s.passes);
       }
       t[v] += std::chrono::duration<double, std::nano>(clock::now() - t0).count();
     }
   }
   const double solves = double(state.iterations()) * double(p.size());
-  const double per_pass = (t[2] - t[1]) / double(passes[2] - passes[1]);
-  const double fixed = (t[1] - per_pass * double(passes[1])) / solves;
-  // The slowest instance at max_passes = 32, each timed as the least of three solves.
-  double worst32 = 0;
+  const double per_iteration = (t[1] - t[0]) / double(iterations[1] - iterations[0]);
+  const double per_pass = (t[3] - t[2]) / double(passes[3] - passes[2]);
+  const double fixed = (t[2] - per_pass * double(passes[2]) - per_iteration * double(iterations[2])) / solves;
+  const grip::ConstrainedSettings<double> defaults;
+  double worst = 0;
+  int worst_iterations = 0;
   for (const auto& in : p) {
     double least = 1e300;
     for (int rep = 0; rep < 3; ++rep) {
       const auto a = clock::now();
-      benchmark::DoNotOptimize(grip::solve_constrained(in.grasp, in.w_ext, st[3]).forces.data());
+      const auto s = grip::solve_constrained(in.grasp, in.w_ext);
       least = std::min(least, std::chrono::duration<double, std::micro>(clock::now() - a).count());
+      benchmark::DoNotOptimize(s.forces.data());
+      worst_iterations = std::max(worst_iterations, s.iterations);
     }
-    worst32 = std::max(worst32, least);
+    worst = std::max(worst, least);
   }
-  // The least-residual problem's passes cost more than Newton's first ones (its 6x6 matrix is
-  // assembled and scaled apart): the slope between the deadlines 4 and 32 over the instances
-  // that need at least 32 passes (so that every one of the 28 extra passes is made), least of
-  // five rounds. The bound takes the larger of the two slopes.
-  std::vector<const Instance<N>*> deep;
-  for (const auto& in : p)
-    if (grip::solve_constrained(in.grasp, in.w_ext, st[0]).passes >= 32) deep.push_back(&in);
-  double deep_per_pass = 0;
-  for (const Instance<N>* in : deep) {
-    // Per instance: the least of 20 solves at each deadline.
-    double best[2] = {1e300, 1e300};
-    int made[2] = {0, 0};
-    for (int rep = 0; rep < 20; ++rep)
-      for (int v = 0; v < 2; ++v) {
-        const auto t0 = clock::now();
-        const auto sol = grip::solve_constrained(in->grasp, in->w_ext, st[v == 0 ? 2 : 3]);
-        best[v] = std::min(best[v], std::chrono::duration<double, std::nano>(clock::now() - t0).count());
-        benchmark::DoNotOptimize(sol.forces.data());
-        made[v] = sol.passes;
-      }
-    deep_per_pass = std::max(deep_per_pass, (best[1] - best[0]) / double(made[1] - made[0]));
-  }
-  const double bound_per_pass = std::max(per_pass, deep_per_pass);
-  state.counters["passes"] = double(passes[0]) / solves;
-  state.counters["worst_passes"] = worst_passes;
-  state.counters["us_none"] = t[0] / solves * 1e-3;
-  state.counters["us_32"] = t[3] / solves * 1e-3;
+  state.counters["ns_per_iteration"] = per_iteration;
+  state.counters["ns_per_iteration_per_contact"] = per_iteration / N;
   state.counters["ns_per_pass"] = per_pass;
   state.counters["fixed_ns"] = fixed;
-  state.counters["least3_worst_us_32"] = worst32;
-  state.counters["deep_ns_per_pass"] = deep_per_pass;
-  state.counters["bound_us_32"] = (fixed + 32 * bound_per_pass) * 1e-3;
+  state.counters["bound_us"] =
+      (fixed + 2 * defaults.newton_passes * per_pass + defaults.max_iterations * per_iteration) * 1e-3;
+  state.counters["least3_worst_us"] = worst;
+  state.counters["worst_iterations"] = worst_iterations;
 }
 
 #define GRIP_BENCH_N(N)                                              \
@@ -448,7 +436,7 @@ void Deadline(benchmark::State& state) {
   BENCHMARK_TEMPLATE(FastPathRatio, N);                              \
   BENCHMARK_TEMPLATE(Distribution, N)->Iterations(1)->Unit(benchmark::kMillisecond); \
   BENCHMARK_TEMPLATE(Loads, N)->Iterations(1)->Unit(benchmark::kMillisecond);        \
-  BENCHMARK_TEMPLATE(Deadline, N)->Unit(benchmark::kMillisecond)
+  BENCHMARK_TEMPLATE(Bound, N)->Unit(benchmark::kMillisecond)
 
 GRIP_BENCH_N(3);
 GRIP_BENCH_N(5);

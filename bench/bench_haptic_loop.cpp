@@ -7,9 +7,9 @@
 // kinematics, collision with the palm, solve, monitor and a device policy (joint torques: the
 // Jacobians); baseline in the same run, the paper's hand (14 angles, no palm, one actuator
 // per phalanx) closed on the same object.
-// By what the grasp does (BM_FrameTimeHistogram: holding, shaking, slipping frames, with and
-// without the solver's deadline), and the solver alone on the session's recorded solves
-// (BM_SolveReplay: the same problems for every solver variant).
+// By what the grasp does (BM_FrameTimeHistogram: holding, shaking, slipping frames, with the
+// device's limits in the problem and clipped after it), and the solver alone on the session's
+// recorded solves (BM_SolveReplay: the same problems for every version of the solver).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -80,24 +80,20 @@ grip::OctreeScene<S, octree_capacity, CylinderShape> octree_scene() {
   return sc;
 }
 
-// The solver as the pipeline constructs it (0: ConstrainedFrameSolver's default deadline of
-// 16 passes), with a deadline of `max_passes` (> 0), or with none (no_deadline).
-constexpr int no_deadline = -1;
-template <class Pipeline>
-void set_deadline(Pipeline& p, int max_passes) {
-  if constexpr (std::is_same<std::decay_t<decltype(p.solver())>, grip::ConstrainedFrameSolver<S>>::value) {
-    if (max_passes > 0) p.solver().settings.max_passes = max_passes;
-    if (max_passes == no_deadline) p.solver().settings.max_passes = std::numeric_limits<int>::max();
-  }
+// The session's settings with the device's limits inside the problem (bound_by_device, the
+// default) or clipped after the solve (false).
+grip::HapticSettings<S> session_settings(bool bound_by_device = true) {
+  grip::HapticSettings<S> st = settings();
+  st.bound_by_device = bound_by_device;
+  return st;
 }
 
 template <class SceneT, class Solver>
-void run_session(benchmark::State& state, const SceneT& sc, int max_passes = 0) {
+void run_session(benchmark::State& state, const SceneT& sc, bool bound_by_device = true) {
   using Pipeline = grip::HapticPipeline<S, SceneT, Solver>;
   const Inputs& in = inputs();
   const int frames = static_cast<int>(in.wrist.size());
-  auto pipeline = std::make_unique<Pipeline>(settings(), sc, object());
-  set_deadline(*pipeline, max_passes);
+  auto pipeline = std::make_unique<Pipeline>(session_settings(bound_by_device), sc, object());
   grip::HapticFrame<S> frame;
   std::vector<double> us;
   us.reserve(static_cast<std::size_t>(state.max_iterations));
@@ -106,8 +102,7 @@ void run_session(benchmark::State& state, const SceneT& sc, int max_passes = 0) 
   for (auto _ : state) {
     if (i == frames) {
       state.PauseTiming();
-      pipeline = std::make_unique<Pipeline>(settings(), sc, object());
-      set_deadline(*pipeline, max_passes);
+      pipeline = std::make_unique<Pipeline>(session_settings(bound_by_device), sc, object());
       i = 0;
       state.ResumeTiming();
     }
@@ -145,44 +140,33 @@ void BM_Frame_OctreeCollision_Kkt_baseline(benchmark::State& s) {
   run_session<grip::OctreeScene<S, octree_capacity, CylinderShape>, grip::KktFrameSolver>(s, octree_scene());
 }
 
-// ConstrainedFrameSolver as the pipeline constructs it: warm-started, with its default deadline
-// of 16 passes per solve.
+// ConstrainedFrameSolver as the pipeline constructs it: warm-started, the device's limits in the
+// problem (bound_by_device); then with them left to the device, which clips.
 void BM_Frame_AnalyticContacts_Constrained_warm(benchmark::State& s) {
   run_session<grip::CylinderScene<S>, grip::ConstrainedFrameSolver<S>>(s, scene());
 }
 void BM_Frame_OctreeCollision_Constrained_warm(benchmark::State& s) {
   run_session<grip::OctreeScene<S, octree_capacity, CylinderShape>, grip::ConstrainedFrameSolver<S>>(s, octree_scene());
 }
-// The same without a deadline: every solve runs to its answer.
-void BM_Frame_AnalyticContacts_Constrained_no_deadline(benchmark::State& s) {
-  run_session<grip::CylinderScene<S>, grip::ConstrainedFrameSolver<S>>(s, scene(), no_deadline);
+void BM_Frame_AnalyticContacts_Constrained_clipped(benchmark::State& s) {
+  run_session<grip::CylinderScene<S>, grip::ConstrainedFrameSolver<S>>(s, scene(), false);
 }
-void BM_Frame_OctreeCollision_Constrained_no_deadline(benchmark::State& s) {
-  run_session<grip::OctreeScene<S, octree_capacity, CylinderShape>, grip::ConstrainedFrameSolver<S>>(s, octree_scene(),
-                                                                                                      no_deadline);
-}
-// The same with a deadline of max_passes = 32 or 64 per solve (the benchmark's argument):
-// a slipping frame that needs more passes answers IterationLimit with forces in the cones
-// instead of deciding Infeasible; compare p99, worst and held_frac with the frames above.
-void BM_Frame_AnalyticContacts_Constrained_deadline(benchmark::State& s) {
-  run_session<grip::CylinderScene<S>, grip::ConstrainedFrameSolver<S>>(s, scene(), static_cast<int>(s.range(0)));
-}
-// Frame times by what the grasp is doing, without and with a deadline of 16 passes (cylinder
-// scene, constrained solver, warm): each frame is timed as the least of three runs from a copy
-// of the pipeline's state (its own cost, without the machine's interruptions), and put in one
-// class by its own outcome: slipping (the solve is not Ok, or a contact slides), shaking (the
-// script's "shake" phase, held), holding (held, any other phase); the rest (closing, free
-// flight) is not drawn. Counters: each class's median and p99 (us) per variant. With
-// GRIP_HISTOGRAM_SVG=<file> it also writes the histograms as an SVG (docs/images/frame_times.svg).
+// Frame times by what the grasp is doing (cylinder scene, constrained solver, warm), with the
+// device's limits in the problem (the default) and clipped after it: each frame is timed as the
+// least of three runs from a copy of the pipeline's state (its own cost, without the machine's
+// interruptions), and put in one class by its own outcome: slipping (the solve is not Ok, or a
+// contact slides), shaking (the script's "shake" phase, held), holding (held, any other phase);
+// the rest (closing, free flight) is not drawn. Counters: each class's median and p99 (us) per
+// variant, and slip_p99_over_hold_p50. With GRIP_HISTOGRAM_SVG=<file> it also writes the
+// histograms as an SVG (docs/images/frame_times.svg).
 struct FrameClassTimes {
   std::vector<double> us[3];  // holding, shaking, slipping
 };
 
 template <class Pipeline>
-FrameClassTimes classify_session(int max_passes) {
+FrameClassTimes classify_session(bool bound_by_device) {
   const Inputs& in = inputs();
-  Pipeline pipeline(settings(), scene(), object());
-  set_deadline(pipeline, max_passes);
+  Pipeline pipeline(session_settings(bound_by_device), scene(), object());
   FrameClassTimes out;
   grip::HapticFrame<S> frame;
   for (std::size_t i = 0; i < in.wrist.size(); ++i) {
@@ -211,8 +195,9 @@ double quantile(const std::vector<double>& sorted, double q) {
 }
 
 // Three panels (holding, shaking, slipping) of frame-time histograms on a log axis from 1 us to
-// 1 ms, 12 bins per decade, as the fraction of the class's frames; grey: no deadline, blue: 16.
-void write_histograms(const char* path, const FrameClassTimes& none, const FrameClassTimes& bounded) {
+// 1 ms, 12 bins per decade, as the fraction of the class's frames; blue: the device's limits in
+// the problem, grey: clipped after it.
+void write_histograms(const char* path, const FrameClassTimes& bounded, const FrameClassTimes& clipped) {
   std::FILE* f = std::fopen(path, "w");
   if (f == nullptr) return;
   const double W = 900, left = 70, right = 230, top = 50, ph = 150, gap = 40, pw = W - left - right;
@@ -222,7 +207,7 @@ void write_histograms(const char* path, const FrameClassTimes& none, const Frame
   const auto X = [&](double us) { return left + pw * (std::log10(std::max(us, 1.0)) / 3.0); };
   std::fprintf(f, "<svg xmlns='http://www.w3.org/2000/svg' width='%.0f' height='%.0f' font-family='sans-serif' font-size='12'>\n", W, H);
   std::fprintf(f, "<rect width='100%%' height='100%%' fill='white'/>\n");
-  std::fprintf(f, "<text x='%.0f' y='24' font-size='15'>grip haptic loop: frame times, solve_constrained without and with a deadline of 16 passes</text>\n", left);
+  std::fprintf(f, "<text x='%.0f' y='24' font-size='15'>grip haptic loop: frame times, solve_constrained with the device limits in the problem and clipped after it</text>\n", left);
   const double yb = top + 3 * ph + 2 * gap;  // the bottom of the last panel
   for (int d = 0; d <= 3; ++d) {
     const double x = X(std::pow(10.0, d));
@@ -234,7 +219,7 @@ void write_histograms(const char* path, const FrameClassTimes& none, const Frame
   for (int c = 0; c < 3; ++c) {
     const double y0 = top + c * (ph + gap);
     double hist[2][bins] = {};
-    const FrameClassTimes* v[2] = {&none, &bounded};
+    const FrameClassTimes* v[2] = {&clipped, &bounded};
     double peak = 0.05;
     for (int k = 0; k < 2; ++k) {
       const std::vector<double>& t = v[k]->us[c];
@@ -257,7 +242,7 @@ void write_histograms(const char* path, const FrameClassTimes& none, const Frame
     for (int k = 0; k < 2; ++k) {
       const std::vector<double>& t = v[k]->us[c];
       std::fprintf(f, "<text x='%.0f' y='%.0f' fill='%s'>%s: %zu frames</text>\n", left + pw + 12, y0 + 18 + 44 * k,
-                   k == 0 ? "#555" : "#1f77b4", k == 0 ? "no deadline" : "deadline 16", t.size());
+                   k == 0 ? "#555" : "#1f77b4", k == 0 ? "clipped" : "limits in the problem", t.size());
       std::fprintf(f, "<text x='%.0f' y='%.0f' fill='%s'>median %.1f us, p99 %.1f us</text>\n", left + pw + 12,
                    y0 + 34 + 44 * k, k == 0 ? "#555" : "#1f77b4", quantile(t, 0.5), quantile(t, 0.99));
     }
@@ -268,29 +253,30 @@ void write_histograms(const char* path, const FrameClassTimes& none, const Frame
 
 void BM_FrameTimeHistogram(benchmark::State& state) {
   using Pipeline = grip::HapticPipeline<S, grip::CylinderScene<S>, grip::ConstrainedFrameSolver<S>>;
-  FrameClassTimes none, bounded;
+  FrameClassTimes bounded, clipped;
   for (auto _ : state) {
-    none = classify_session<Pipeline>(no_deadline);
-    bounded = classify_session<Pipeline>(16);
+    bounded = classify_session<Pipeline>(true);
+    clipped = classify_session<Pipeline>(false);
   }
   const char* names[3] = {"hold", "shake", "slip"};
   for (int c = 0; c < 3; ++c) {
-    state.counters[std::string(names[c]) + "_p50_us"] = quantile(none.us[c], 0.5);
-    state.counters[std::string(names[c]) + "_p99_us"] = quantile(none.us[c], 0.99);
-    state.counters[std::string(names[c]) + "_p50_us_16"] = quantile(bounded.us[c], 0.5);
-    state.counters[std::string(names[c]) + "_p99_us_16"] = quantile(bounded.us[c], 0.99);
+    state.counters[std::string(names[c]) + "_count"] = static_cast<double>(bounded.us[c].size());
+    state.counters[std::string(names[c]) + "_p50_us"] = quantile(bounded.us[c], 0.5);
+    state.counters[std::string(names[c]) + "_p99_us"] = quantile(bounded.us[c], 0.99);
+    state.counters[std::string(names[c]) + "_p50_us_clipped"] = quantile(clipped.us[c], 0.5);
+    state.counters[std::string(names[c]) + "_p99_us_clipped"] = quantile(clipped.us[c], 0.99);
   }
-  if (const char* path = std::getenv("GRIP_HISTOGRAM_SVG")) write_histograms(path, none, bounded);
+  state.counters["slip_p99_over_hold_p50"] = quantile(bounded.us[2], 0.99) / quantile(bounded.us[0], 0.5);
+  if (const char* path = std::getenv("GRIP_HISTOGRAM_SVG")) write_histograms(path, bounded, clipped);
 }
 // The solver alone on the session's own frames (BM_SolveReplay): the pipeline runs the cylinder
-// scene once with ConstrainedFrameSolver and no deadline, and a recording solver keeps every
-// frame's problem (grasp, w_ext, and the warm start the pipeline handed that solve). Then each
-// recorded problem is solved again, from the same warm start, with no deadline and with the
-// default deadline of 16 passes, each timed as the least of three solves. The frames are
-// classed by the no-deadline answer: held (Ok) or slipping (anything else: Infeasible, or
-// IterationLimit). Both variants see the same problems, so a change of the solver can be
-// compared frame for frame, free of the session's path (which moves with any change of a frame).
-// Counters: per class and variant the count, median, p99 and worst (us) and the worst passes.
+// scene once with ConstrainedFrameSolver, and a recording solver keeps every frame's problem
+// (grasp, w_ext, and the warm start the pipeline handed that solve). Then each recorded problem
+// is solved again from the same warm start, timed as the least of three solves, and classed by
+// its answer: held (Ok) or slipping (anything else). The same problems for every version of the
+// solver, free of the session's path (which moves with any change of a frame). Counters: per
+// class the count, median, p99 and worst (us), the worst interior-point iterations, and
+// slip_p99_over_held_p50.
 struct RecordedSolve {
   using GraspType = grip::HapticPipeline<S, grip::CylinderScene<S>, grip::ConstrainedFrameSolver<S>>::GraspType;
   GraspType grasp;
@@ -315,7 +301,6 @@ const std::vector<RecordedSolve>& recorded_session() {
     using Pipeline = grip::HapticPipeline<S, grip::CylinderScene<S>, RecordingFrameSolver>;
     const Inputs& in = inputs();
     auto pipeline = std::make_unique<Pipeline>(settings(), scene(), object());
-    pipeline->solver().settings.max_passes = std::numeric_limits<int>::max();
     pipeline->solver().log = &log;
     grip::HapticFrame<S> frame;
     for (std::size_t i = 0; i < in.wrist.size(); ++i) pipeline->step(in.wrist[i], in.angles[i], frame);
@@ -325,43 +310,38 @@ const std::vector<RecordedSolve>& recorded_session() {
 
 void BM_SolveReplay(benchmark::State& state) {
   const std::vector<RecordedSolve>& log = recorded_session();
-  grip::ConstrainedSettings<S> none, bounded = grip::ConstrainedFrameSolver<S>::real_time_settings();
-  none.max_passes = std::numeric_limits<int>::max();
-  std::vector<double> us[2][2];  // [held, slipping][no deadline, 16]
-  int passes[2][2] = {};
+  const grip::ConstrainedSettings<S> st;
+  std::vector<double> us[2];  // held, slipping
+  int iterations[2] = {0, 0};
   for (auto _ : state) {
     for (const RecordedSolve& r : log) {
       int cls = 0;
-      for (int v = 0; v < 2; ++v) {
-        const grip::ConstrainedSettings<S>& st = v == 0 ? none : bounded;
-        double least = std::numeric_limits<double>::infinity();
-        for (int rep = 0; rep < 3; ++rep) {
-          const auto t0 = std::chrono::steady_clock::now();
-          const auto sol = r.has_warm ? grip::solve_constrained(r.grasp, r.w_ext, st, r.warm)
-                                      : grip::solve_constrained(r.grasp, r.w_ext, st);
-          const auto t1 = std::chrono::steady_clock::now();
-          benchmark::DoNotOptimize(sol.forces.data());
-          least = std::min(least, std::chrono::duration<double, std::micro>(t1 - t0).count());
-          if (v == 0 && rep == 0) cls = sol.status == grip::Status::Ok ? 0 : 1;
-          if (rep == 0) passes[cls][v] = std::max(passes[cls][v], sol.passes);
-        }
-        us[cls][v].push_back(least);
+      double least = std::numeric_limits<double>::infinity();
+      for (int rep = 0; rep < 3; ++rep) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const auto sol = r.has_warm ? grip::solve_constrained(r.grasp, r.w_ext, st, r.warm)
+                                    : grip::solve_constrained(r.grasp, r.w_ext, st);
+        const auto t1 = std::chrono::steady_clock::now();
+        benchmark::DoNotOptimize(sol.forces.data());
+        least = std::min(least, std::chrono::duration<double, std::micro>(t1 - t0).count());
+        cls = sol.status == grip::Status::Ok ? 0 : 1;
+        iterations[cls] = std::max(iterations[cls], sol.iterations);
       }
+      us[cls].push_back(least);
     }
   }
   const char* cls_names[2] = {"held", "slip"};
-  const char* var_names[2] = {"", "_16"};
-  for (int c = 0; c < 2; ++c)
-    for (int v = 0; v < 2; ++v) {
-      std::vector<double>& t = us[c][v];
-      std::sort(t.begin(), t.end());
-      const std::string k = std::string(cls_names[c]) + var_names[v];
-      state.counters[k + "_count"] = static_cast<double>(t.size());
-      state.counters[k + "_p50_us"] = quantile(t, 0.5);
-      state.counters[k + "_p99_us"] = quantile(t, 0.99);
-      state.counters[k + "_worst_us"] = t.empty() ? 0.0 : t.back();
-      state.counters[k + "_worst_passes"] = passes[c][v];
-    }
+  for (int c = 0; c < 2; ++c) {
+    std::vector<double>& t = us[c];
+    std::sort(t.begin(), t.end());
+    const std::string k = cls_names[c];
+    state.counters[k + "_count"] = static_cast<double>(t.size());
+    state.counters[k + "_p50_us"] = quantile(t, 0.5);
+    state.counters[k + "_p99_us"] = quantile(t, 0.99);
+    state.counters[k + "_worst_us"] = t.empty() ? 0.0 : t.back();
+    state.counters[k + "_worst_iterations"] = iterations[c];
+  }
+  state.counters["slip_p99_over_held_p50"] = quantile(us[1], 0.99) / quantile(us[0], 0.5);
 }
 
 // The whole hand's power grasp: the hand palm down, the cylinder across the palm (1 mm into
@@ -439,12 +419,9 @@ BENCHMARK(BM_PaperHandFrame_baseline)->Iterations(20000)->Unit(benchmark::kMicro
 BENCHMARK(BM_FrameTimeHistogram)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SolveReplay)->Iterations(1)->Unit(benchmark::kMillisecond);
 
-BENCHMARK(BM_Frame_AnalyticContacts_Constrained_deadline)
-    ->Arg(32)->Arg(64)->Iterations(2 * session_frames)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Frame_AnalyticContacts_Constrained_warm)->Iterations(2 * session_frames)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Frame_OctreeCollision_Constrained_warm)->Iterations(2 * session_frames)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_Frame_AnalyticContacts_Constrained_no_deadline)->Iterations(2 * session_frames)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_Frame_OctreeCollision_Constrained_no_deadline)->Iterations(2 * session_frames)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Frame_AnalyticContacts_Constrained_clipped)->Iterations(2 * session_frames)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Frame_AnalyticContacts_RangeSpace)->Iterations(2 * session_frames)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Frame_AnalyticContacts_Kkt_baseline)->Iterations(2 * session_frames)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Frame_OctreeCollision_RangeSpace)->Iterations(2 * session_frames)->Unit(benchmark::kMicrosecond);

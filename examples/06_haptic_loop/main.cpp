@@ -2,11 +2,10 @@
 // grip's per-frame pipeline (contacts, squeeze, external wrench, optimal forces, monitor,
 // per-phalanx feedback, device). Prints a report; writes haptic_loop.csv and haptic_loop.svg
 // to the current directory or to the directory given as an argument.
-//   haptic_loop [DIR] [--device=actuators|vector|torques|brakes] [--no-deadline]
+//   haptic_loop [DIR] [--device=actuators|vector|torques|brakes]
 // chooses the device policy (device_policy.hpp): one actuator per phalanx (the paper's glove,
 // the default), a 3-D force per phalanx, an exoskeleton's joint torques (printed per joint),
-// or passive brakes on the joints. --no-deadline lifts the solver's default deadline of 16
-// passes per solve (every solve then runs to its answer, the same in every build).
+// or passive brakes on the joints.
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -167,8 +166,6 @@ void write_svg(const std::string& path, const std::vector<Sample>& samples) {
 
 }  // namespace
 
-bool no_deadline = false;  // --no-deadline
-
 template <class Device>
 int run(const std::string& dir, const char* device_name, bool joint_device) {
   const Script script;
@@ -177,7 +174,6 @@ int run(const std::string& dir, const char* device_name, bool joint_device) {
   // own); the joint devices 1.5 N m per joint (a small exoskeleton motor or brake).
   if constexpr (std::is_same<Device, grip::VectorForces<S>>::value) pipeline.device().limit = settings().device_limit;
   if (joint_device) pipeline.device().limit.fill(S(1.5));
-  if (no_deadline) pipeline.solver().settings.max_passes = std::numeric_limits<int>::max();
   DeviceReport device;
   const int frames = static_cast<int>(duration * rate);
   std::vector<Sample> samples;
@@ -274,7 +270,6 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a.rfind("--device=", 0) == 0) device = a.substr(9);
-    else if (a == "--no-deadline") no_deadline = true;
     else dir = a + "/";
   }
   if (device == "actuators") return run<grip::PhalanxActuators<S>>(dir, "one actuator per phalanx", false);

@@ -7,17 +7,11 @@
 
 using EmbeddedGrasp = grip::Grasp<kGripFingers, grip::HardFinger, float>;
 
-// The solver's settings, constant (in flash, not on the stack), with a deadline: at most 8
-// passes over the contacts, so that a slipping grasp answers IterationLimit (forces inside their
-// cones) within a bounded time: about 8 600 + 8 x 12 000 cycles for five fingers by
-// bench/m4_cycles.py's estimate (0.6 ms at 168 MHz). Warm-started from the previous period's
-// multipliers, a feasible grasp usually needs fewer.
-constexpr grip::ConstrainedSettings<float> step_settings() {
-  grip::ConstrainedSettings<float> s{};
-  s.max_passes = 8;
-  return s;
-}
-constexpr grip::ConstrainedSettings<float> kSettings = step_settings();
+// The solver's settings, constant (in flash, not on the stack): the defaults, whose bounds
+// (ConstrainedSettings::max_iterations, newton_passes) bound every solve, a slipping grasp's
+// too; bench/m4_cycles.py estimates the cycles per pass and per iteration. Warm-started from
+// the previous period's multipliers, a grasp that holds usually takes a few Newton passes.
+constexpr grip::ConstrainedSettings<float> kSettings{};
 
 extern "C" int grip_constrained_step(const GripContactIn* contacts, const float* w_ext, float* multipliers,
                                      GripStepOut* out) {

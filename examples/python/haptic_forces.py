@@ -42,9 +42,10 @@ def closure(t):
     return ramp(t, 0.15, 0.6) * (1 - ramp(t, 5.75, 6.0))
 
 
-def session(max_passes=16):
-    """Runs the session; returns the times, the HapticFrames and the loop's settings.
-    max_passes: the solver's deadline per solve (16 by default, as the C++ pipeline's)."""
+def session(**options):
+    """Runs the session; returns the times and the HapticFrames. options: more keywords of
+    grip.HapticLoop (max_iterations, bound_by_device=False: the forces unbounded, the device
+    clipping what it cannot render)."""
     hand = grip.HandDimensions.standard()
     base = hand.base
     base[0, 1] = -0.005  # the thumb opposes the long finger (power-grip posture)
@@ -62,7 +63,7 @@ def session(max_passes=16):
     loop = grip.HapticLoop(radius=RADIUS, half_length=HALF_LENGTH, mass=MASS, position=object_path(0.0), rotation=rotation,
                            boxes=[((-0.8, -0.5, -0.75), (0.0, 0.5, 0.0))], hand=hand, stiffness=stiffness,
                            device_limit=limit, contribution=grip.ContributionTable(share, palm=table.palm),
-                           obstacle_stiffness=4000.0, obstacle_damping=20.0, max_passes=max_passes)
+                           obstacle_stiffness=4000.0, obstacle_damping=20.0, **options)
     offset = np.array([0.374 * hand.hand_length + 0.03, 0.0, -(RADIUS + 0.045 * hand.hand_length - 0.002)])
 
     def wrist(t):

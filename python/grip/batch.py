@@ -13,22 +13,23 @@ from . import _grip
 from ._grip import ConstrainedSettings, Model
 
 
+def _per_contact(value, name, k, n):
+    value = np.asarray(value, dtype=float)
+    try:
+        return np.ascontiguousarray(np.broadcast_to(value, (k, n)))
+    except ValueError:
+        raise ValueError(f"{name} must be a number or have shape (n,) or (k, n) = ({k}, {n}), not {value.shape}")
+
+
 def _arrays(positions, normals, friction, torsional_friction, squeeze, weights):
     positions = np.ascontiguousarray(positions, dtype=float)
     normals = np.ascontiguousarray(normals, dtype=float)
     if positions.ndim != 3 or positions.shape[2] != 3:
         raise ValueError(f"positions must have shape (k, n, 3), not {positions.shape}")
     k, n = positions.shape[:2]
-
-    def per_contact(value, name):
-        value = np.asarray(value, dtype=float)
-        try:
-            return np.ascontiguousarray(np.broadcast_to(value, (k, n)))
-        except ValueError:
-            raise ValueError(f"{name} must be a number or have shape (n,) or (k, n) = ({k}, {n}), not {value.shape}")
-
-    return (positions, normals, per_contact(friction, "friction"), per_contact(torsional_friction, "torsional_friction"),
-            per_contact(squeeze, "squeeze"), per_contact(weights, "weights"))
+    return (positions, normals, _per_contact(friction, "friction", k, n),
+            _per_contact(torsional_friction, "torsional_friction", k, n), _per_contact(squeeze, "squeeze", k, n),
+            _per_contact(weights, "weights", k, n))
 
 
 def evaluate_batch(positions, normals, friction, *, torsional_friction=0.0, squeeze=0.0, weights=1.0,
@@ -48,21 +49,24 @@ def evaluate_batch(positions, normals, friction, *, torsional_friction=0.0, sque
 
 
 def solve_batch(positions, normals, friction, w_ext, *, torsional_friction=0.0, squeeze=0.0, weights=1.0,
-                model=Model.HardFinger, method="range_space", settings=None, threads=0, _first=0):
+                max_normal_force=np.inf, model=Model.HardFinger, method="range_space", settings=None, threads=0,
+                _first=0):
     """Solves k candidate grasps: positions and normals (k, n, 3), w_ext (6,) or (k, 6).
 
-    method: 'range_space', 'kkt' or 'constrained' (with `settings`, a ConstrainedSettings).
+    method: 'range_space', 'kkt' or 'constrained' (with `settings`, a ConstrainedSettings; it
+    alone keeps each contact's normal force below max_normal_force, inf for no bound).
     Returns a dict of arrays: forces (k, n, dim), multipliers (k, 6), certificate (k, 6)
     (constrained and Infeasible; else 0), residual (k,), status (k,) int (Status values),
     iterations (k,). threads: 0 for every core. (_first: the index of the first candidate in
     error messages, for chunks of a larger batch.)
     """
     args = _arrays(positions, normals, friction, torsional_friction, squeeze, weights)
-    k = args[0].shape[0]
+    k, n = args[0].shape[:2]
+    bounds = _per_contact(max_normal_force, "max_normal_force", k, n)
     w = np.asarray(w_ext, dtype=float)
     try:
         w = np.ascontiguousarray(np.broadcast_to(w, (k, 6)))
     except ValueError:
         raise ValueError(f"w_ext must have shape (6,) or (k, 6) = ({k}, 6), not {w.shape}")
-    return _grip._solve_batch(*args, model, w, str(method), settings if settings is not None else ConstrainedSettings(),
-                              int(threads), int(_first))
+    settings = settings if settings is not None else ConstrainedSettings()
+    return _grip._solve_batch(*args, bounds, model, w, str(method), settings, int(threads), int(_first))

@@ -65,8 +65,9 @@ def _evaluate_chunk(first, p, a, mu, mut, s, w, kwargs):
     return _batch.evaluate_batch(p, a, mu, torsional_friction=mut, squeeze=s, weights=w, _first=first, **kwargs)
 
 
-def _solve_chunk(first, p, a, mu, mut, s, w, w_ext, kwargs):
-    return _batch.solve_batch(p, a, mu, w_ext, torsional_friction=mut, squeeze=s, weights=w, _first=first, **kwargs)
+def _solve_chunk(first, p, a, mu, mut, s, w, fmax, w_ext, kwargs):
+    return _batch.solve_batch(p, a, mu, w_ext, torsional_friction=mut, squeeze=s, weights=w, max_normal_force=fmax,
+                              _first=first, **kwargs)
 
 
 def evaluate_batch(positions, normals, friction, *, torsional_friction=0.0, squeeze=0.0, weights=1.0,
@@ -81,9 +82,11 @@ def evaluate_batch(positions, normals, friction, *, torsional_friction=0.0, sque
 
 
 def solve_batch(positions, normals, friction, w_ext, *, torsional_friction=0.0, squeeze=0.0, weights=1.0,
-                model=Model.HardFinger, method="range_space", settings=None, client=None, chunk_size=20000, threads=1):
+                max_normal_force=np.inf, model=Model.HardFinger, method="range_space", settings=None, client=None,
+                chunk_size=20000, threads=1):
     """grip.solve_batch as Dask tasks of chunk_size candidates each (see evaluate_batch)."""
-    numbers = dict(friction=friction, torsional_friction=torsional_friction, squeeze=squeeze, weights=weights)
+    numbers = dict(friction=friction, torsional_friction=torsional_friction, squeeze=squeeze, weights=weights,
+                   max_normal_force=max_normal_force)
     kwargs = dict(model=model, method=method, settings=settings, threads=threads)
     parts = _split(positions, normals, numbers, w_ext, chunk_size)
     return _run([dask.delayed(_solve_chunk)(b * chunk_size, *part, kwargs) for b, part in enumerate(parts)], client)

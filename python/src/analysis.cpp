@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <memory>
 #include <string>
 #include <thread>
@@ -71,20 +72,23 @@ struct EpsilonPy {
 
 /// Candidate grasps as arrays of one shape: positions and normals (k, n, 3), the numbers (k, n).
 struct Batch {
-  Array p, a, mu, mut, s, w;
+  Array p, a, mu, mut, s, w, fmax;
+  bool bounded{false};  ///< whether fmax holds max_normal_force (else +inf: no bounds)
   py::ssize_t k{0}, n{0};
   py::ssize_t first{0};  ///< the index of candidate 0 in messages (a chunk of a larger batch)
   /// Contact i of grasp j (C-contiguous arrays), checked (ValueError naming [first + j, i]).
   grip::Contact<double> at(py::ssize_t j, py::ssize_t i) const {
     const py::ssize_t e = j * n + i;
     return contact(p.data() + 3 * e, a.data() + 3 * e, mu.data()[e], mut.data()[e], s.data()[e], w.data()[e],
+                   bounded ? fmax.data()[e] : std::numeric_limits<double>::infinity(),
                    [this, j, i] { return "[" + std::to_string(first + j) + ", " + std::to_string(i) + "]"; });
   }
 };
 
+/// The batch's arrays, their shapes checked; max_normal_force may be None (no bounds).
 Batch batch(const py::handle& positions, const py::handle& normals, const py::handle& friction,
             const py::handle& torsional_friction, const py::handle& squeeze, const py::handle& weights,
-            py::ssize_t first) {
+            const py::handle& max_normal_force, py::ssize_t first) {
   Batch b;
   b.first = first;
   auto get = [](const py::handle& h, const char* name, int ndim) {
@@ -101,10 +105,11 @@ Batch batch(const py::handle& positions, const py::handle& normals, const py::ha
     invalid("normals must have the shape of positions " + shape_of(b.p) + ", not " + shape_of(b.a));
   if (b.n < 1 || b.n > max_contacts)
     invalid("a grasp has 1 to " + std::to_string(max_contacts) + " contacts, not " + std::to_string(b.n));
-  Array* fields[] = {&b.mu, &b.mut, &b.s, &b.w};
-  const py::handle given[] = {friction, torsional_friction, squeeze, weights};
-  const char* names[] = {"friction", "torsional_friction", "squeeze", "weights"};
-  for (int f = 0; f < 4; ++f) {
+  b.bounded = !max_normal_force.is_none();
+  Array* fields[] = {&b.mu, &b.mut, &b.s, &b.w, &b.fmax};
+  const py::handle given[] = {friction, torsional_friction, squeeze, weights, max_normal_force};
+  const char* names[] = {"friction", "torsional_friction", "squeeze", "weights", "max_normal_force"};
+  for (int f = 0; f < (b.bounded ? 5 : 4); ++f) {
     *fields[f] = get(given[f], names[f], 2);
     if (fields[f]->shape(0) != b.k || fields[f]->shape(1) != b.n)
       invalid(std::string(names[f]) + " must have shape (k, n) = (" + std::to_string(b.k) + ", " + std::to_string(b.n) +
@@ -149,7 +154,7 @@ py::dict evaluate_batch(const py::handle& positions, const py::handle& normals, 
                         const py::handle& torsional_friction, const py::handle& squeeze, const py::handle& weights,
                         Model model, double torque_scale, bool closure, bool eps_l1, bool eps_linf, int sides,
                         int threads, py::ssize_t first) {
-  const Batch b = batch(positions, normals, friction, torsional_friction, squeeze, weights, first);
+  const Batch b = batch(positions, normals, friction, torsional_friction, squeeze, weights, py::none(), first);
   grip::BatchSettings<double> settings;
   settings.torque_scale = positive(torque_scale, "torque_scale");
   settings.force_closure = closure;
@@ -198,9 +203,10 @@ py::dict evaluate_batch(const py::handle& positions, const py::handle& normals, 
 
 py::dict solve_batch(const py::handle& positions, const py::handle& normals, const py::handle& friction,
                      const py::handle& torsional_friction, const py::handle& squeeze, const py::handle& weights,
-                     Model model, const py::handle& w_ext, const std::string& method,
-                     const grip::ConstrainedSettings<double>& settings, int threads, py::ssize_t first) {
-  const Batch b = batch(positions, normals, friction, torsional_friction, squeeze, weights, first);
+                     const py::handle& max_normal_force, Model model, const py::handle& w_ext,
+                     const std::string& method, const grip::ConstrainedSettings<double>& settings, int threads,
+                     py::ssize_t first) {
+  const Batch b = batch(positions, normals, friction, torsional_friction, squeeze, weights, max_normal_force, first);
   if (method != "range_space" && method != "kkt" && method != "constrained")
     invalid("method must be 'range_space', 'kkt' or 'constrained', not '" + method + "'");
   const Array wa = Array::ensure(w_ext);

@@ -4,6 +4,7 @@
 // Status, not a message).
 
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -43,27 +44,63 @@ inline Array rows3(const py::handle& obj, const char* name) {
   return a;
 }
 
+/// A number per contact as given: a scalar (the same for all) or an array of shape (n,);
+/// label(name, i) names contact i's value in messages (the bare name for a scalar).
+struct PerContact {
+  std::vector<double> values;
+  bool scalar{false};
+  std::string label(const char* name, std::size_t i) const {
+    return scalar ? std::string(name) : std::string(name) + "[" + std::to_string(i) + "]";
+  }
+};
+
+/// The n numbers of `obj`, a scalar or (n,), unchecked (ValueError for another shape).
+inline PerContact per_contact_values(const py::handle& obj, py::ssize_t n, const char* name) {
+  PerContact out;
+  out.values.resize(static_cast<std::size_t>(n));
+  Array a = Array::ensure(obj);
+  if (!a) invalid(std::string(name) + " must be a number or an array of shape (n,)");
+  if (a.ndim() == 0) {
+    out.scalar = true;
+    for (double& v : out.values) v = a.at();
+  } else if (a.ndim() == 1 && a.shape(0) == n) {
+    for (py::ssize_t i = 0; i < n; ++i) out.values[static_cast<std::size_t>(i)] = a.at(i);
+  } else {
+    invalid(std::string(name) + " must be a number or have shape (" + std::to_string(n) + ",), not " + shape_of(a));
+  }
+  return out;
+}
+
 /// A number per contact: a scalar (the same for all) or an array of shape (n,), each finite
 /// and at least `least`.
 inline std::vector<double> per_contact(const py::handle& obj, py::ssize_t n, const char* name, double least,
                                        const char* bound) {
-  std::vector<double> out(static_cast<std::size_t>(n));
-  Array a = Array::ensure(obj);
-  if (!a) invalid(std::string(name) + " must be a number or an array of shape (n,)");
-  if (a.ndim() == 0) {
-    for (double& v : out) v = a.at();
-  } else if (a.ndim() == 1 && a.shape(0) == n) {
-    for (py::ssize_t i = 0; i < n; ++i) out[static_cast<std::size_t>(i)] = a.at(i);
-  } else {
-    invalid(std::string(name) + " must be a number or have shape (" + std::to_string(n) + ",), not " + shape_of(a));
+  const PerContact v = per_contact_values(obj, n, name);
+  for (std::size_t i = 0; i < v.values.size(); ++i) {
+    const double x = v.values[i];
+    if (!std::isfinite(x) || std::abs(x) > grip::ScalarTraits<double>::max_magnitude)
+      invalid(v.label(name, i) + " is not finite (or beyond 1e15)");
+    if (!(x >= least)) invalid(v.label(name, i) + " must be " + bound + ", not " + std::to_string(x));
   }
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    const std::string at = a.ndim() == 0 ? std::string(name) : std::string(name) + "[" + std::to_string(i) + "]";
-    if (!std::isfinite(out[i]) || std::abs(out[i]) > grip::ScalarTraits<double>::max_magnitude)
-      invalid(at + " is not finite (or beyond 1e15)");
-    if (!(out[i] >= least)) invalid(at + " must be " + bound + ", not " + std::to_string(out[i]));
-  }
-  return out;
+  return v.values;
+}
+
+/// True for a valid Contact::max_normal_force (N): > 0 and within 1e15, or +inf (no bound).
+inline bool valid_normal_force_bound(double x) {
+  return x > 0 && (x <= grip::ScalarTraits<double>::max_magnitude || x == std::numeric_limits<double>::infinity());
+}
+
+/// What a ValueError says of an invalid max_normal_force `x`, named `at`.
+inline std::string normal_force_bound_error(const std::string& at, double x) {
+  return at + " must be > 0 (and at most 1e15, or inf for no bound), not " + std::to_string(x);
+}
+
+/// Contact::max_normal_force per contact: a scalar or (n,), each valid_normal_force_bound.
+inline std::vector<double> normal_force_bounds(const py::handle& obj, py::ssize_t n, const char* name) {
+  const PerContact v = per_contact_values(obj, n, name);
+  for (std::size_t i = 0; i < v.values.size(); ++i)
+    if (!valid_normal_force_bound(v.values[i])) invalid(normal_force_bound_error(v.label(name, i), v.values[i]));
+  return v.values;
 }
 
 /// A wrench (force in N; moment in N m), shape (6,), finite.
@@ -81,9 +118,9 @@ inline grip::Wrench<double> wrench(const py::handle& obj, const char* name) {
 }
 
 /// One contact from its numbers, checked; label() names it in messages ("[3]" or "[12, 3]"),
-/// called only to raise.
+/// called only to raise. fmax: max_normal_force (> 0, +inf for no bound).
 template <class Label>
-grip::Contact<double> contact(const double* p, const double* a, double mu, double mut, double s, double w,
+grip::Contact<double> contact(const double* p, const double* a, double mu, double mut, double s, double w, double fmax,
                               const Label& label) {
   const auto finite = [&](double v, const char* field) {
     if (!std::isfinite(v) || std::abs(v) > grip::ScalarTraits<double>::max_magnitude)
@@ -99,6 +136,7 @@ grip::Contact<double> contact(const double* p, const double* a, double mu, doubl
   if (!(mut >= 0)) invalid("torsional_friction" + label() + " must be >= 0, not " + std::to_string(mut));
   if (!(s >= 0)) invalid("squeeze" + label() + " must be >= 0, not " + std::to_string(s));
   if (!(w >= grip::ScalarTraits<double>::min_weight)) invalid("weights" + label() + " must be >= 1e-12, not " + std::to_string(w));
+  if (!valid_normal_force_bound(fmax)) invalid(normal_force_bound_error("max_normal_force" + label(), fmax));
   grip::Contact<double> c;
   c.position = grip::Vector3<double>(p[0], p[1], p[2]);
   c.normal = grip::Vector3<double>(a[0], a[1], a[2]);
@@ -106,6 +144,7 @@ grip::Contact<double> contact(const double* p, const double* a, double mu, doubl
   c.torsional_friction = mut;
   c.squeeze = s;
   c.weight = w;
+  c.max_normal_force = fmax;
   const double norm = c.normal.norm();
   if (!(std::abs(norm * norm - 1) <= 2 * grip::ScalarTraits<double>::normal_tolerance))
     invalid("normals" + label() + " must be a unit vector (to 1e-6), its norm is " + std::to_string(norm));
@@ -116,7 +155,8 @@ grip::Contact<double> contact(const double* p, const double* a, double mu, doubl
 /// The contacts of a grasp from its arrays, each checked (see grip::validate for the rules).
 inline std::vector<grip::Contact<double>> contacts(const py::handle& positions, const py::handle& normals,
                                                    const py::handle& friction, const py::handle& torsional_friction,
-                                                   const py::handle& squeeze, const py::handle& weights) {
+                                                   const py::handle& squeeze, const py::handle& weights,
+                                                   const py::handle& max_normal_force) {
   const Array p = rows3(positions, "positions"), a = rows3(normals, "normals");
   const py::ssize_t n = p.shape(0);
   if (a.shape(0) != n)
@@ -127,10 +167,11 @@ inline std::vector<grip::Contact<double>> contacts(const py::handle& positions, 
   const auto mut = per_contact(torsional_friction, n, "torsional_friction", 0.0, ">= 0");
   const auto s = per_contact(squeeze, n, "squeeze", 0.0, ">= 0");
   const auto w = per_contact(weights, n, "weights", grip::ScalarTraits<double>::min_weight, ">= 1e-12");
+  const auto fmax = normal_force_bounds(max_normal_force, n, "max_normal_force");
   std::vector<grip::Contact<double>> out;
   for (py::ssize_t i = 0; i < n; ++i) {
     const auto k = static_cast<std::size_t>(i);
-    out.push_back(contact(p.data(i, 0), a.data(i, 0), mu[k], mut[k], s[k], w[k], [i] { return "[" + std::to_string(i) + "]"; }));
+    out.push_back(contact(p.data(i, 0), a.data(i, 0), mu[k], mut[k], s[k], w[k], fmax[k], [i] { return "[" + std::to_string(i) + "]"; }));
   }
   return out;
 }

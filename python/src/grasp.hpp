@@ -65,6 +65,7 @@ struct ConstrainedPy : SolutionPy {
   grip::Wrench<double> certificate{grip::Wrench<double>::Zero()};
   double objective{0}, dual_objective{0};
   bool fast_path{false};
+  bool refined{false};
   int passes{0};
 };
 

@@ -2,6 +2,9 @@
 // KKT system, the three solvers and force closure, for double and the three contact models
 // with a run-time count of 1 to max_contacts contacts. Every solve releases the GIL.
 
+#include <algorithm>
+#include <chrono>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -41,8 +44,8 @@ auto direct_solver(Solve solve) {
 
 PyGrasp make_grasp(const py::handle& positions, const py::handle& normals, const py::handle& friction,
                    const py::handle& torsional_friction, const py::handle& squeeze, const py::handle& weights,
-                   Model model) {
-  const auto cs = contacts(positions, normals, friction, torsional_friction, squeeze, weights);
+                   Model model, const py::handle& max_normal_force) {
+  const auto cs = contacts(positions, normals, friction, torsional_friction, squeeze, weights, max_normal_force);
   PyGrasp out;
   auto build = [&](auto g) {
     for (const auto& c : cs)
@@ -57,13 +60,11 @@ PyGrasp make_grasp(const py::handle& positions, const py::handle& normals, const
   return out;
 }
 
-Eigen::VectorXd field(const PyGrasp& g, int which) {
-  return g.visit([which](const auto& x) {
+/// The number `member` of every contact, (n,).
+Eigen::VectorXd field(const PyGrasp& g, double grip::Contact<double>::*member) {
+  return g.visit([member](const auto& x) {
     Eigen::VectorXd v(x.size());
-    for (int i = 0; i < x.size(); ++i) {
-      const auto& c = x.contact(i);
-      v(i) = which == 0 ? c.friction : which == 1 ? c.torsional_friction : which == 2 ? c.squeeze : c.weight;
-    }
+    for (int i = 0; i < x.size(); ++i) v(i) = x.contact(i).*member;
     return v;
   });
 }
@@ -74,6 +75,34 @@ RowMatrix vectors(const PyGrasp& g, bool normals) {
     for (int i = 0; i < x.size(); ++i) m.row(i) = (normals ? x.contact(i).normal : x.contact(i).position).transpose();
     return m;
   });
+}
+
+/// The least of `repeats` solve_constrained calls on `g` at the default settings, each timed in
+/// C++ (steady_clock, GIL released), in seconds, with the last call's status, iterations and
+/// passes: grip's C++ mode beside its Python call on the same instance (bench/bench_peers.py).
+py::tuple time_constrained(const PyGrasp& g, const py::handle& w_ext, int repeats) {
+  const auto w = wrench(w_ext, "w_ext");
+  double least = std::numeric_limits<double>::infinity();
+  grip::Status status = grip::Status::InvalidInput;
+  int iterations = 0, passes = 0;
+  {
+    py::gil_scoped_release release;
+    g.visit([&](const auto& x) {
+      for (int r = 0; r < std::max(1, repeats); ++r) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const auto s = grip::solve_constrained(x, w);
+#if defined(__GNUC__)
+        asm volatile("" : : "g"(s.forces.data()) : "memory");  // the solve stays inside the clock reads
+#endif
+        const auto t1 = std::chrono::steady_clock::now();
+        least = std::min(least, std::chrono::duration<double>(t1 - t0).count());
+        status = s.status;
+        iterations = s.iterations;
+        passes = s.passes;
+      }
+    });
+  }
+  return py::make_tuple(least, status, iterations, passes);
 }
 
 }  // namespace grip_python
@@ -102,21 +131,27 @@ PYBIND11_MODULE(_grip, m) {
                       "normals (n, 3), unit, pointing INTO the object; friction mu_i >= 0 (dimensionless); "
                       "torsional_friction mu_t >= 0 (m, soft finger: |m| <= mu_t f_n); squeeze s_i >= 0 (N, "
                       "the force the solvers pull each contact's normal component towards); weights w_i > 0 "
-                      "of the objective 1/2 sum w_i |x_i - t_i|^2. Numbers may be scalars (the same for every "
-                      "contact) or arrays of shape (n,). 1 to max_contacts contacts. Invalid input raises "
-                      "ValueError naming the field and the index.")
+                      "of the objective 1/2 sum w_i |x_i - t_i|^2; max_normal_force c_i > 0 (N, inf for none: "
+                      "the largest normal force the contact can apply, a finger's strength or a device's limit, "
+                      "kept by solve_constrained only). Numbers may be scalars (the same for every contact) or "
+                      "arrays of shape (n,). 1 to max_contacts contacts. Invalid input raises ValueError naming "
+                      "the field and the index.")
       .def(py::init(&make_grasp), py::arg("positions"), py::arg("normals"), py::arg("friction"), py::kw_only(),
            py::arg("torsional_friction") = 0.0, py::arg("squeeze") = 0.0, py::arg("weights") = 1.0,
-           py::arg("model") = Model::HardFinger)
+           py::arg("model") = Model::HardFinger, py::arg("max_normal_force") = std::numeric_limits<double>::infinity())
       .def_property_readonly("size", &PyGrasp::size, "number of contacts n")
       .def_property_readonly("dim", &PyGrasp::dim, "unknowns per contact (3, 4 or 1)")
       .def_property_readonly("model", [](const PyGrasp& g) { return static_cast<Model>(g.g.index()); })
       .def_property_readonly("positions", [](const PyGrasp& g) { return vectors(g, false); }, "(n, 3), m")
       .def_property_readonly("normals", [](const PyGrasp& g) { return vectors(g, true); }, "(n, 3), unit, into the object")
-      .def_property_readonly("friction", [](const PyGrasp& g) { return field(g, 0); })
-      .def_property_readonly("torsional_friction", [](const PyGrasp& g) { return field(g, 1); })
-      .def_property_readonly("squeeze", [](const PyGrasp& g) { return field(g, 2); })
-      .def_property_readonly("weights", [](const PyGrasp& g) { return field(g, 3); })
+      .def_property_readonly("friction", [](const PyGrasp& g) { return field(g, &grip::Contact<double>::friction); })
+      .def_property_readonly("torsional_friction",
+                             [](const PyGrasp& g) { return field(g, &grip::Contact<double>::torsional_friction); })
+      .def_property_readonly("squeeze", [](const PyGrasp& g) { return field(g, &grip::Contact<double>::squeeze); })
+      .def_property_readonly("weights", [](const PyGrasp& g) { return field(g, &grip::Contact<double>::weight); })
+      .def_property_readonly("max_normal_force",
+                             [](const PyGrasp& g) { return field(g, &grip::Contact<double>::max_normal_force); },
+                             "(n,) the bound on each contact's normal force f_n (N); inf where there is none")
       .def("grasp_matrix", [](const PyGrasp& g) { return g.visit([](const auto& x) { return Eigen::MatrixXd(x.grasp_matrix()); }); },
            "G (6, n * dim): G x is the wrench (force in N; moment in N m about the centre of mass) that the contact "
            "unknowns x apply on the object")
@@ -146,11 +181,19 @@ PYBIND11_MODULE(_grip, m) {
       });
   py::class_<ConstrainedPy, SolutionPy>(m, "ConstrainedSolution", "The optimum inside the friction cones, or a certificate that none exists.")
       .def_readonly("certificate", &ConstrainedPy::certificate,
-                    "(6,) when Infeasible: y with G_i^T y in every dual cone and y . w_ext > 0; zero otherwise")
+                    "(6,) when Infeasible: y with y . w_ext > 0 and G_i^T y in every dual cone (with bounds: "
+                    "G_i^T y + tau_i a_i, tau_i >= 0, sum tau_i c_i < y . w_ext); zero otherwise")
       .def_readonly("objective", &ConstrainedPy::objective, "1/2 sum w_i |x_i - t_i|^2 at forces")
-      .def_readonly("dual_objective", &ConstrainedPy::dual_objective)
-      .def_readonly("fast_path", &ConstrainedPy::fast_path, "the unconstrained optimum was inside every cone")
-      .def_readonly("passes", &ConstrainedPy::passes, "O(n) passes over the contacts (the unit of max_passes)");
+      .def_readonly("dual_objective", &ConstrainedPy::dual_objective,
+                    "Ok: the dual function at multipliers (the optimum lies between it and objective); else 0")
+      .def_readonly("fast_path", &ConstrainedPy::fast_path,
+                    "the unconstrained optimum was inside every cone (and below every bound) and was returned")
+      .def_readonly("refined", &ConstrainedPy::refined,
+                    "Ok: forces are the exact projections of multipliers (the fast path, or Newton's refinement "
+                    "converged); False when they are the interior-point method's answer, optimal to its tolerance")
+      .def_readonly("passes", &ConstrainedPy::passes,
+                    "O(n) passes over the contacts after the fast path: three per interior-point iteration, one "
+                    "more per interior-point run, one per Newton trial");
   py::class_<ForceClosurePy>(m, "ForceClosure", "Force closure of a grasp with its exact cones.")
       .def_readonly("closure", &ForceClosurePy::closure)
       .def_readonly("margin", &ForceClosurePy::margin,
@@ -166,16 +209,24 @@ PYBIND11_MODULE(_grip, m) {
       });
 
   using CS = grip::ConstrainedSettings<double>;
-  py::class_<CS>(m, "ConstrainedSettings", "Tolerances and bounds of solve_constrained (docs/solve.md names each).")
+  py::class_<CS>(m, "ConstrainedSettings",
+                 "Tolerances and bounds of solve_constrained (docs/solve.md). Reals finite, > 0 and < 1; "
+                 "max_iterations >= 1, newton_passes >= 0; otherwise the solve answers InvalidInput.")
       .def(py::init<>())
-      .def_readwrite("tolerance", &CS::tolerance)
-      .def_readwrite("gap_tolerance", &CS::gap_tolerance)
-      .def_readwrite("regularisation", &CS::regularisation)
-      .def_readwrite("certificate_tolerance", &CS::certificate_tolerance)
-      .def_readwrite("least_residual_weight", &CS::least_residual_weight)
-      .def_readwrite("max_iterations", &CS::max_iterations)
-      .def_readwrite("max_line_search", &CS::max_line_search)
-      .def_readwrite("max_passes", &CS::max_passes, "deadline: the most O(n) passes (IterationLimit when hit)");
+      .def_readwrite("tolerance", &CS::tolerance,
+                     "Ok when |G x + w_ext|_L <= tolerance (|w_ext|_L + |x|) and |lambda.(G x + w_ext)| <= tolerance F2")
+      .def_readwrite("certificate_tolerance", &CS::certificate_tolerance,
+                     "Infeasible when y.w_ext > 0 and every G_i^T y is within certificate_tolerance (y.w_ext) / "
+                     "|w_ext|_L of K_i^* (its dual cone)")
+      .def_readwrite("least_residual_weight", &CS::least_residual_weight,
+                     "delta / (largest diagonal entry of G W^-1 G^T in |.|_L's units): Infeasible forces minimise "
+                     "|r|_L^2/2 + delta F2")
+      .def_readwrite("max_iterations", &CS::max_iterations,
+                     "interior-point iterations of a solve, both problems together (three O(n) passes each): the "
+                     "deadline (default 40)")
+      .def_readwrite("newton_passes", &CS::newton_passes,
+                     "Newton passes of the warm start and of the refinement, each (one O(n) pass and a 6x6 solve "
+                     "each; default 8)");
   using AS = grip::ConicAnalysisSettings<double>;
   py::class_<AS>(m, "ConicAnalysisSettings", "Tolerance and bounds of force_closure.")
       .def(py::init<>())
@@ -205,13 +256,16 @@ PYBIND11_MODULE(_grip, m) {
             out.objective = r.objective;
             out.dual_objective = r.dual_objective;
             out.fast_path = r.fast_path;
+            out.refined = r.refined;
             out.passes = r.passes;
           });
           return out;
         },
         py::arg("grasp"), py::arg("w_ext"), py::arg("settings") = nullptr, py::arg("warm_start") = py::none(),
-        "The forces nearest the targets inside the exact friction cones with G x + w_ext = 0; Infeasible with a "
-        "certificate when the grasp cannot hold. warm_start: the previous solution's multipliers (6,).");
+        "The forces nearest the targets inside the exact friction cones (and below each contact's "
+        "max_normal_force) with G x + w_ext = 0; Infeasible with a certificate when the grasp cannot hold. "
+        "warm_start: the previous solution's multipliers (6,).");
+  m.def("_time_constrained", &time_constrained, py::arg("grasp"), py::arg("w_ext"), py::arg("repeats"));
   m.def("force_closure",
         [](const PyGrasp& g, const AS* settings) {
           const AS s = settings ? *settings : AS{};

@@ -16,8 +16,9 @@ struct MonitorPy {
   Eigen::VectorXi mode;              ///< (n,) ContactMode values
   Eigen::VectorXd margin, relative_margin, normal_force, moment;
   RowMatrix tangential_force;        ///< (n, 3)
+  Eigen::Matrix<bool, Eigen::Dynamic, 1> at_bound;  ///< (n,)
   bool stable{false};
-  int sticking{0}, sliding{0}, separating{0};
+  int sticking{0}, sliding{0}, separating{0}, at_bound_count{0};
   double min_margin{0};
   grip::Status status{grip::Status::InvalidInput};
 };
@@ -45,6 +46,7 @@ MonitorPy monitor(const PyGrasp& g, const py::handle& forces, double relative_to
     out.normal_force.resize(n);
     out.moment.resize(n);
     out.tangential_force.resize(n, 3);
+    out.at_bound.setZero(n);
     for (int i = 0; i < n && s.status == grip::Status::Ok; ++i) {
       const auto& c = s.contact(i);
       out.mode(i) = static_cast<int>(c.mode);
@@ -53,11 +55,13 @@ MonitorPy monitor(const PyGrasp& g, const py::handle& forces, double relative_to
       out.normal_force(i) = c.normal_force;
       out.moment(i) = c.moment;
       out.tangential_force.row(i) = c.tangential_force.transpose();
+      out.at_bound(i) = c.at_bound;
     }
     out.stable = s.stable;
     out.sticking = s.sticking_count;
     out.sliding = s.sliding_count;
     out.separating = s.separating_count;
+    out.at_bound_count = s.at_bound_count;
     out.min_margin = s.min_margin;
     out.status = s.status;
   });
@@ -78,10 +82,14 @@ void bind_monitor(py::module_& m) {
       .def_readonly("normal_force", &MonitorPy::normal_force, "(n,) f_n = f . a (N)")
       .def_readonly("tangential_force", &MonitorPy::tangential_force, "(n, 3) f - f_n a (N)")
       .def_readonly("moment", &MonitorPy::moment, "(n,) the torsional moment about a (N m; soft finger)")
+      .def_readonly("at_bound", &MonitorPy::at_bound,
+                    "(n,) bool: the contact has a max_normal_force c and f_n reaches it to the tolerance "
+                    "(f_n >= c - absolute_tolerance - relative_tolerance c)")
       .def_readonly("stable", &MonitorPy::stable, "every contact sticks")
       .def_readonly("sticking", &MonitorPy::sticking)
       .def_readonly("sliding", &MonitorPy::sliding)
       .def_readonly("separating", &MonitorPy::separating)
+      .def_readonly("at_bound_count", &MonitorPy::at_bound_count, "the contacts at their max_normal_force")
       .def_readonly("min_margin", &MonitorPy::min_margin)
       .def_readonly("status", &MonitorPy::status);
   m.def("monitor", &monitor, py::arg("grasp"), py::arg("forces"),

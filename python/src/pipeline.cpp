@@ -48,8 +48,8 @@ class PyHapticLoop {
   PyHapticLoop(double radius, double half_length, double mass, const py::handle& position, const py::handle& rotation,
                const std::vector<std::pair<py::object, py::object>>& boxes, const grip::HandDimensions<double>& hand,
                double friction, const py::handle& stiffness, const py::handle& device_limit,
-               const grip::ContributionTable<double>& contribution, double dt, int max_passes, double obstacle_stiffness,
-               double obstacle_damping) {
+               const grip::ContributionTable<double>& contribution, double dt, int max_iterations,
+               bool bound_by_device, double obstacle_stiffness, double obstacle_damping) {
     if (!(radius > 0) || !(half_length > 0) || !(mass > 0) || !std::isfinite(radius + half_length + mass))
       invalid("radius, half_length and mass must be finite and > 0");
     scene_.radius = radius;
@@ -70,6 +70,8 @@ class PyHapticLoop {
       invalid("obstacle_stiffness and obstacle_damping must be finite and >= 0");
     if (!(dt > 0) || !std::isfinite(dt)) invalid("dt must be finite and > 0");
     s.dt = dt;
+    s.bound_by_device = bound_by_device;
+    if (max_iterations < 1) invalid("max_iterations must be >= 1, not " + std::to_string(max_iterations));
     object_.mass = mass;
     object_.principal_inertia = grip::solid_cylinder_inertia<double>(mass, radius, half_length);
     object_.position = vec3(position, "position");
@@ -83,7 +85,7 @@ class PyHapticLoop {
     object_.orientation = Eigen::Quaterniond(m);
     if (grip::validate(object_) != grip::Status::Ok) invalid("the object is invalid");
     loop_ = std::make_unique<Loop>(s, scene_, object_);
-    loop_->solver().settings.max_passes = max_passes;
+    loop_->solver().settings.max_iterations = max_iterations;
   }
 
   FramePy step(const py::handle& wrist, const py::handle& angles, const py::handle& v, const py::handle& w,
@@ -173,19 +175,26 @@ void bind_pipeline(py::module_& m) {
   py::class_<PyHapticLoop>(m, "HapticLoop",
                            "grip's per-frame haptic pipeline over a solid cylinder (its axis the body's z) with box "
                            "obstacles; forces by the optimum inside the exact friction cones, warm-started frame to "
-                           "frame (max_passes: the deadline of each solve, 16 passes by default; a large value for the exact answer at any cost). contribution: the phalanges' shares d "
-                           "(a ContributionTable, the cylindrical power grip by default); obstacle_stiffness (N/m) and obstacle_damping (N s/m) per obstacle contact point.")
+                           "frame (max_iterations: the bound on each solve's interior-point iterations, "
+                           "ConstrainedSettings' default). bound_by_device: each contact's normal force is bounded "
+                           "by its phalanx's device_limit shared among that phalanx's contacts, so that the forces "
+                           "are ones the device can render, or the grasp slips (Infeasible) when even those cannot "
+                           "hold the object; False: no bounds, the device clips. contribution: the phalanges' shares d "
+                           "(a ContributionTable, the cylindrical power grip by default); obstacle_stiffness (N/m) and "
+                           "obstacle_damping (N s/m) per obstacle contact point.")
       .def(py::init<double, double, double, const py::handle&, const py::handle&,
                     const std::vector<std::pair<py::object, py::object>>&, const grip::HandDimensions<double>&, double,
-                    const py::handle&, const py::handle&, const grip::ContributionTable<double>&, double, int, double,
-                    double>(),
+                    const py::handle&, const py::handle&, const grip::ContributionTable<double>&, double, int, bool,
+                    double, double>(),
            py::kw_only(), py::arg("radius") = 0.035, py::arg("half_length") = 0.06, py::arg("mass") = 0.4,
            py::arg("position"), py::arg("rotation") = Eigen::Matrix3d::Identity(),
            py::arg("boxes") = std::vector<std::pair<py::object, py::object>>{},
            py::arg("hand") = grip::HandDimensions<double>::standard(), py::arg("friction") = 0.8,
            py::arg("stiffness") = 3e4, py::arg("device_limit") = 10.0,
            py::arg("contribution") = grip::cylindrical_power_grip<double>(), py::arg("dt") = 1e-3,
-           py::arg("max_passes") = grip::ConstrainedFrameSolver<double>::default_max_passes, py::arg("obstacle_stiffness") = 2e4, py::arg("obstacle_damping") = 50.0)
+           py::arg("max_iterations") = grip::ConstrainedSettings<double>{}.max_iterations,
+           py::arg("bound_by_device") = grip::HapticSettings<double>{}.bound_by_device,
+           py::arg("obstacle_stiffness") = 2e4, py::arg("obstacle_damping") = 50.0)
       .def("step", &PyHapticLoop::step, py::arg("wrist"), py::arg("angles"),
            py::arg("linear_velocity") = std::vector<double>{0, 0, 0}, py::arg("angular_velocity") = std::vector<double>{0, 0, 0},
            py::arg("linear_acceleration") = std::vector<double>{0, 0, 0},

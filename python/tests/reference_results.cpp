@@ -64,6 +64,8 @@ int main(int argc, char** argv) {
       grip::Contact<double> c;
       s >> c.position.x() >> c.position.y() >> c.position.z() >> c.normal.x() >> c.normal.y() >> c.normal.z() >>
           c.friction >> c.torsional_friction >> c.squeeze >> c.weight;
+      double bound = -1;
+      if (s >> bound && bound > 0) c.max_normal_force = bound;  // bounded instances: -1 for none
       contacts.push_back(c);
     }
   }

@@ -40,11 +40,16 @@ def conic_reference():
 
 
 def constrained_reference():
-    """solve_constrained instances: dicts with model, w_ext, contacts (n x 10: p, a, mu,
-    mu_t, squeeze, weight), feasible, objective, and x* when feasible."""
+    """solve_constrained instances: dicts with model, kind, w_ext, contacts (n x 11: p, a, mu,
+    mu_t, squeeze, weight, max_normal_force: inf where the file has none or -1), feasible,
+    objective, and x* when feasible."""
     out = []
     for b in _blocks(os.path.join(ROOT, "tests", "solve", "constrained_reference.txt")):
-        _, model, n, kind, objective = b["head"][:5]
-        out.append({"model": model, "n": int(n), "feasible": kind == "optimal", "objective": float(objective),
-                    "w": np.array(b["w"]), "contacts": np.array(b["c"]), "x": np.array(b.get("x", []))})
+        _, model, n, feasible, objective = b["head"][:5]
+        rows = [row + [-1.0] * (11 - len(row)) for row in b["c"]]
+        contacts = np.array(rows)
+        contacts[contacts[:, 10] <= 0, 10] = np.inf
+        out.append({"model": model, "kind": b["head"][-1], "n": int(n), "feasible": feasible == "optimal",
+                    "objective": float(objective), "w": np.array(b["w"]), "contacts": contacts,
+                    "x": np.array(b.get("x", []))})
     return out

@@ -149,6 +149,39 @@ def test_solve_batch_equals_the_single_calls(method):
             assert np.array_equal(s.certificate, r["certificate"][j])
 
 
+def test_solve_batch_keeps_the_bounds_as_the_single_calls():
+    rng = np.random.default_rng(19)
+    b = batch_contacts(rng, 20, 5)
+    w = rng.normal(scale=[2, 2, 10, 0.05, 0.05, 0.05], size=(20, 6))
+    bounds = rng.uniform(1.0, 6.0, size=(20, 5))
+    bounds[:, 0] = np.inf  # a contact without a bound in every candidate
+    r = grip.solve_batch(b["positions"], b["normals"], b["friction"], w, squeeze=b["squeeze"], weights=b["weights"],
+                         max_normal_force=bounds, method="constrained", threads=2)
+    statuses = set()
+    for j in range(20):
+        g = grip.Grasp(b["positions"][j], b["normals"][j], b["friction"][j], squeeze=b["squeeze"][j],
+                       weights=b["weights"][j], max_normal_force=bounds[j])
+        s = grip.solve_constrained(g, w[j])
+        assert np.array_equal(s.forces, r["forces"][j]) and np.array_equal(s.certificate, r["certificate"][j])
+        assert int(s.status) == r["status"][j] and s.iterations == r["iterations"][j]
+        assert np.all(np.einsum("ij,ij->i", s.forces, g.normals) <= bounds[j] * (1 + 1e-9))
+        statuses.add(s.status)
+    assert {grip.Status.Ok, grip.Status.Infeasible} <= statuses
+    # A scalar bound broadcasts; the default is none, as inf; the other methods ignore it.
+    one = grip.solve_batch(b["positions"], b["normals"], b["friction"], w, squeeze=b["squeeze"], max_normal_force=3.0,
+                           method="constrained")
+    same = grip.solve_batch(b["positions"], b["normals"], b["friction"], w, squeeze=b["squeeze"],
+                            max_normal_force=np.full((20, 5), 3.0), method="constrained")
+    assert np.array_equal(one["forces"], same["forces"])
+    free = grip.solve_batch(b["positions"], b["normals"], b["friction"], w, squeeze=b["squeeze"], method="constrained")
+    inf = grip.solve_batch(b["positions"], b["normals"], b["friction"], w, squeeze=b["squeeze"], max_normal_force=np.inf,
+                           method="constrained")
+    assert np.array_equal(free["forces"], inf["forces"])
+    rs = grip.solve_batch(b["positions"], b["normals"], b["friction"], w, squeeze=b["squeeze"], max_normal_force=bounds)
+    assert np.array_equal(rs["forces"], grip.solve_batch(b["positions"], b["normals"], b["friction"], w,
+                                                         squeeze=b["squeeze"])["forces"])
+
+
 def test_batch_numbers_broadcast():
     rng = np.random.default_rng(10)
     b = batch_contacts(rng, 6, 4)
@@ -174,6 +207,12 @@ def test_batch_invalid_input_names_grasp_and_contact():
         grip.evaluate_batch(b["positions"][0], b["normals"][0], 0.5)
     with pytest.raises(ValueError, match=r"friction must be a number or have shape"):
         grip.evaluate_batch(b["positions"], b["normals"], np.ones(3))
+    bounds = np.ones((5, 4))
+    bounds[4, 3] = 0.0
+    with pytest.raises(ValueError, match=r"max_normal_force\[4, 3\] must be > 0"):
+        grip.solve_batch(b["positions"], b["normals"], 0.5, np.zeros(6), max_normal_force=bounds, method="constrained")
+    with pytest.raises(ValueError, match=r"max_normal_force must be a number or have shape"):
+        grip.solve_batch(b["positions"], b["normals"], 0.5, np.zeros(6), max_normal_force=np.ones(3))
     with pytest.raises(ValueError, match=r"w_ext must have shape \(6,\) or \(k, 6\)"):
         grip.solve_batch(b["positions"], b["normals"], 0.5, np.zeros(5))
     with pytest.raises(ValueError, match="method must be"):

@@ -41,7 +41,7 @@ def test_python_equals_cpp_bit_for_bit():
         cpp = parse(line)
         c = ref["contacts"]
         g = grip.Grasp(c[:, 0:3], c[:, 3:6], c[:, 6], torsional_friction=c[:, 7], squeeze=c[:, 8], weights=c[:, 9],
-                       model=MODELS[ref["model"]])
+                       max_normal_force=c[:, 10], model=MODELS[ref["model"]])
         rs = grip.solve_range_space(g, ref["w"])
         cs = grip.solve_constrained(g, ref["w"])
         fc = grip.force_closure(g)

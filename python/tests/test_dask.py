@@ -33,6 +33,10 @@ def test_dask_batches_equal_the_serial_ones_on_the_default_scheduler():
     w = np.array([0.0, 0.0, -5.0, 0.0, 0.01, 0.0])
     serial = grip.solve_batch(p, a, mu, w, squeeze=1.0, method="constrained")
     same(grip.dask.solve_batch(p, a, mu, w, squeeze=1.0, method="constrained", chunk_size=333), serial)
+    bounds = np.random.default_rng(4).uniform(1.0, 4.0, size=(1000, 5))
+    serial = grip.solve_batch(p, a, mu, w, squeeze=1.0, max_normal_force=bounds, method="constrained")
+    same(grip.dask.solve_batch(p, a, mu, w, squeeze=1.0, max_normal_force=bounds, method="constrained", chunk_size=333),
+         serial)
 
 
 def test_dask_batches_equal_the_serial_ones_on_a_local_cluster():

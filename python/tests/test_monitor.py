@@ -68,6 +68,26 @@ def test_soft_finger_margin_is_the_elliptic_cone():
     assert np.allclose(rep.moment, f[:, 3], rtol=0, atol=0)
 
 
+def test_at_bound_marks_the_contacts_whose_normal_force_reaches_its_bound():
+    rng = np.random.default_rng(14)
+    c = random_contacts(rng, 12)
+    bounds = rng.uniform(1.0, 3.0, 12)
+    bounds[:3] = np.inf  # no bound: never at it
+    g = grip.Grasp(c["positions"], c["normals"], c["friction"], squeeze=c["squeeze"], max_normal_force=bounds)
+    a = c["normals"]
+    fn = np.minimum(bounds, 5.0) * rng.choice([0.5, 1.0 - 1e-12, 1.0, 1.0 + 1e-6, 1.0 - 1e-6], 12)
+    for relative, absolute in ((1e-9, 0.0), (1e-9, 1e-5), (0.0, 0.0)):
+        rep = grip.monitor(g, fn[:, None] * a, relative_tolerance=relative, absolute_tolerance=absolute)
+        finite = np.isfinite(bounds)
+        expected = np.zeros(12, dtype=bool)
+        expected[finite] = fn[finite] >= bounds[finite] - absolute - relative * bounds[finite]
+        assert rep.at_bound.dtype == bool and np.array_equal(rep.at_bound, expected), (relative, absolute)
+        assert rep.at_bound_count == expected.sum()
+    # Without bounds, nothing is at one.
+    free = grip.monitor(make(c, grip.Model.HardFinger), fn[:, None] * a)
+    assert not free.at_bound.any() and free.at_bound_count == 0
+
+
 def test_monitor_checks_its_input():
     g = grip.Grasp(np.eye(3) * 0.04, -np.eye(3), 0.5)
     with pytest.raises(ValueError, match=r"forces must have shape \(3, 3\)"):

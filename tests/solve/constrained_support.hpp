@@ -74,6 +74,8 @@ inline std::vector<ConstrainedReference> load_constrained_reference(ReferenceCou
       grip::Contact<double> c;
       s >> c.position.x() >> c.position.y() >> c.position.z() >> c.normal.x() >> c.normal.y() >> c.normal.z() >>
           c.friction >> c.torsional_friction >> c.squeeze >> c.weight;
+      double bound = -1;
+      if (s >> bound && bound > 0) c.max_normal_force = bound;  // bounded instances: -1 for none
       // The file's normals carry 10 digits; a Grasp stores such a normal scaled to unit length
       // (as here), so the checks read the contacts that the solver sees.
       c.normal /= std::sqrt(c.normal.squaredNorm());

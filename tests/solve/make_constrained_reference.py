@@ -25,8 +25,10 @@ File format (whitespace separated, '#' lines are comments):
   # counts H <instances> <infeasible> S <instances> <infeasible> F <instances> <infeasible>
   instance <k> <H|S|F> <n> <optimal|infeasible> <objective (0 if infeasible)> <residual> <gap>
   w <6 numbers: w_ext = (force; moment)>
-  c <px py pz  nx ny nz  mu  mu_t  squeeze  weight>      (n lines)
+  c <px py pz  nx ny nz  mu  mu_t  squeeze  weight [bound]>   (n lines)
   x <the optimal forces x*, n * dim numbers>           (optimal instances only)
+[bound]: the contact's max_normal_force (N), in the bounded instances only (every contact of
+such an instance has the field; -1 for none): then also f_n <= bound (a truncated cone).
 <gap> is cvxopt's duality gap at x*: F2(x*) - F2_min <= gap, so that any x with
 F2(x) - F2_min <= delta lies within sqrt(2 (gap + delta) / min w_i) of x* (F2 is strongly
 convex with modulus min w_i).
@@ -42,6 +44,8 @@ SEED = 20261121
 COUNT = 300
 EXTRA_SEED = SEED + 1
 EXTRA_PER_KIND = 16  # per kind: rescaled by 1e-3, rescaled by 1e3, collinear, nearly collinear
+BOUND_SEED = SEED + 2
+BOUND_PER_KIND = 15  # per kind: bounds inactive, some active, too low (mostly infeasible)
 # coneqp reaches status 'optimal' at 1e-10; a second run at 1e-12 usually stops with
 # 'unknown' (progress stalls at round-off) but with a better objective. We keep the second
 # objective when its residual is at round-off and it agrees with the first to 1e-9.
@@ -92,10 +96,19 @@ def build(model, contacts, w_ext):
     P = np.zeros((m, m))
     q = np.zeros(m)
     A = np.zeros((6, m))
-    rows_l, rows_q, sizes = [], [], []
+    rows_l, rows_q, sizes, h_l = [], [], [], []
     for i, c in enumerate(contacts):
         o = i * d
         a, r = c["a"], c["p"]
+        bound = c.get("c", -1.0)
+        if bound > 0:  # f_n <= bound
+            g = np.zeros(m)
+            if model == "F":
+                g[o] = 1.0
+            else:
+                g[o:o + 3] = a
+            rows_l.append(g)
+            h_l.append(bound)
         if model == "F":
             t = np.array([c["s"]])
             A[:3, o] = a
@@ -103,6 +116,7 @@ def build(model, contacts, w_ext):
             g = np.zeros(m)
             g[o] = -1.0  # -x <= 0
             rows_l.append(g)
+            h_l.append(0.0)
         else:
             t = np.concatenate([c["s"] * a, np.zeros(d - 3)])
             A[:3, o:o + 3] = np.eye(3)
@@ -113,6 +127,7 @@ def build(model, contacts, w_ext):
             g = np.zeros(m)
             g[o:o + 3] = -a  # a.f >= 0 (needed for mu = 0; redundant otherwise)
             rows_l.append(g)
+            h_l.append(0.0)
             blk = np.zeros((d, m))
             if d == 3:  # (mu a.f, e1.f, e2.f) in Q3
                 blk[0, o:o + 3] = -c["mu"] * a
@@ -129,7 +144,8 @@ def build(model, contacts, w_ext):
         q[o:o + d] = -c["w"] * t
     Gc = np.vstack(rows_l + rows_q)
     dims = {"l": len(rows_l), "q": sizes, "s": []}
-    return P, q, Gc, np.zeros(Gc.shape[0]), dims, A, -np.asarray(w_ext)
+    h = np.concatenate([np.array(h_l), np.zeros(Gc.shape[0] - len(h_l))])
+    return P, q, Gc, h, dims, A, -np.asarray(w_ext)
 
 
 def objective(model, contacts, x):
@@ -318,14 +334,47 @@ def line_instance(rng, model, offset):
     return contacts, np.array([rnd(v) for v in w_ext])
 
 
+def bounded_instance(rng, model, kind):
+    """A base-set grasp whose unbounded optimum x* (cvxopt's) sets bounds on the normal forces:
+    bounded-inactive, every contact at 1.5 max_i f_n,i + 1 (the same optimum); bounded-active,
+    the contacts of the largest third of f_n* at 0.8 of theirs (some at their bound, or a slip);
+    bounded-low, every contact at 0.3 of its f_n* + 0.05 (mostly infeasible). None when the
+    unbounded instance is not solved to 'optimal'."""
+    contacts, w_ext = random_instance(rng, model)
+    res = solve(model, contacts, w_ext)
+    if res is None or res[0] != "optimal":
+        return None
+    x = res[4]
+    d = {"H": 3, "S": 4, "F": 1}[model]
+    fn = np.array([x[i * d] if model == "F" else float(np.dot(x[i * d:i * d + 3], c["a"]))
+                   for i, c in enumerate(contacts)])
+    if kind == "bounded-inactive":
+        for c in contacts:
+            c["c"] = rnd(1.5 * float(np.max(fn)) + 1.0)
+    elif kind == "bounded-active":
+        top = np.argsort(-fn)[:max(1, len(contacts) // 3)]
+        if not fn[top[0]] > 0.05:
+            return None
+        for i in top:
+            if fn[i] > 0.05:
+                contacts[i]["c"] = rnd(0.8 * float(fn[i]))
+    else:
+        for i, c in enumerate(contacts):
+            c["c"] = rnd(0.3 * max(float(fn[i]), 0.0) + 0.05)
+    return contacts, w_ext
+
+
 def record(out, k, model, kind, contacts, w_ext, res):
     status, obj, resid, gap, x, lam, lr, hard = res
     if hard:
         kind += "-hard"
     out.append("instance %d %s %d %s %.17g %.3g %.3g %s" % (k, model, len(contacts), status, obj, resid, gap, kind))
     out.append("w " + " ".join("%.10g" % v for v in w_ext))
+    bounded = any("c" in c for c in contacts)
     for c in contacts:
         vals = list(c["p"]) + list(c["a"]) + [c["mu"], c["mut"], c["s"], c["w"]]
+        if bounded:
+            vals.append(c.get("c", -1.0))
         out.append("c " + " ".join("%.10g" % v for v in vals))
     if x is not None:
         out.append("x " + " ".join("%.17g" % v for v in x))
@@ -367,14 +416,26 @@ def main():
         while done < EXTRA_PER_KIND:
             model = "HSF"[done % 3]
             done += take(model, kind, *make(model))
+    rng = np.random.default_rng(BOUND_SEED)
+    for kind in ("bounded-inactive", "bounded-active", "bounded-low"):
+        done = 0
+        while done < BOUND_PER_KIND:
+            model = "HSF"[done % 3]
+            made = bounded_instance(rng, model, kind)
+            if made is None:
+                skipped += 1
+                continue
+            done += take(model, kind, *made)
     infeasible = sum(counts[m][1] for m in "HSF")
     head = ["# Generated by make_constrained_reference.py (cvxopt %s, seeds %d and %d): %d instances, "
             "%d infeasible, %d candidates discarded (feasibility or optimum undecided by cvxopt)."
             % (solvers.__dict__.get("__version__", "1.3"), SEED, EXTRA_SEED, k, infeasible, skipped),
+            "# Bounded instances (kinds bounded-*) from seed %d." % BOUND_SEED,
             "# counts " + " ".join("%s %d %d" % (m, counts[m][0], counts[m][1]) for m in "HSF"),
             "# instance <k> <H|S|F> <n> <optimal|infeasible> <objective> <cvxopt residual |Gx+w|> <cvxopt gap> <kind>",
-            "# w <w_ext: force; moment>", "# c <px py pz nx ny nz mu mu_t squeeze weight>",
+            "# w <w_ext: force; moment>", "# c <px py pz nx ny nz mu mu_t squeeze weight [bound]>",
             "# x <optimal forces x*>", "# l <multipliers lambda* of G x + w_ext = 0 (grip's sign)>",
+            "# [bound]: max_normal_force (N) of the bounded instances' contacts, -1 for none",
             "# r <least residual |G x_c + w_ext|_L over the cones> <F2(x_c)> (infeasible instances;",
             "#   |(f, m)|_L = |(f, m / L)|, L = max_i |r_i|: moments per the longest lever arm)"]
     path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "constrained_reference.txt")

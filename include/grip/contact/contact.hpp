@@ -3,6 +3,7 @@
 /// One contact between a finger (or phalanx) and the grasped object.
 
 #include <cmath>
+#include <limits>
 
 #include "grip/core/scalar_traits.hpp"
 #include "grip/core/status.hpp"
@@ -13,9 +14,9 @@ namespace grip {
 /// One contact point, in grip's conventions (docs/conventions.md).
 ///
 /// Invariants checked by validate() (and by every Grasp and solver that takes it):
-/// all fields finite and within ScalarTraits::max_magnitude; |normal| = 1 within
-/// ScalarTraits::normal_tolerance; friction, torsional_friction, squeeze >= 0;
-/// weight >= ScalarTraits::min_weight.
+/// all fields finite and within ScalarTraits::max_magnitude (max_normal_force may also be
+/// +infinity); |normal| = 1 within ScalarTraits::normal_tolerance; friction,
+/// torsional_friction, squeeze >= 0; weight >= ScalarTraits::min_weight; max_normal_force > 0.
 template <class Scalar>
 struct Contact {
   Vector3<Scalar> position{Vector3<Scalar>::Zero()};  ///< r_i (m), from the object's centre of mass.
@@ -24,6 +25,10 @@ struct Contact {
   Scalar torsional_friction{0};  ///< Soft-finger torsional coefficient mu_t (m): |m| <= mu_t f_n.
   Scalar squeeze{0};             ///< s_i (N), the squeezing force magnitude of eq. 7-8, >= 0.
   Scalar weight{1};              ///< w_i > 0, the weight of this contact in F2.
+  /// The largest normal force f_n the contact can apply (N): a finger's strength or a device
+  /// channel's limit, kept by solve_constrained (the cone truncated at f_n <= max_normal_force);
+  /// +infinity (the default) for none. The other solvers do not read it.
+  Scalar max_normal_force{std::numeric_limits<Scalar>::infinity()};
 };
 
 namespace detail {
@@ -49,6 +54,9 @@ Status validate(const Contact<Scalar>& c) {
     return Status::InvalidInput;
   if (c.friction < Scalar(0) || c.torsional_friction < Scalar(0) || c.squeeze < Scalar(0) ||
       c.weight < T::min_weight)
+    return Status::InvalidInput;
+  if (!(c.max_normal_force > Scalar(0)) ||
+      (!detail::in_range(c.max_normal_force) && c.max_normal_force != std::numeric_limits<Scalar>::infinity()))
     return Status::InvalidInput;
   const Scalar n2 = c.normal.squaredNorm();
   // |n|^2 - 1 ~ 2 (|n| - 1): compare against twice the tolerance.

@@ -27,6 +27,17 @@ struct ScalarTraits<double> {
   static constexpr double min_weight = 1e-12;
   /// Default relative tolerance for comparisons in tests and iterative solvers.
   static constexpr double default_tolerance = 1e-9;
+  /// solve_constrained's relative tolerance of an Ok answer (ConstrainedSettings::tolerance).
+  static constexpr double constrained_tolerance = 1e-12;
+  /// The interior-point method's relative tolerance before solve_constrained's Newton refinement.
+  static constexpr double interior_tolerance = 1e-7;
+  /// The fraction of the largest step into the cones that the interior-point method takes: near
+  /// the boundary float computes that step to a few of its last places only.
+  static constexpr double interior_step = 0.99;
+  /// The relative slack of an infeasibility certificate (ConstrainedSettings::certificate_tolerance).
+  static constexpr double certificate_tolerance = 1e-5;
+  /// The relative weight of F2 in the least-residual problem (ConstrainedSettings::least_residual_weight).
+  static constexpr double least_residual_weight = 1e-6;
   /// The scalar the offline conic analyses compute in (analysis/conic_dual.hpp).
   using Wide = double;
 };
@@ -47,6 +58,17 @@ struct ScalarTraits<float> {
   static constexpr float min_weight = 1e-6f;
   /// Default relative tolerance for comparisons in tests and iterative solvers.
   static constexpr float default_tolerance = 1e-4f;
+  /// solve_constrained's relative tolerance of an Ok answer (ConstrainedSettings::tolerance).
+  static constexpr float constrained_tolerance = 1e-5f;
+  /// The interior-point method's relative tolerance before solve_constrained's Newton refinement.
+  static constexpr float interior_tolerance = 1e-3f;
+  /// The fraction of the largest step into the cones that the interior-point method takes: near
+  /// the boundary float computes that step to a few of its last places only.
+  static constexpr float interior_step = 0.95f;
+  /// The relative slack of an infeasibility certificate (ConstrainedSettings::certificate_tolerance).
+  static constexpr float certificate_tolerance = 1e-4f;
+  /// The relative weight of F2 in the least-residual problem (ConstrainedSettings::least_residual_weight).
+  static constexpr float least_residual_weight = 1e-4f;
   /// The scalar the offline conic analyses compute in (analysis/conic_dual.hpp): double. Their
   /// interior-point systems grow ill-conditioned as the iterates near the cones' boundaries,
   /// and in float the dual residual then stalls above the default tolerance.

@@ -22,6 +22,10 @@ struct ContactState {
   Scalar normal_force{0};                               ///< f_n = f.a (N)
   Vector3<Scalar> tangential_force{Vector3<Scalar>::Zero()};  ///< f_t = f - f_n a (N)
   Scalar moment{0};  ///< torsional moment about a (N m): soft finger only, else 0
+  /// True when the contact has a max_normal_force and f_n reaches it to the monitor's tolerance
+  /// (f_n >= c - absolute_tolerance - relative_tolerance c): the finger or device channel gives
+  /// all it can.
+  bool at_bound{false};
 };
 
 /// The contact modes of a grasp under given forces, without margins: what
@@ -78,6 +82,7 @@ struct GraspState : GraspModes<GraspT> {
   /// Smallest margin over the contacts (N); cone_margin_floor() when there are none.
   Scalar min_margin{cone_margin_floor<Scalar>()};
   int min_margin_index{-1};  ///< the contact with min_margin, -1 when there are none
+  int at_bound_count{0};     ///< contacts with ContactState::at_bound
 
   /// The state of contact i. Precondition (GRIP_ASSERT): 0 <= i < size().
   const ContactState<Scalar>& contact(int i) const {

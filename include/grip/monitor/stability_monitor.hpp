@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <type_traits>
 
 #include "grip/contact/coulomb_cone.hpp"
@@ -42,8 +43,9 @@ struct MonitorSettings {
 /// - else Sticking.
 ///
 /// Two entry points with the same modes:
-/// - evaluate(): the full GraspState (modes, margins, relative margins, force parts, smallest
-///   margin); one Cone::measure per contact (CoulombCone: one square root, one division).
+/// - evaluate(): the full GraspState (modes, margins, relative margins, force parts, contacts at
+///   their max_normal_force, smallest margin); one Cone::measure per contact (CoulombCone: one
+///   square root, one division).
 /// - classify(): the modes only (GraspModes), for the per-frame decision of a real-time loop;
 ///   no square root or division per contact for CoulombCone and PyramidCone. For CoulombCone
 ///   it runs detail::classify_coulomb_grasp (contact/coulomb_kernel.hpp) on Grasp::cone_table():
@@ -78,6 +80,7 @@ class StabilityMonitor {
   void evaluate(const GraspT& grasp, const ForceVector& forces, State& out) const {
     out.min_margin = cone_margin_floor<Scalar>();
     out.min_margin_index = -1;
+    out.at_bound_count = 0;
     if (!start(grasp, forces, out)) return;
     int counts[3] = {0, 0, 0};
     for (int i = 0; i < grasp.size(); ++i) {
@@ -91,6 +94,9 @@ class StabilityMonitor {
       cs.margin = m.margin;
       cs.relative_margin = m.relative_margin;
       cs.mode = mode_of(!(m.normal_force > Scalar(0)), m.margin < -slack(m.normal_force));
+      const Scalar bound = grasp.contact(i).max_normal_force;
+      cs.at_bound = bound < std::numeric_limits<Scalar>::infinity() && m.normal_force >= bound - slack(bound);
+      out.at_bound_count += cs.at_bound ? 1 : 0;
       out.modes[detail::idx(i)] = cs.mode;
       ++counts[static_cast<int>(cs.mode)];
       if (i == 0 || cs.margin < out.min_margin) {

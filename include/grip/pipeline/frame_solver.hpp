@@ -15,8 +15,8 @@
 ///
 /// - RangeSpaceFrameSolver: the equality-constrained optimum of F2, O(n) (the default);
 /// - KktFrameSolver: the same optimum by the paper's section 5 method, O(n^3) (a baseline);
-/// - ConstrainedFrameSolver: the optimum with every force inside its exact cone,
-///   warm-started from the previous frame, within a deadline of passes per solve.
+/// - ConstrainedFrameSolver: the optimum with every force inside its exact cone (and below its
+///   contact's max_normal_force), warm-started from the previous frame.
 
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
@@ -52,37 +52,23 @@ struct KktFrameSolver {
   }
 };
 
-/// The exact optimum of F2 with every force inside its exact cone (solve_constrained), within
-/// a deadline. From the second frame on, each solve is warm-started from the multipliers of
-/// the previous Ok or IterationLimit solve (contacts change little between 1 kHz frames; the
-/// multipliers are a 6-vector, so they carry over whatever contacts come and go). `settings`
-/// are solve_constrained's, with one difference: a real-time deadline of
-/// `default_max_passes` passes per solve, so that a frame whose grasp slips costs a bounded
-/// time (a solve cut short answers IterationLimit with forces in their cones, and the next
-/// frame goes on from its multipliers). For the exact answer at any cost, set
-/// settings.max_passes = std::numeric_limits<int>::max().
+/// The exact optimum of F2 with every force inside its exact cone and below its contact's
+/// max_normal_force (solve_constrained). From the second frame on, each solve is warm-started
+/// from the multipliers of the previous Ok or IterationLimit solve (contacts change little
+/// between 1 kHz frames; the multipliers are a 6-vector, so they carry over whatever contacts come
+/// and go). Every solve is bounded by its settings (docs/solve.md: at most
+/// settings.max_iterations interior-point iterations and 2 settings.newton_passes Newton passes),
+/// a grasp that slips included: no deadline of its own is needed.
 template <class Scalar>
 struct ConstrainedFrameSolver {
   /// Forces come back inside their exact cones, a separating one at the apex (zero): one solve a frame.
   static constexpr bool enforces_cones = true;
-  /// The default deadline of every solve (ConstrainedSettings::max_passes): 16 passes, which
-  /// keeps the p99 of the haptic loop benchmark's slipping frames within two times the held
-  /// frames' median (bench/RESULTS.md). A solve it cuts answers its best iterate, so the
-  /// session it renders differs from one without a deadline (a few per cent of the frames
-  /// change from held to slipping or back).
-  static constexpr int default_max_passes = 16;
-  /// Tolerances and bounds of every solve: solve_constrained's defaults, max_passes excepted.
-  ConstrainedSettings<Scalar> settings{real_time_settings()};
+  /// Tolerances and bounds of every solve: solve_constrained's defaults.
+  ConstrainedSettings<Scalar> settings{};
   Wrench<Scalar> warm{Wrench<Scalar>::Zero()};  ///< multipliers of the last usable solve
   bool has_warm{false};                         ///< whether `warm` holds any
-  int passes{0};  ///< passes over the contacts of the last solve (settings.max_passes bounds it)
-
-  /// solve_constrained's default settings with max_passes = default_max_passes.
-  static ConstrainedSettings<Scalar> real_time_settings() {
-    ConstrainedSettings<Scalar> s;
-    s.max_passes = default_max_passes;
-    return s;
-  }
+  int passes{0};       ///< passes over the contacts of the last solve (ConstrainedSolution::passes)
+  int iterations{0};   ///< interior-point iterations of the last solve (0: the fast path or Newton answered)
 
   /// min F2 s.t. G x + w_ext = 0 and x_i in K_i for this frame's grasp (GraspT::ScalarType must be
   /// Scalar), warm-started when `has_warm`; keeps the multipliers of an Ok or IterationLimit solve
@@ -92,6 +78,7 @@ struct ConstrainedFrameSolver {
     const ConstrainedSolution<GraspT> sol =
         has_warm ? solve_constrained(grasp, w_ext, settings, warm) : solve_constrained(grasp, w_ext, settings);
     passes = sol.passes;
+    iterations = sol.iterations;
     if ((sol.status == Status::Ok || sol.status == Status::IterationLimit) && sol.multipliers.allFinite()) {
       warm = sol.multipliers;
       has_warm = true;

@@ -50,6 +50,13 @@ struct HapticSettings {
   /// policy's (PhalanxActuators) limits when the pipeline is built (then device().limit), and
   /// the limits of PhalanxFeedback::command under the other device policies.
   std::array<Scalar, hand_phalanx_count> device_limit{};
+  /// With a frame solver that enforces the cones (ConstrainedFrameSolver): true bounds every hand
+  /// contact's normal force by its phalanx's limit (the default device's device().limit, else
+  /// device_limit) shared equally among that phalanx's contacts of the frame, so that the solver
+  /// returns the best forces the device can render, or Infeasible when even those cannot hold the
+  /// object (a phalanx whose limit is <= 0 then touches nothing; the palm's bodies have no
+  /// actuator: unbounded). False: no bounds, and the device clips what it cannot render.
+  bool bound_by_device{true};
   Scalar dt{Scalar(1e-3)};                                   ///< frame period (s)
   /// Re-solves per frame after dropping separating contacts, >= 0 (none with a solver that
   /// enforces the cones: its separating forces are zero and the rest already the answer).

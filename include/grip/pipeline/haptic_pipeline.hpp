@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <type_traits>
 
 #include <Eigen/Geometry>
@@ -109,8 +110,8 @@ class HapticPipeline {
   }
   /// True while the grasp holds the object (it moves with the wrist).
   bool held() const { return held_; }
-  /// The frame solver, e.g. to set a ConstrainedFrameSolver's settings (a deadline:
-  /// settings.max_passes) before the first step or between steps.
+  /// The frame solver, e.g. to set a ConstrainedFrameSolver's settings before the first step or
+  /// between steps.
   Solver& solver() { return solver_; }
   /// The frame solver.
   const Solver& solver() const { return solver_; }
@@ -200,10 +201,17 @@ class HapticPipeline {
   Scalar share(int k) const { return settings_.contribution(phalanx_finger(k), phalanx_kind(k)); }
 
   /// 5. Grasp: one Contact per hand contact kept (r_i from the centre of mass, friction,
-  /// squeeze of eq. 8, weight). Reads hand_, object_, settings_; writes grasp_ and index_
-  /// (index_[j]: the hand contact of grasp_'s contact j).
+  /// squeeze of eq. 8, weight, and with bound_by_device a bound: device_share). Reads hand_,
+  /// object_, settings_; writes grasp_ and index_ (index_[j]: the hand contact of grasp_'s
+  /// contact j).
   void build_grasp(const std::array<bool, max_contacts>& keep) {
     grasp_.clear();
+    std::array<int, hand_body_count> per_body{};
+    for (int i = 0; i < hand_.count; ++i) {
+      const HandContact<Scalar>& h = hand_.items[detail::idx(i)];
+      const int k = phalanx_index(h.finger, h.phalanx);
+      if (keep[detail::idx(i)] && k >= 0 && k < hand_body_count) ++per_body[detail::idx(k)];
+    }
     for (int i = 0; i < hand_.count; ++i) {
       if (!keep[detail::idx(i)]) continue;
       const HandContact<Scalar>& h = hand_.items[detail::idx(i)];
@@ -216,8 +224,20 @@ class HapticPipeline {
       const Scalar stiffness = k < hand_phalanx_count ? settings_.stiffness[detail::idx(k)] : settings_.palm_stiffness;
       c.squeeze = squeeze(share(k), stiffness, h.depth);
       if (settings_.weight_by_squeeze) c.weight = Scalar(1) / std::max(c.squeeze, settings_.weight_floor);
+      c.max_normal_force = device_share(k, per_body[detail::idx(k)]);
+      if (!(c.max_normal_force > Scalar(0))) continue;  // the channel renders nothing
       if (grasp_.add(c) == Status::Ok) index_[detail::idx(grasp_.size() - 1)] = i;
     }
+  }
+  /// The bound on the normal force of each of the `count` contacts of body k: with
+  /// bound_by_device and a solver that enforces the cones, phalanx k's device limit over count;
+  /// infinity otherwise (and for the palm's bodies).
+  Scalar device_share(int k, int count) const {
+    if (!Solver::enforces_cones || !settings_.bound_by_device || k >= hand_phalanx_count || count < 1)
+      return std::numeric_limits<Scalar>::infinity();
+    Scalar limit = settings_.device_limit[detail::idx(k)];
+    if constexpr (phalanx_device) limit = device_.limit[detail::idx(k)];
+    return std::isfinite(limit) ? std::max(limit, Scalar(0)) / Scalar(count) : std::numeric_limits<Scalar>::infinity();
   }
 
   HapticSettings<Scalar> settings_;

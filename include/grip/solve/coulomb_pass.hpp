@@ -157,12 +157,23 @@ class CoulombPassTable {
     return first;
   }
 
+  /// The forces in columns `x` stacked into `out` (3 size() entries), and back (load; the padding
+  /// rows set to 0).
   template <class Vec>
   void store(const Forces& x, Vec& out) const {
     for (int i = 0; i < n_; ++i) {
       out(3 * i) = x.x(i);
       out(3 * i + 1) = x.y(i);
       out(3 * i + 2) = x.z(i);
+    }
+  }
+  template <class Vec>
+  void load(const Vec& in, Forces& x) const {
+    for (int i = 0; i < rows_; ++i) {
+      const bool real = i < n_;
+      x.x(i) = real ? in(3 * i) : Scalar(0);
+      x.y(i) = real ? in(3 * i + 1) : Scalar(0);
+      x.z(i) = real ? in(3 * i + 2) : Scalar(0);
     }
   }
 

@@ -1,12 +1,17 @@
 #pragma once
 /// \file
 /// solve_constrained: the exact optimum of F2 with every contact force inside its exact cone
-/// (the paper's section 4 problem, eq. 3-5 with eq. 7), O(n) per iteration. The API and its
-/// result type first, with their contract; the definitions at the end. The method lives in
-/// detail/: semi-smooth Newton on the 6-dimensional dual (semismooth_newton.hpp), its passes
-/// over the contacts (constrained_passes.hpp) and the least-residual problem that decides
-/// infeasibility (least_residual.hpp).
+/// (the paper's section 4 problem, eq. 3-5 with eq. 7), and below its bound where the contact
+/// has one. The API and its result type first, with their contract; the definitions at the end.
+/// The method (docs/solve.md): a primal-dual interior-point method on a homogeneous embedding
+/// (detail/interior_point.hpp, the contacts in SIMD lanes: detail/conic_lanes.hpp), refined by
+/// Newton's method on the 6-dimensional dual (detail/dual_newton.hpp), which also takes a warm
+/// start first.
 
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
 #include <type_traits>
 
 #include "grip/contact/coulomb_cone.hpp"
@@ -16,9 +21,10 @@
 #include "grip/core/types.hpp"
 #include "grip/grasp/grasp.hpp"
 #include "grip/solve/constrained_settings.hpp"
-#include "grip/solve/detail/constrained_passes.hpp"
-#include "grip/solve/detail/least_residual.hpp"
-#include "grip/solve/detail/semismooth_newton.hpp"
+#include "grip/solve/detail/dual_newton.hpp"
+#include "grip/solve/detail/equilibrium_norm.hpp"
+#include "grip/solve/detail/force_problem.hpp"
+#include "grip/solve/detail/interior_point.hpp"
 #include "grip/solve/solution.hpp"
 #include "grip/solve/solve_range_space.hpp"
 
@@ -26,78 +32,71 @@ namespace grip {
 
 /// What solve_constrained returns: a Solution plus the numbers that certify it.
 ///
-/// Every number is finite whatever the status; `forces` always lie inside their cones
-/// (they are projections), except under InvalidInput, where everything is zero.
+/// Every number is finite whatever the status; `forces` always lie inside their cones and below
+/// their contacts' max_normal_force, except under InvalidInput, where everything is zero.
 template <class GraspT>
 struct ConstrainedSolution : Solution<GraspT> {
   /// The grasp's scalar type (float or double).
   using Scalar = typename GraspT::ScalarType;
-  /// Infeasible: a 6-vector y of dual norm |(y_f, L y_m)| = 1 (L the longest lever arm, see
-  /// solve_constrained) with G_i^T y in the dual cone K_i^* for every contact (its distance to
-  /// K_i^* at most ConstrainedSettings::certificate_tolerance (1 + |r_i| / L)) and
-  /// y.w_ext > 0. It proves that no forces in
-  /// the cones balance w_ext: for x_i in K_i, y.(G x) >= 0, so y.(G x + w_ext) > 0. Zero otherwise.
+  /// Infeasible: a 6-vector y of dual norm |(y_f, L y_m)| = 1 (L the longest lever arm) with
+  /// y.w_ext > 0 and every G_i^T y in the dual cone K_i^* to within
+  /// ConstrainedSettings::certificate_tolerance (y.w_ext) / |w_ext|_L (for a contact with a
+  /// bound: G_i^T y + tau_i a_i in K_i^* for some tau_i >= 0 with sum_i tau_i c_i < y.w_ext). It
+  /// proves that no forces in the cones balance w_ext: for x_i in K_i, y.(G x) >= 0, so
+  /// y.(G x + w_ext) > 0 (with bounds, y.(G x) >= -sum_i tau_i c_i). Zero otherwise.
   Wrench<Scalar> certificate{Wrench<Scalar>::Zero()};
   /// F2 at `forces`: 1/2 sum_i w_i |x_i - t_i|^2.
   Scalar objective{0};
-  /// The dual function q at `multipliers`, F2(x) - lambda.(G x + w_ext): a lower bound on the
-  /// optimum whenever the problem is feasible.
+  /// Ok: the dual function q at `multipliers`, F2(x) - lambda.(G x + w_ext) (the optimum lies
+  /// between it and `objective`). Otherwise 0.
   Scalar dual_objective{0};
-  /// True when the unconstrained optimum was inside every cone (f_n > 0) and was returned at once.
+  /// True when the unconstrained optimum was inside every cone (f_n > 0, below its bound) and was
+  /// returned at once.
   bool fast_path{false};
-  /// O(n) passes over the contacts after the fast path (0 on it): the Newton iteration's and
-  /// the least-residual problem's projections, the unit of ConstrainedSettings::max_passes.
+  /// Ok: true when `forces` are the projections x_i(lambda) of `multipliers` (the fast path, or
+  /// Newton's refinement converged): every contact's KKT conditions then hold exactly; false when
+  /// they are the interior-point method's answer, strictly inside their cones and optimal to its
+  /// tolerance (ScalarTraits::interior_tolerance: the duality gap relative to F2). False otherwise.
+  bool refined{false};
+  /// O(n) passes over the contacts after the fast path: three per interior-point iteration, one
+  /// more per interior-point run, one per Newton trial.
   int passes{0};
 };
 
-/// The exact optimum of min 1/2 sum_i w_i |x_i - t_i|^2 s.t. G x + w_ext = 0, x_i in K_i
-/// (K_i = ExactConeT<Model, Scalar>, see exact_cone.hpp), for any Grasp (fixed or Dynamic,
-/// any model, float or double). No heap, no exceptions; at most settings.max_iterations
-/// Newton iterations of O(n) each, each with at most settings.max_line_search O(n) passes, plus
-/// (only when infeasibility is suspected) as many again for the least-residual problem;
-/// `iterations` counts both, `passes` the passes, and settings.max_passes bounds them (the
-/// deadline of a real-time caller: the solve then costs at most about the fast path plus
-/// max_passes times one pass and one 6x6 solve).
+/// The exact optimum of min 1/2 sum_i w_i |x_i - t_i|^2 s.t. G x + w_ext = 0, x_i in K_i and
+/// f_n,i <= c_i (K_i = ExactConeT<Model, Scalar>, see exact_cone.hpp; c_i the contact's
+/// max_normal_force), for any Grasp (fixed or Dynamic, any model, float or double). No heap, no
+/// exceptions; at most settings.max_iterations interior-point iterations of three O(n) passes
+/// each, plus at most twice settings.newton_passes O(n) passes: the solve's time is bounded by
+/// about the fast path plus that many passes and 6x6 solves (docs/solve.md gives both per
+/// contact count).
 ///
-/// Fast path, always tried first: solve_range_space's unconstrained optimum; if every force is
-/// in its cone with f_n > 0 it is the answer (status Ok, iterations 0, fast_path true).
-/// Otherwise the iteration starts from that optimum's multipliers (cold start), or from the
-/// previous frame's `multipliers` when given (warm start: a 6-vector, so the contact count may
-/// change between frames). A grasp matrix of rank < 6 or close to it (one that
-/// solve_range_space's first factorisation does not accept) skips the fast path: the cold
-/// start is then zero multipliers (detail::RankFallback::decline).
-///
-/// Wrenches are measured in the equilibrium norm |(f, m)|_L = |(f, m / L)|, L = max_i |r_i| the
-/// grasp's longest lever arm (1 m if every contact is at the reference point), so that every
-/// verdict is the same in every unit of length (docs/solve.md); `residual` still reports the
-/// plain |G x + w_ext|.
+/// Fast path, always tried first: solve_range_space's unconstrained optimum; if every force is in
+/// its cone with f_n > 0 and below its bound it is the answer (status Ok, iterations 0, fast_path
+/// true). Otherwise, given `warm_multipliers` (the previous frame's `multipliers`: a 6-vector, so
+/// the contact count may change between frames), Newton's method on the dual starts from them
+/// for settings.newton_passes passes and answers if it converges. Otherwise the interior-point
+/// method decides: it finds the optimum (then refined by Newton from its multipliers, to the
+/// tolerance) or a certificate that none exists. Wrenches are measured in the equilibrium norm
+/// |(f, m)|_L = |(f, m / L)|, L = max_i |r_i| (1 m if every contact is at the reference point),
+/// so that every verdict is the same in every unit of length; `residual` reports |G x + w_ext|.
 ///
 /// Statuses and numbers:
-/// - Ok: |G x + w_ext|_L <= tolerance (|w_ext|_L + |x|) (or, where coarser and
-///   settings.resolution_bar, 16 eps times the residual's step when each multiplier moves by its
-///   last place: sum_k |H e_k|_L |lambda_k|, H the Newton matrix) with duality gap |lambda.(G x + w_ext)| <=
-///   gap_tolerance F2 (or the residual is at round-off). `forces` are in their cones, the KKT
-///   conditions of every contact hold exactly (x_i is a projection), `objective` is F2.
-/// - Infeasible: no forces in the cones balance w_ext (the grasp slips). `certificate` holds y
-///   (see ConstrainedSolution). `forces` come closest: the best point, by the least-residual
-///   objective |G x + w_ext|_L^2/2 + delta F2(x), that its solve over the cones meets (delta =
-///   least_residual_weight times the largest diagonal entry of G W^-1 G^T in the norm's units,
-///   moment entries over L^2), i.e. about the smallest equilibrium residual in |.|_L, ties
-///   broken by F2; within 1e-5 (double) and 1e-2 (float) of the forces' scale of it on the
-///   cvxopt reference instances.
-///   `multipliers` are then that problem's (y = multipliers / |(multipliers_f, L multipliers_m)|).
-///   Decided when the Newton iteration stalls (stall_limit = 8 steps in a row fail to halve
-///   the residual of the last step that did: ConstrainedSettings), at its iteration bound,
-///   or (double) once its growing multipliers point along a certificate
-///   (certificate_check_growth); the least-residual solve has its own
-///   max_iterations bound. In float (the defaults of ConstrainedSettings) the least-residual
-///   solve is retried with a 100 and 10^4 times smaller delta (within that one bound) if its
-///   certificate misses the tolerance, the direction of the diverging Newton multipliers is
-///   tried as a second certificate, and a certificate found on a stall is used only if Newton
-///   has not converged within 12 more iterations (infeasible_grace).
-/// - IterationLimit: an iteration bound or the deadline (max_passes) was reached, or the line
-///   search stalled, before the tolerance; `forces` = x(lambda) of the iterate with the least
-///   residual met (in the cones), `multipliers` its lambda, `residual` what is left.
+/// - Ok, refined (the usual case): |G x + w_ext|_L <= tolerance (|w_ext|_L + |x| + max_i s_i) (the
+///   squeezing forces' size counts: a grasp whose optimum sits at the cones' apexes has |x| near
+///   0), and `forces` are the projections x_i(lambda) at `multipliers`, so the KKT conditions of
+///   every contact hold exactly. Ok, not refined (where Newton's refinement does not converge:
+///   soft fingers with bounds, a soft finger's torsion at micrometres, G nearly of rank < 6): the
+///   interior-point method's answer, to ScalarTraits::interior_tolerance (residual as above, and
+///   the duality gap relative to F2). `objective` is F2.
+/// - Infeasible: no forces in the cones (and bounds) balance w_ext: the grasp slips.
+///   `certificate` proves it (see ConstrainedSolution). `forces` are the minimiser of
+///   |G x + w_ext|_L^2/2 + delta F2(x) over the cones (delta = least_residual_weight times the
+///   largest diagonal entry of G W^-1 G^T in |.|_L's units): the forces that come closest to
+///   balancing w_ext, ties broken by F2, to the interior-point method's tolerance. `multipliers`
+///   are zero.
+/// - IterationLimit: settings.max_iterations reached first (or a numerical failure); `forces` are
+///   the last iterate's, in the cones, `multipliers` its, `residual` what is left.
 /// - InvalidInput: incomplete grasp, bad w_ext, bad settings or a non-finite warm start: zeros.
 /// A grasp matrix of rank < 6 is not an error here: the answer is Ok if the wrench can still be
 /// balanced inside the cones, Infeasible (with a certificate) otherwise.
@@ -117,28 +116,44 @@ ConstrainedSolution<GraspT> solve_constrained(const GraspT& grasp, const Wrench<
 
 namespace detail {
 
+/// `sol` as InvalidInput: zero forces (`unknowns` of them) and multipliers, the largest residual.
+template <class GraspT>
+void fill_invalid(ConstrainedSolution<GraspT>& sol, int unknowns) {
+  sol.forces.setZero(unknowns);
+  sol.multipliers.setZero();
+  sol.status = Status::InvalidInput;
+  sol.residual = std::numeric_limits<typename GraspT::ScalarType>::max();
+  sol.iterations = 0;
+}
+
+/// True when the unknowns x_i of contact c keep its bound: f_n <= max_normal_force.
+template <class Model, class S, class V>
+bool within_bound(const Contact<S>& c, const V& x) {
+  if (!(c.max_normal_force < std::numeric_limits<S>::infinity())) return true;
+  if constexpr (Model::dim == 1) {
+    return x(0) <= c.max_normal_force;
+  } else {
+    return c.normal.dot(x.template head<3>()) <= c.max_normal_force;
+  }
+}
+
 /// The fast path: the unconstrained optimum (solve_range_space's first factorisation only:
 /// RankFallback::decline leaves Singular with zero multipliers), returned as the answer when
-/// every force is in its cone with f_n > 0 (a feasible minimiser of the relaxed problem solves
-/// the constrained one). Writes it into `sol` and its multipliers into `lambda`; returns true
-/// if it is the answer (status Ok, fast_path true). One solve_range_space plus one
-/// square-root-free cone test per contact (Cone::slips with zero slack; for hard fingers all
-/// contacts at once by detail::coulomb_all_inside, vectorised where compiled in). The diagonal
-/// of G W^-1 G^T goes to `gram_diagonal` (see range_space_solve).
+/// every force is in its cone with f_n > 0 and below its bound (a feasible minimiser of the
+/// relaxed problem solves the constrained one). Writes it into `sol` and the diagonal of
+/// G W^-1 G^T into `gram_diagonal`; returns true if it is the answer (status Ok, fast_path true).
 template <class GraspT>
 EIGEN_DONT_INLINE bool constrained_fast_path(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
-                           ConstrainedSolution<GraspT>& sol, Wrench<typename GraspT::ScalarType>& lambda,
-                           Wrench<typename GraspT::ScalarType>& gram_diagonal) {
+                                             ConstrainedSolution<GraspT>& sol,
+                                             Wrench<typename GraspT::ScalarType>& gram_diagonal) {
   using S = typename GraspT::ScalarType;
-  using Cone = ExactConeT<typename GraspT::ModelType, S>;
+  using M = typename GraspT::ModelType;
+  using Cone = ExactConeT<M, S>;
   constexpr int d = GraspT::dim;
   Wrench<S> rhs, res;
-  // solve_constrained_impl has checked the grasp and w_ext.
   if (!range_space_solve<RankFallback::decline>(grasp, w_ext, sol, rhs, res, &gram_diagonal, true)) return false;
-  lambda = sol.multipliers;
   bool inside = sol.status == Status::Ok;
   if constexpr (std::is_same<Cone, CoulombCone<S>>::value) {
-    // All contacts at once (SIMD where compiled in; see coulomb_kernel.hpp), zero slack.
     inside = inside && detail::coulomb_all_inside_grasp(grasp, sol.forces);
   } else {
     for (int i = 0; i < grasp.size() && inside; ++i) {
@@ -147,14 +162,187 @@ EIGEN_DONT_INLINE bool constrained_fast_path(const GraspT& grasp, const Wrench<t
       inside = cone.normal_part(x) > S(0) && !cone.slips(x, S(0));
     }
   }
+  for (int i = 0; i < grasp.size() && inside; ++i)
+    inside = within_bound<M>(grasp.contact(i), sol.forces.template segment<d>(i * d));
   if (!inside) return false;
+  const Wrench<S>& lambda = sol.multipliers;
   // F2(x) = 1/2 lambda^T M lambda = 1/2 lambda.(rhs + res); the dual is F2 - lambda.res.
   const S l_rhs = lambda.dot(rhs), l_res = lambda.dot(res);
   sol.objective = S(0.5) * (l_rhs + l_res);
   sol.dual_objective = S(0.5) * (l_rhs - l_res);
   sol.iterations = 0;
   sol.fast_path = true;
+  sol.refined = true;
   return true;
+}
+
+/// F2 of the stacked unknowns x.
+template <class GraspT, class Vec>
+typename GraspT::ScalarType objective_of(const GraspT& grasp, const Vec& x) {
+  using S = typename GraspT::ScalarType;
+  using M = typename GraspT::ModelType;
+  constexpr int d = GraspT::dim;
+  S f2(0);
+  for (int i = 0; i < grasp.size(); ++i) {
+    const auto& c = grasp.contact(i);
+    f2 += S(0.5) * c.weight * (x.template segment<d>(i * d) - M::target(c)).squaredNorm();
+  }
+  return f2;
+}
+
+/// The interior-point iterate's forces, each scaled into its bound if the (infeasible-start)
+/// iterate has not yet met it: the answer of a solve that the bound on iterations cuts.
+template <class GraspT, class Vec>
+void keep_within_bounds(const GraspT& grasp, Vec& x) {
+  using S = typename GraspT::ScalarType;
+  constexpr int d = GraspT::dim;
+  for (int i = 0; i < grasp.size(); ++i) {
+    const auto& c = grasp.contact(i);
+    auto xi = x.template segment<d>(i * d);
+    const S fn = d == 1 ? S(xi(0)) : c.normal.dot(xi.template head<3>());
+    if (fn > c.max_normal_force) xi *= c.max_normal_force / fn;
+  }
+}
+
+/// Writes the dual Newton iterate into `sol` as an Ok answer.
+template <class GraspT>
+void take_newton(const DualNewton<GraspT>& newton, ConstrainedSolution<GraspT>& sol) {
+  newton.engine().store(newton.forces(), sol.forces);
+  sol.multipliers = newton.lambda();
+  sol.residual = stable_norm(newton.sums().residual);
+  sol.objective = newton.sums().f2;
+  sol.dual_objective = newton.sums().dual;
+  sol.status = Status::Ok;
+  sol.refined = true;
+}
+
+/// The least-residual problem's answer (solve_constrained's Infeasible forces) in `sol`: the
+/// soft form of the problem in lanes `k` (cleared and refilled), by the interior-point method
+/// with what is left of settings.max_iterations after `used`.
+template <class GraspT, class Lanes>
+void least_residual_forces(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
+                           const ConstrainedSettings<typename GraspT::ScalarType>& settings,
+                           const Wrench<typename GraspT::ScalarType>& gram_diagonal, int used, Lanes& k,
+                           ForceProblem<GraspT>& problem, ConstrainedSolution<GraspT>& sol) {
+  using S = typename GraspT::ScalarType;
+  // delta = least_residual_weight times the largest diagonal entry of G W^-1 G^T in |.|_L's units.
+  const EquilibriumNorm<S> norm = EquilibriumNorm<S>::of(grasp);
+  const Wrench<S> t2 = norm.weights().cwiseAbs2();
+  S gd(0);
+  for (int j = 0; j < 6; ++j) gd = std::max(gd, gram_diagonal(j) * t2(j));
+  k.clear(grasp.size());
+  problem.fill(grasp, w_ext, k, S(1));  // the scales first
+  const S delta_n = settings.least_residual_weight * gd * problem.weight;
+  k.clear(grasp.size());
+  problem.fill(grasp, w_ext, k, delta_n);
+  InteriorPointSettings<S> lr;
+  lr.tolerance = std::max(S(ScalarTraits<S>::interior_tolerance), settings.tolerance);
+  lr.feasibility_tolerance = lr.tolerance;  // the answer's accuracy is the interior-point method's
+  lr.certificate_tolerance = settings.certificate_tolerance;
+  lr.max_iterations = std::max(settings.max_iterations - used, 1);
+  lr.soft = true;
+  lr.cost_offset = problem.cost_offset(grasp) * delta_n;
+  lr.residual_floor = problem.squeeze_scale(grasp);
+  const InteriorPointResult<S> q = interior_point(k, problem.b, problem.q_norm, lr);
+  sol.iterations += q.iterations;
+  sol.passes += 3 * q.iterations + 1 - 2 * q.backtracks;
+  problem.forces(grasp, k, q.tau, sol.forces);
+  keep_within_bounds(grasp, sol.forces);
+  sol.multipliers.setZero();
+  sol.status = Status::Infeasible;
+}
+
+template <class GraspT>
+EIGEN_DONT_INLINE void solve_constrained_iterate(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
+                                                 const ConstrainedSettings<typename GraspT::ScalarType>& settings,
+                                                 const Wrench<typename GraspT::ScalarType>* warm,
+                                                 const Wrench<typename GraspT::ScalarType>& gram_diagonal,
+                                                 ConstrainedSolution<GraspT>& sol) {
+  using S = typename GraspT::ScalarType;
+  using Problem = ForceProblem<GraspT>;
+  const int m = grasp.unknowns();
+  sol.forces.resize(m);
+  sol.certificate.setZero();
+  sol.dual_objective = S(0);
+  sol.fast_path = false;
+  sol.refined = false;
+  sol.iterations = 0;
+  sol.passes = 0;
+  // Bounds: Newton projects onto the truncated cones, one contact at a time; a soft finger's has no
+  // closed form, so a grasp of bounded soft fingers is the interior-point method's alone.
+  bool bounded = false;
+  for (int i = 0; i < grasp.size(); ++i)
+    bounded = bounded || grasp.contact(i).max_normal_force < std::numeric_limits<S>::infinity();
+  const int newton_passes = bounded && GraspT::dim == 4 ? 0 : settings.newton_passes;
+  DualNewton<GraspT> newton(grasp, w_ext, gram_diagonal, settings.tolerance, bounded);
+  typename Problem::Lanes k(grasp.size());
+  Problem problem;
+  // 1. Newton from the warm start, or from the unconstrained optimum's multipliers: the answer
+  // when it converges; an infeasible grasp's multipliers may grow along a certificate meanwhile.
+  if (newton_passes > 0) {
+    const bool done = newton.run(warm != nullptr ? *warm : sol.multipliers, newton_passes);
+    sol.passes = newton.passes();
+    if (done) {
+      take_newton(newton, sol);
+      return;
+    }
+  }
+  // 2. The interior-point method: the optimum (to its own tolerance: Newton's refinement gives the
+  // solve's), or a certificate that there is none; one iteration is kept for the least-residual
+  // problem.
+  problem.fill(grasp, w_ext, k, S(1));
+  InteriorPointSettings<S> ip;
+  ip.tolerance = std::max(S(ScalarTraits<S>::interior_tolerance), settings.tolerance);
+  ip.feasibility_tolerance = ip.tolerance;
+  ip.certificate_tolerance = settings.certificate_tolerance;
+  ip.max_iterations = settings.max_iterations - 1;
+  ip.cost_offset = problem.cost_offset(grasp);
+  ip.residual_floor = problem.squeeze_scale(grasp);
+  InteriorPointResult<S> r = interior_point(k, problem.b, problem.q_norm, ip);
+  sol.iterations = r.iterations;
+  sol.passes += 3 * r.iterations + 1 - 2 * r.backtracks;
+  if (r.status == Status::Infeasible) {
+    sol.certificate = problem.certificate(r.y);
+    least_residual_forces(grasp, w_ext, settings, gram_diagonal, r.iterations, k, problem, sol);
+    sol.residual = stable_norm(Wrench<S>(grasp.wrench(sol.forces) + w_ext));
+    sol.objective = objective_of(grasp, sol.forces);
+    return;
+  }
+  if (r.status == Status::Ok && newton_passes > 0) {
+    // 3. Refined by Newton from the interior-point multipliers: projections, KKT exact.
+    const int before = newton.passes();
+    const bool done = newton.run(problem.multipliers(r.y, r.tau), before + newton_passes);
+    sol.passes += newton.passes() - before;
+    if (done) {
+      take_newton(newton, sol);
+      return;
+    }
+  }
+  // The interior-point answer, not refined (a soft finger with a bound, a soft finger's torsion at
+  // micrometres, G nearly of rank < 6): Ok to the interior-point method's tolerance, else its last
+  // iterate (IterationLimit).
+  problem.forces(grasp, k, r.tau, sol.forces);
+  keep_within_bounds(grasp, sol.forces);
+  sol.multipliers = problem.multipliers(r.y, r.tau);
+  sol.status = Status::IterationLimit;
+  const Wrench<S> res = grasp.wrench(sol.forces) + w_ext;
+  sol.residual = stable_norm(res);
+  sol.objective = objective_of(grasp, sol.forces);
+  const EquilibriumNorm<S>& norm = problem.norm;
+  S squeeze(0);
+  for (int i = 0; i < grasp.size(); ++i) squeeze = std::max(squeeze, grasp.contact(i).squeeze);
+  const S loose = std::max(S(ScalarTraits<S>::interior_tolerance), settings.tolerance);
+  if (r.status == Status::Ok && norm(res) <= loose * (norm(w_ext) + sol.forces.norm() + squeeze)) {
+    sol.status = Status::Ok;
+    sol.dual_objective = problem.in_f2_units(r.dual_cost);
+  }
+  if (!sol.forces.allFinite() || !sol.multipliers.allFinite() || !std::isfinite(sol.objective)) {
+    sol.forces.setZero(m);
+    sol.multipliers.setZero();
+    sol.residual = stable_norm(w_ext);
+    sol.objective = objective_of(grasp, sol.forces);
+    if (sol.status == Status::Ok) sol.status = Status::IterationLimit;
+  }
 }
 
 template <class GraspT>
@@ -170,7 +358,6 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
     fill_invalid(sol, m);
     return sol;
   }
-
   if (grasp.size() == 0) {  // nothing can push: feasible only for w_ext = 0
     fill_invalid(sol, m);
     sol.residual = detail::stable_norm(w_ext);
@@ -185,14 +372,9 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
     }
     return sol;
   }
-
-  // Start: the unconstrained optimum (returned at once if strictly inside), or the warm start.
-  // The fast path writes every field of sol that an Ok answer documents (the rest keep their
-  // constructed values); SemismoothNewton::run resets it for any other outcome.
-  Wrench<S> lambda = Wrench<S>::Zero();
   Wrench<S> gram_diagonal = Wrench<S>::Zero();  // of G W^-1 G^T, from the fast path's solve
-  if (constrained_fast_path(grasp, w_ext, sol, lambda, gram_diagonal)) return sol;
-  SemismoothNewton<GraspT>::run(grasp, w_ext, settings, warm, lambda, gram_diagonal, sol);
+  if (constrained_fast_path(grasp, w_ext, sol, gram_diagonal)) return sol;
+  solve_constrained_iterate(grasp, w_ext, settings, warm, gram_diagonal, sol);
   return sol;
 }
 

@@ -167,6 +167,7 @@ Contact<To> cast_contact(const Contact<S>& c) {
   w.torsional_friction = To(c.torsional_friction);
   w.squeeze = To(c.squeeze);
   w.weight = To(c.weight);
+  w.max_normal_force = To(c.max_normal_force);
   return w;
 }
 

@@ -32,28 +32,6 @@
 namespace grip {
 namespace detail {
 
-/// Round-off allowance of solve_constrained's tests, in units of eps: a residual within 16 eps
-/// of its scale counts as converged, a line search accepts a point whose objective falls short
-/// of the Armijo bar by 16 eps of the objectives' size, and the least-residual Newton matrix is
-/// floored at 16 eps. Not a tuning constant (hence not in ConstrainedSettings): it covers the
-/// rounding of the passes' sums, a few eps per term after Jacobi scaling.
-constexpr int constrained_roundoff = 16;
-
-/// The pass budget of one solve (ConstrainedSettings::max_passes): each pass over the
-/// contacts is counted in `used`, and none is started once `used` reaches `limit`.
-struct PassBudget {
-  int limit;    ///< passes allowed
-  int used{0};  ///< passes made
-  /// True while another pass may be started.
-  bool left() const { return used < limit; }
-  /// One pass of `passes` (ConstrainedPasses::pass's arguments), counted. Callers check left().
-  template <class Passes, class... Args>
-  auto run(const Passes& passes, Args&&... args) {
-    ++used;
-    return passes.pass(std::forward<Args>(args)...);
-  }
-};
-
 /// The cone's own projection, except a Coulomb cone with mu = 0 (the ray {f_n a, f_n >= 0}):
 /// there CoulombCone::project keeps f = f_n a with f_n < 0 (reported to the cone's owner), so
 /// the ray's projection max(f.a, 0) a is used.
@@ -151,15 +129,64 @@ typename GraspT::ContactVector project_accumulate(const typename GraspT::Contact
   }
 }
 
+/// x_i = the projection of v onto the contact's cone truncated at its bound c = max_normal_force
+/// (K_i with f_n <= c), and, when `acc` is given, k G_i J G_i^T added to it, J the projection's
+/// generalised Jacobian; hard fingers and frictionless points (Newton is not run on a soft finger
+/// with a bound). When the cone's projection keeps f_n <= c it is the answer (it lies in the
+/// truncated cone and is the nearest point of a larger set); otherwise the answer lies on the
+/// cap f_n = c (a point of the cap's interior side would be a local, hence the global, nearest
+/// point of K): x = c a + v_t clipped to the disc |x_t| <= mu c, with J = I - a a^T inside the
+/// disc and (mu c / |v_t|)(I - a a^T - e e^T), e = v_t / |v_t|, on its rim. A frictionless
+/// point: x = min(max(v, 0), c), J = 1 strictly between. Unbounded contacts: project_accumulate.
+template <class GraspT>
+typename GraspT::ContactVector project_accumulate_bounded(const typename GraspT::ContactType& c,
+                                                          typename GraspT::ScalarType k,
+                                                          const typename GraspT::ContactVector& v,
+                                                          GramAccumulator<typename GraspT::ScalarType>* acc) {
+  using S = typename GraspT::ScalarType;
+  using M = typename GraspT::ModelType;
+  using CV = typename GraspT::ContactVector;
+  constexpr int d = GraspT::dim;
+  static_assert(d != 4, "no bounded projection for soft fingers");
+  const S cap = c.max_normal_force;
+  if (!(cap < std::numeric_limits<S>::infinity())) return project_accumulate<GraspT>(c, k, v, acc);
+  if constexpr (d == 1) {
+    const S x = v(0) > S(0) ? (v(0) < cap ? S(v(0)) : cap) : S(0);
+    if (acc != nullptr && v(0) > S(0) && v(0) < cap) M::accumulate(*acc, c, k);
+    return CV::Constant(cone_input_valid(v) ? x : S(0));
+  } else {
+    const CV free = project_accumulate<GraspT>(c, k, v, nullptr);
+    if (!(free.dot(c.normal) > cap)) return project_accumulate<GraspT>(c, k, v, acc);
+    const Vector3<S>& a = c.normal;
+    const Vector3<S> vt = v - v.dot(a) * a;
+    const S ft = vt.norm(), rim = c.friction * cap;
+    const bool inside = ft <= rim;
+    const S keep = inside ? S(1) : rim / ft;
+    if (acc != nullptr && keep > S(0)) {
+      // J = keep (I - a a^T) (- keep e e^T on the rim).
+      Matrix3<S> j = keep * (Matrix3<S>::Identity() - a * a.transpose());
+      if (!inside) {
+        const Vector3<S> e = vt / ft;
+        j -= keep * e * e.transpose();
+      }
+      const Eigen::Matrix<S, 6, d> g = M::basis(c);
+      acc->extra.noalias() += (k * (g * j)) * g.transpose();
+    }
+    return CV(cap * a + keep * vt);
+  }
+}
+
 /// x_i = P_i(t_i + w_i^-1 G_i^T lambda) for every contact, with the sums of ConstrainedPass;
 /// with `hessian` given, also sum_i w_i^-1 G_i J_i G_i^T at lambda in the same pass (so that an
-/// accepted line-search point needs no second pass for the next Newton step).
+/// accepted line-search point needs no second pass for the next Newton step). `bounded`: P_i
+/// projects onto the cone truncated at the contact's max_normal_force (project_accumulate_bounded).
 template <class GraspT, class Vec>
 ConstrainedPass<typename GraspT::ScalarType> constrained_pass(const GraspT& grasp,
                                                               const Wrench<typename GraspT::ScalarType>& w_ext,
                                                               const Wrench<typename GraspT::ScalarType>& lambda,
                                                               Vec& x,
-                                                              GramAccumulator<typename GraspT::ScalarType>* hessian = nullptr) {
+                                                              GramAccumulator<typename GraspT::ScalarType>* hessian = nullptr,
+                                                              bool bounded = false) {
   using S = typename GraspT::ScalarType;
   using M = typename GraspT::ModelType;
   using CV = typename GraspT::ContactVector;
@@ -172,7 +199,13 @@ ConstrainedPass<typename GraspT::ScalarType> constrained_pass(const GraspT& gras
     const auto& c = grasp.contact(i);
     const CV t = M::target(c);
     const CV v = t + grasp.inverse_weight(i) * M::wrench_transpose(c, lambda);
-    const CV xi = project_accumulate<GraspT>(c, grasp.inverse_weight(i), v, hessian);
+    CV xi;
+    if constexpr (d != 4) {
+      xi = bounded ? project_accumulate_bounded<GraspT>(c, grasp.inverse_weight(i), v, hessian)
+                   : project_accumulate<GraspT>(c, grasp.inverse_weight(i), v, hessian);
+    } else {
+      xi = project_accumulate<GraspT>(c, grasp.inverse_weight(i), v, hessian);
+    }
     x.template segment<d>(i * d) = xi;
     p.residual += M::wrench(c, xi);
     p.f2 += S(0.5) * c.weight * (xi - t).squaredNorm();
@@ -194,9 +227,9 @@ class ContactPasses {
   explicit ContactPasses(const GraspT& grasp) : grasp_(grasp) {}
   Forces make_forces() const { return Forces(grasp_.unknowns()); }
   ConstrainedPass<Scalar> pass(const Wrench<Scalar>& w_ext, const Wrench<Scalar>& lambda, Forces& x,
-                               Matrix6<Scalar>& hessian) const {
+                               Matrix6<Scalar>& hessian, bool bounded = false) const {
     GramAccumulator<Scalar> acc;
-    const ConstrainedPass<Scalar> p = constrained_pass(grasp_, w_ext, lambda, x, &acc);
+    const ConstrainedPass<Scalar> p = constrained_pass(grasp_, w_ext, lambda, x, &acc, bounded);
     hessian = acc.matrix();
     return p;
   }
@@ -207,40 +240,29 @@ class ContactPasses {
   void store(const Forces& x, Vec& out) const {
     out = x;
   }
+  template <class Vec>
+  void load(const Vec& in, Forces& x) const {
+    x = in;
+  }
 
  private:
   const GraspT& grasp_;
 };
 
-/// The second trial of both line searches (after the full step failed) from multipliers `l`
-/// along `dir`: the first kink of their dual (`passes.first_break` at the passes' inputs `pl`,
-/// `pdir` for l, dir), or with `past` just beyond it, kink (1 + sqrt(eps)), if the kink comes
-/// before `alpha` and lies beyond l's rounding, a step of more than 16 eps |l|; else `alpha`.
-/// A step accepted at a kink leaves l on that surface, to its rounding, and first_break may
-/// find it again as a root just above its cut-off: a trial there would not move l (or by its
-/// last places), and the search would end on it. Past it (Newton's search), the pass takes
-/// its Hessian from the region the step entered: on the surface rounding picks either side,
-/// and the side left behind gives the next step the same overshoot (Newton then zig-zags
-/// across the kink, the dual rising linearly). The dual is C^1, so the margin changes nothing
-/// else. The least-residual search stays on the kink: its dual's curvature grows as 1/delta.
+/// The second trial of Newton's line search (after the full step failed) from multipliers `l`
+/// along `dir`: just past the first kink of the dual, kink (1 + sqrt(eps)) (`passes.first_break`
+/// at l, dir), if it comes before `alpha` and lies beyond l's rounding (a step of more than
+/// 16 eps |l|); else `alpha`. A step accepted at a kink would leave l on that surface, to its
+/// rounding; past it, the next pass takes its Hessian from the region the step entered (on the
+/// surface rounding picks either side, and the side left behind gives the next step the same
+/// overshoot: Newton would zig-zag across the kink). The dual is C^1, so the margin changes
+/// nothing else.
 template <class Passes, class S>
-S second_trial(const Passes& passes, const Wrench<S>& pl, const Wrench<S>& pdir, const Wrench<S>& l,
-               const Wrench<S>& dir, S alpha, bool past = true) {
+S second_trial(const Passes& passes, const Wrench<S>& l, const Wrench<S>& dir, S alpha) {
   const S eps = std::numeric_limits<S>::epsilon();
-  const S kink = passes.first_break(pl, pdir);
-  const bool ahead = kink * dir.norm() > S(constrained_roundoff) * eps * l.norm();
-  return kink < alpha && ahead ? kink * (S(1) + (past ? std::sqrt(eps) : S(0))) : alpha;
-}
-
-/// True when every projection input t_i + w_i^-1 G_i^T lambda is within max_magnitude.
-template <class GraspT>
-bool projection_inputs_in_range(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& lambda) {
-  using M = typename GraspT::ModelType;
-  for (int i = 0; i < grasp.size(); ++i) {
-    const auto& c = grasp.contact(i);
-    if (!cone_input_valid(M::target(c) + grasp.inverse_weight(i) * M::wrench_transpose(c, lambda))) return false;
-  }
-  return true;
+  const S kink = passes.first_break(l, dir);
+  const bool ahead = kink * dir.norm() > S(16) * eps * l.norm();
+  return kink < alpha && ahead ? kink * (S(1) + std::sqrt(eps)) : alpha;
 }
 
 /// The pass engine of solve_constrained for a grasp type.
