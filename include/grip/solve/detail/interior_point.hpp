@@ -54,6 +54,7 @@ struct InteriorPointSettings {
   bool soft{false};                  ///< the soft form: 1/2 |A u - b|^2 instead of A u = b
   S cost_offset{0};                  ///< a constant of the objective (the gap's relative test counts it)
   S residual_floor{0};               ///< added to |b| + |x| as the rows' residual scale (the targets' size)
+  S objective_floor{0};              ///< the gap's scale is max(|objective|, objective_floor) (an absolute floor)
 };
 
 /// What the interior-point method returns.
@@ -170,7 +171,7 @@ InteriorPointResult<S> interior_point(Lanes& k, const Wrench<S>& b, S q_norm, co
     const S res_d = std::sqrt(a.rx2 + rr.squaredNorm()) / tau / std::max(S(1), q_norm + xn + zn);
     // The gap relative to the objective itself (F2 >= 0, its constant counted: cost_offset), not
     // to max(1, objective): F2 in the problem's units spans many orders of magnitude.
-    const S gap = std::abs(pcost - dcost) / std::max(std::max(std::abs(pcost), std::abs(dcost)), eps);
+    const S gap = std::abs(pcost - dcost) / std::max(std::max(std::abs(pcost), std::abs(dcost)), std::max(st.objective_floor, eps));
     if (res_p <= st.feasibility_tolerance && res_d <= st.feasibility_tolerance && gap <= st.tolerance) {
       out.status = Status::Ok;
       break;
