@@ -13,9 +13,12 @@ measurement on silicon. Assumed: no flash wait states, a taken branch refills th
 2 cycles (the manual's 1 to 3), neighbouring loads and stores pipeline to one cycle after the
 first. The C library's memcpy and memset run as glibc's (one cycle per instruction).
 
-Prints the cost of a solve as the benchmark's deadline model (bench_constrained Deadline):
-T <= T_fixed + max_passes * T_pass, and the cycles of the fast path and of solves without a
-deadline.
+Prints the cost of a solve as the solver's bounds make it (ConstrainedSettings: newton_passes
+Newton passes before and after the interior-point method, max_iterations iterations of it):
+T <= T_fixed + 2 newton_passes T_pass + max_iterations T_iteration, with T_pass the cost of a
+Newton pass (newton_passes 1 against 8), T_iteration that of an interior-point iteration
+(max_iterations 2 against 12), T_fixed the largest remainder of a solve that leaves the fast
+path; and the cycles of the fast path and of solves with the default settings.
 """
 import os
 import re
@@ -129,32 +132,76 @@ def main():
     if len(costs) != len(reports):
         sys.exit('traced %d solves, the driver reported %d' % (len(costs), len(reports)))
 
-    # reports: (instance, deadline, passes, status, fast_path); deadline 0 = none.
+    # reports: (instance, newton_passes, max_iterations, passes, iterations, status, fast_path,
+    # refined), status as grip::Status (0 Ok, 3 Infeasible, 4 IterationLimit).
     by = {}
-    for (k, d, p, s, fp), c in zip(reports, costs):
-        by.setdefault(k, {})[d] = (p, c, s, fp)
-    fast = [v[0][1] for v in by.values() if v[0][3] == 1]
-    slow = [v for v in by.values() if v[0][3] == 0]
-    # The deadline model, as bench_constrained's Deadline: per pass, the slope between the
-    # deadlines 1 and 4 (both reached by every solve that leaves the fast path); the fixed
-    # part, what deadline 1 costs beyond one pass; the costliest pass, the slope between 4
-    # and 32 per solve that needs 32.
-    slope = (sum(v[4][1] - v[1][1] for v in slow) / sum(v[4][0] - v[1][0] for v in slow))
-    fixed = statistics.mean(v[1][1] - v[1][0] * slope for v in slow)
-    deep = [(v[32][1] - v[4][1]) / (v[32][0] - v[4][0]) for v in slow if v[0][0] >= 32 and v[32][0] > v[4][0]]
-    free = sorted(v[0][1] for v in slow)
-    passes = sorted(v[0][0] for v in slow)
+    for (k, np_, mi, p, it, s, fp, rf), c in zip(reports, costs):
+        by.setdefault(k, {})[(np_, mi)] = dict(newton_passes=np_, passes=p, iterations=it, status=s, fast=fp,
+                                               refined=rf, cycles=c)
+    default = (reports[0][1], reports[0][2])  # the first solve of an instance: the defaults
+    fast = [v[default]['cycles'] for v in by.values() if v[default]['fast']]
+    slow = [v for v in by.values() if not v[default]['fast']]
+    if not fast or not slow:
+        sys.exit('too few grasps for the cost model: run more instances (at least 8)')
+
+    def newton_passes(r):
+        """Newton's passes of a solve: its passes less the interior-point method's (three per
+        iteration and one per run; a step halved back, rare, counts as an iteration of one pass:
+        it is then left in the remainder, T_fixed, on the safe side)."""
+        if r['newton_passes'] == 0:
+            return 0
+        runs = 0 if r['iterations'] == 0 and r['refined'] else 2 if r['status'] == 3 else 1
+        return max(r['passes'] - 3 * r['iterations'] - runs, 0)
+
+    def slope(pairs, unit):
+        """Cycles per unit between two solves of each grasp: over all of them, and the costliest
+        grasp's."""
+        pairs = [(a, b) for a, b in pairs if unit(b) > unit(a)]
+        if not pairs:
+            sys.exit('too few grasps for the cost model: run more instances (at least 8)')
+        total = sum(b['cycles'] - a['cycles'] for a, b in pairs) / sum(unit(b) - unit(a) for a, b in pairs)
+        worst = max((b['cycles'] - a['cycles']) / (unit(b) - unit(a)) for a, b in pairs)
+        return total, worst, len(pairs)
+
+    # A Newton pass: newton_passes 1 against 8 at max_iterations 1 (one interior-point pass, no
+    # iteration), over the grasps whose Newton's method has not converged by then (the two
+    # solves then end alike). An interior-point iteration: max_iterations 2 against 12 with no
+    # Newton pass, over the grasps where both make one interior-point run (not a slipping grasp
+    # whose certificate comes within 12: the least-residual problem's set-up is a fixed cost).
+    t_pass, worst_pass, n_pass = slope([(v[(1, 1)], v[(8, 1)]) for v in slow if not v[(8, 1)]['refined']],
+                                       newton_passes)
+    t_iter, worst_iter, n_iter = slope([(v[(0, 2)], v[(0, 12)]) for v in slow if v[(0, 12)]['status'] != 3],
+                                       lambda r: r['iterations'])
+    # The fixed part: the most any solve that leaves the fast path costs beyond its Newton passes
+    # and interior-point iterations (the fast path, the set-up of Newton's method and of each
+    # interior-point run, the certificate, the answer's residual and objective).
+    runs = [r for v in slow for r in v.values()]
+    fixed = max(r['cycles'] - newton_passes(r) * t_pass - r['iterations'] * t_iter for r in runs)
+    np_d, mi_d = default
+    bound = fixed + 2 * np_d * t_pass + mi_d * t_iter
     print('Cortex-M4F cycles (estimated from the trace), solve_constrained, float, 5 hard fingers:')
     print('  fast path (%d grasps inside the cones): median %d, max %d' %
           (len(fast), statistics.median(fast), max(fast)))
-    print('  deadline model over %d grasps that leave the fast path: T_fixed %d, T_pass %d '
-          '(costliest per grasp %s over %d grasps that need 32 passes)' %
-          (len(slow), fixed, slope, '%d' % max(deep) if deep else '-', len(deep)))
-    worst_pass = max([slope] + deep)
-    print('  bound T_fixed + max_passes * (costliest pass): %d cycles at 8 passes, %d at 16' %
-          (fixed + 8 * worst_pass, fixed + 16 * worst_pass))
-    print('  without a deadline: passes median %d, max %d; cycles median %d, max %d' %
-          (statistics.median(passes), passes[-1], statistics.median(free), free[-1]))
+    print('  a Newton pass with its 6x6 solve: %d (costliest grasp %d; %d grasps, newton_passes 1 to 8)' %
+          (t_pass, worst_pass, n_pass))
+    print('  an interior-point iteration: %d (costliest grasp %d; %d grasps, max_iterations 2 to 12)' %
+          (t_iter, worst_iter, n_iter))
+    print('  T_fixed %d (the largest remainder over the %d solves that leave the fast path)' % (fixed, len(runs)))
+    print('  bound T_fixed + 2 newton_passes T_pass + max_iterations T_iteration at the defaults '
+          '(%d, %d): %d' % (np_d, mi_d, bound))
+    for name, keep in (('holding (Ok)', lambda s: s == 0), ('slipping (Infeasible)', lambda s: s == 3),
+                       ('IterationLimit', lambda s: s == 4)):
+        group = [v[default] for v in slow if keep(v[default]['status'])]
+        if not group:
+            continue
+        slowest = max(group, key=lambda r: r['cycles'])
+        print('  defaults, %d %s: cycles median %d (medians: %d iterations, %d passes), slowest %d '
+              '(%d iterations, %d passes)' %
+              (len(group), name, statistics.median(r['cycles'] for r in group),
+               statistics.median(r['iterations'] for r in group), statistics.median(r['passes'] for r in group),
+               slowest['cycles'], slowest['iterations'], slowest['passes']))
+    over = [v[default]['cycles'] for v in slow if v[default]['cycles'] > bound]
+    print('  default solves above the bound: %d of %d' % (len(over), len(slow)))
 
 
 if __name__ == '__main__':

@@ -24,7 +24,7 @@ tail|include/grip/contact/coulomb_kernel.hpp|x + 3 * b, n - b|x + 3 * b, n - b -
 jacobian|include/grip/solve/projection_jacobian.hpp|  j.noalias() += beta * (Matrix3<Scalar>::Identity() - a * a.transpose() - e * e.transpose());|  j.noalias() += beta * (Matrix3<Scalar>::Identity() - a * a.transpose());|solve/projection_jacobian|contact/coulomb_cone
 pipeline|include/grip/pipeline/haptic_pipeline.hpp|        const auto i = detail::idx(index_[detail::idx(j)]);|        const auto i = detail::idx(index_[detail::idx(j < 2 && grasp_.size() > 1 ? 1 - j : j)]);|pipeline/haptic_pipeline
 horizon|include/grip/analysis/detail/epsilon_polytope.hpp|            m = mg > threshold ? S(sees) : S(seen);|            m = mg > threshold + threshold ? S(sees) : S(seen);|analysis/epsilon
-corrector|include/grip/analysis/detail/cone_lanes.hpp|e0 = l[0] * idet;|e0 = P::set1(S(0)) - l[0] * idet;|analysis/conic_dual
+corrector|include/grip/solve/detail/cone_packs.hpp|  for (int r = 1; r < D; ++r) ld = neg_mul_add(l[r], d[r], ld);|  for (int r = 1; r < D; ++r) ld = mul_add(l[r], d[r], ld);|solve/cone_packs|analysis/conic_reference
 lipschitz|include/grip/geometry/detail/narrow_phase.hpp|if (!(below - spacing > -band) && may_be_inside(x))|if (!(below + spacing > -band) && may_be_inside(x))|geometry/collision_bounds
 EOF
 )

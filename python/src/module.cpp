@@ -197,8 +197,10 @@ PYBIND11_MODULE(_grip, m) {
   py::class_<ForceClosurePy>(m, "ForceClosure", "Force closure of a grasp with its exact cones.")
       .def_readonly("closure", &ForceClosurePy::closure)
       .def_readonly("margin", &ForceClosurePy::margin,
-                    "largest t such that an internal force of total normal force 1 keeps x_i - t e_i in every cone")
-      .def_readonly("unresisted", &ForceClosurePy::unresisted, "(6,) a unit wrench that cannot be resisted (zero in closure)")
+                    "largest t such that an internal force of total normal force 1 keeps x_i - t e_i in every cone "
+                    "(-1e15 when no internal force has normal forces summing to 1; an upper bound at IterationLimit)")
+      .def_readonly("unresisted", &ForceClosurePy::unresisted,
+                    "(6,) a unit wrench that cannot be resisted (zero in closure and at IterationLimit)")
       .def_readonly("internal_force", &ForceClosurePy::internal_force, "(n, dim) an internal force achieving the margin")
       .def_readonly("residual", &ForceClosurePy::residual, "|G internal_force|")
       .def_readonly("rank", &ForceClosurePy::rank)
@@ -228,11 +230,15 @@ PYBIND11_MODULE(_grip, m) {
                      "Newton passes of the warm start and of the refinement, each (one O(n) pass and a 6x6 solve "
                      "each; default 8)");
   using AS = grip::ConicAnalysisSettings<double>;
-  py::class_<AS>(m, "ConicAnalysisSettings", "Tolerance and bounds of force_closure.")
+  py::class_<AS>(m, "ConicAnalysisSettings",
+                 "Tolerance and bound of force_closure (docs/analysis.md). tolerance finite and > 0, max_iterations "
+                 ">= 1; otherwise the analysis answers InvalidInput.")
       .def(py::init<>())
-      .def_readwrite("tolerance", &AS::tolerance)
-      .def_readwrite("max_newton_steps", &AS::max_newton_steps)
-      .def_readwrite("margin_floor", &AS::margin_floor);
+      .def_readwrite("tolerance", &AS::tolerance,
+                     "the interior-point method's residuals and gap (relative) below it; Ok when the margin is "
+                     "bracketed within tolerance (1 + |margin|); closure when margin > 10 tolerance (default 1e-6)")
+      .def_readwrite("max_iterations", &AS::max_iterations,
+                     "interior-point iterations (three O(n) passes each): the worst-case time (default 50)");
 
   m.def("solve_range_space",
         direct_solver([](const auto& x, const grip::Wrench<double>& w) { return grip::solve_range_space(x, w); }),

@@ -386,7 +386,8 @@ def test_force_closure_agrees_with_cvxopt():
         f = grip.force_closure(g)
         assert f.status == grip.Status.Ok
         lo, hi = ref["margin"]
-        assert lo - 1e-9 * (1 + abs(lo)) <= f.margin <= hi + 1e-9 * (1 + abs(lo))
+        tol = grip.ConicAnalysisSettings().tolerance  # Ok: the margin bracketed within it
+        assert lo - tol * (1 + abs(lo)) <= f.margin <= hi + tol * (1 + abs(lo))
         if f.closure:
             assert np.abs(g.grasp_matrix() @ f.internal_force.ravel()).max() <= 1e-9
         checked += 1
@@ -411,6 +412,23 @@ def test_force_closure_of_textbook_grasps():
     a3 = np.tile([0.0, 0.0, 1.0], (7, 1))
     f3 = grip.force_closure(grip.Grasp(p3, a3, 0.0, model=grip.Model.FrictionlessPoint))
     assert not f3.closure
+
+
+def test_conic_analysis_settings_are_read_and_used():
+    s = grip.ConicAnalysisSettings()
+    assert s.tolerance == 1e-6 and s.max_iterations == 50
+    angles = np.radians([0, 130, 250])
+    p = 0.04 * np.stack([np.cos(angles), np.sin(angles), 0.01 * angles], axis=1)
+    g = grip.Grasp(p, -p / np.linalg.norm(p, axis=1)[:, None], 0.5)
+    full = grip.force_closure(g, s)
+    assert full.status == grip.Status.Ok and full.iterations > 2
+    s.max_iterations = 2
+    cut = grip.force_closure(g, s)
+    # Cut short: not decided, and the margin an upper bound on the converged one.
+    assert cut.status == grip.Status.IterationLimit and not cut.closure and cut.margin >= full.margin
+    assert np.all(cut.unresisted == 0)
+    s.max_iterations = 0
+    assert grip.force_closure(g, s).status == grip.Status.InvalidInput
 
 
 BAD = [

@@ -985,7 +985,7 @@ TEST_CASE_TEMPLATE("solve_constrained: bounds on the normal forces (hand derivat
   }
 }
 
-TEST_CASE_TEMPLATE("solve_constrained: an inactive bound changes nothing; soft fingers with bounds", S, double, float) {
+TEST_CASE_TEMPLATE("solve_constrained: an inactive bound changes nothing, and soft fingers with bounds", S, double, float) {
   // Random grasps solved without bounds and with bounds above their optimum's normal forces: the
   // same optimum (the bounded solve's refinement projects onto truncated cones whose caps no force
   // reaches). Then bounds at 0.8 of the largest normal forces: every force below its bound.

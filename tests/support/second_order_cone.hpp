@@ -1,12 +1,10 @@
 #pragma once
 // The second-order cone Q = {u in R^m : u_0 >= |(u_1, ..., u_{m-1})|} one cone at a time, as
-// the definitions of grip/analysis/detail/cone_lanes.hpp read (m = 1 is the half-line
-// u_0 >= 0): the reference that conic_dual.test checks the solver's lane-wise algebra against,
-// itself checked against the defining identities there.
+// the definitions of grip/solve/detail/cone_packs.hpp read (m = 1 is the half-line u_0 >= 0):
+// the reference that solve/cone_packs.test checks the lane-wise algebra against, beside the
+// defining identities.
 
-#include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include <Eigen/Core>
 
@@ -63,34 +61,6 @@ SocVector<S, M> soc_divide(const SocVector<S, M>& lambda, const SocVector<S, M>&
   return d;
 }
 
-// The largest step a >= 0 with u + a d in Q, for u in int Q (infinity when the ray stays
-// inside): the least positive root of det(u + a d) = A a^2 + 2 B a + C, with C = det(u) > 0,
-// and at most -u_0 / d_0 when d_0 < 0 (u_0 + a d_0 >= 0 is necessary). The second bound also
-// decides the rays along which det has a double root that rounding can hide (d parallel to
-// the axis, as for a cone whose tangential rows are zero).
-template <class S, int M>
-S soc_max_step(const SocVector<S, M>& u, const SocVector<S, M>& d) {
-  const S inf = std::numeric_limits<S>::infinity();
-  S best = d(0) < S(0) ? -u(0) / d(0) : inf;
-  if constexpr (M > 1) {
-    const S A = soc_det(d), C = soc_det(u);
-    const S B = u(0) * d(0) - u.template tail<M - 1>().dot(d.template tail<M - 1>());
-    const S disc = B * B - A * C;
-    if (A == S(0)) {
-      if (B < S(0)) best = std::min(best, -C / (S(2) * B));
-    } else if (disc >= S(0)) {
-      // Roots (-B -+ sqrt(disc)) / A; the cancellation-free pair q / A and C / q.
-      const S q = -(B + std::copysign(std::sqrt(disc), B));
-      if (q != S(0)) {
-        const S r1 = q / A, r2 = C / q;
-        if (r1 > S(0)) best = std::min(best, r1);
-        if (r2 > S(0)) best = std::min(best, r2);
-      }
-    }  // disc < 0 (A > 0): no real root; the ray stays inside the cone's interior
-  }
-  return best;
-}
-
 // The Nesterov-Todd scaling of a pair s, z in int Q (see the file comment).
 template <class S, int M>
 struct SocScaling {
@@ -118,15 +88,6 @@ struct SocScaling {
   SocVector<S, M> apply_inverse(const SocVector<S, M>& u) const {
     const SocVector<S, M> jv = soc_reflect(v);
     return inv_beta * (S(2) * jv.dot(u) * jv - soc_reflect(u));
-  }
-  // W^-1 A for a matrix A of M rows, into out: (2 Jv (Jv^T A) - J A) / beta.
-  template <int C>
-  void apply_inverse_to(const Eigen::Matrix<S, M, C>& A, Eigen::Matrix<S, M, C>& out) const {
-    const SocVector<S, M> jv = soc_reflect(v);
-    const Eigen::Matrix<S, 1, C> r = (S(2) * inv_beta) * (jv.transpose() * A);
-    out.noalias() = jv * r;
-    out.row(0) -= inv_beta * A.row(0);
-    if constexpr (M > 1) out.template bottomRows<M - 1>() += inv_beta * A.template bottomRows<M - 1>();
   }
 };
 

@@ -8,33 +8,45 @@
 /// grasp resists w_ext = s d for every 0 <= s <= scale*. This is the "task-oriented" view
 /// of Li & Sastry 1988 and the wrench-direction quality of Roa & Suarez 2015 (section
 /// 4.2); with the L1 budget it is the radius of the grasp wrench set along d.
-/// Solved exactly (to the tolerance) through its dual
-///     min budget * zeta  s.t.  d . y = -1,  zeta e_i - G_i^T y in K_i^*,  zeta >= 0,
-/// by the interior-point solver of conic_dual.hpp. No heap.
+/// Solved through its homogeneous form
+///     c* = min sum_i e_i . x_i  s.t.  G x = -d,  x_i in K_i,
+/// scale* = budget / c* (the optimal x scaled by budget / c*), or 0 when no forces inside the cones
+/// give G x = -d (the problem is infeasible: no positive multiple of d is resisted), by the
+/// interior-point method of solve_constrained (a homogeneous embedding with Nesterov-Todd
+/// scaling and Mehrotra steps, solve/detail/interior_point.hpp; the rows in
+/// detail/conic_analysis.hpp). Any wrench direction u bounds it: with zeta the least value such
+/// that G_i^T u + zeta e_i lies in K_i^* for every contact, scale* <= zeta budget / (d . u) when
+/// d . u > 0 (0 when zeta <= 0 too); the multipliers of the rows give the bound reported at
+/// IterationLimit. No heap.
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "grip/analysis/conic_dual.hpp"
+#include "grip/analysis/detail/conic_analysis.hpp"
 #include "grip/analysis/force_closure.hpp"
 #include "grip/contact/contact.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
 #include "grip/grasp/grasp.hpp"
+#include "grip/solve/detail/interior_point.hpp"
 
 namespace grip {
 
 /// The outcome of max_resistible_wrench().
 ///
-/// Ok: `scale` is the optimum within settings.tolerance (relative). IterationLimit: the
-/// iteration bound was hit; `scale` is an upper bound. InvalidInput: incomplete or empty
-/// grasp, direction zero/non-finite, budget not finite and > 0, bad settings; zeros.
+/// Ok: `scale` is the optimum within settings.tolerance (relative), or 0 when no forces inside
+/// the cones resist any positive multiple of d (a certificate: forces zero). IterationLimit: the
+/// iteration bound was hit; `scale` is an upper bound on the optimum, and `forces` the last
+/// iterate, inside the cones with normal forces summing to the budget but not balancing
+/// scale * d. InvalidInput: incomplete or empty grasp, direction zero/non-finite, budget not
+/// finite and > 0, bad settings; zeros.
 template <class GraspT>
 struct ResistibleWrench {
   using Scalar = typename GraspT::ScalarType;  ///< The grasp's scalar type.
   Scalar scale{0};  ///< s*: w_ext = s* d is the largest resisted wrench along d (0: none).
-  /// Contact forces that resist about -G x ~ scale * d within the cones and the budget.
+  /// Contact forces inside the cones, normal forces summing to the budget, that resist
+  /// -G forces ~ scale * d (zero when scale is 0 by a certificate).
   typename GraspT::ForceVector forces;
   Scalar residual{0};  ///< |G forces + scale d| (N and N m): the gap of the estimate.
   int iterations{0};   ///< interior-point iterations used.
@@ -49,7 +61,9 @@ ResistibleWrench<GraspT> max_resistible_wrench(const GraspT& grasp,
                                                typename GraspT::ScalarType budget,
                                                const ConicAnalysisSettings<typename GraspT::ScalarType>& settings = {}) {
   using S = typename GraspT::ScalarType;
-  using M = typename GraspT::ModelType;
+  using Analysis = detail::ConicAnalysis<GraspT>;
+  using W = typename Analysis::W;  // the scalar of the computation (ScalarTraits<S>::Wide)
+  using XW = Eigen::Matrix<W, GraspT::unknowns_at_compile_time, 1, Eigen::ColMajor, GraspT::max_unknowns, 1>;
   constexpr int D = GraspT::dim;
   ResistibleWrench<GraspT> out;
   out.forces.setZero(grasp.unknowns());
@@ -57,34 +71,39 @@ ResistibleWrench<GraspT> max_resistible_wrench(const GraspT& grasp,
   if (!grasp.complete() || n == 0 || validate(direction) != Status::Ok || !(direction.norm() > S(0)) ||
       !detail::in_range(budget) || !(budget > S(0)) || !valid_settings(settings))
     return out;
-  const S rho = detail::internal_torque_scale(grasp);
-  const Wrench<S> dsc = detail::row_scaling(rho);
-  const Wrench<S> ds = dsc.cwiseProduct(direction);
-
-  Eigen::Matrix<S, 7, 1> c = Eigen::Matrix<S, 7, 1>::Zero(), a = Eigen::Matrix<S, 7, 1>::Zero(), q0;
-  c(6) = S(1);
-  a.template head<6>() = -ds;
-  q0.template head<6>() = -ds / ds.squaredNorm();
-  // A strictly feasible zeta: zeta e_i - v_i in int K_i^* needs zeta > v_n + sqrt(Q(v_t)).
-  S zeta(0);
-  const Wrench<S> y0 = dsc.cwiseProduct(q0.template head<6>());
-  for (int i = 0; i < n; ++i) {
-    const auto k = detail::exact_cone<M>(grasp.contact(i));
-    const Eigen::Matrix<S, D, 1> v = M::wrench_transpose(grasp.contact(i), y0);
-    const S vn = k.axis.dot(v);
-    const Eigen::Matrix<S, D, 1> u = v - vn * k.axis;
-    const S q = k.halfspace ? S(0) : -u.dot(k.quad * u);
-    zeta = std::max(zeta, vn + std::sqrt(std::max(q, S(0))));
-  }
-  q0(6) = zeta + S(1) + std::abs(zeta);
-  // zeta >= 0 bounds the objective below by 0: no floor is reached.
-  const auto r = detail::solve_conic_dual(grasp, rho, c, a, q0, true, settings.tolerance, settings.max_newton_steps,
-                                          -std::numeric_limits<S>::infinity());
+  Analysis problem(grasp);
+  const Wrench<W> d = direction.template cast<W>();
+  typename Analysis::Lanes k(n);
+  const Wrench<W> b = problem.wrench_problem(grasp, d, k);
+  const auto st = Analysis::settings(W(settings.tolerance), settings.max_iterations, W(0), W(0));
+  const detail::InteriorPointResult<W> r = detail::interior_point(k, b, std::sqrt(W(n)), st);
   out.iterations = r.iterations;
-  out.status = r.status == Status::Ok ? Status::Ok : Status::IterationLimit;
-  out.scale = std::max(S(0), budget * r.objective);
-  out.forces = budget * r.primal;
+  if (r.status == Status::Infeasible) {  // nothing along d: scale 0, no forces
+    out.status = Status::Ok;
+    out.residual = S(0);
+    return out;
+  }
+  // x = M u / tau (G x = -d / |T d| to the tolerance) and its cost c = sum e.x = sum u_0 / tau.
+  XW x(grasp.unknowns());
+  W c(0);
+  for (int i = 0; i < n; ++i) {
+    x.template segment<D>(i * D) = problem.force(k, i) / r.tau;
+    c += k.u(i)(0) / r.tau;
+  }
+  const W wb = W(budget), td = problem.norm().to_units(d).norm();
+  const XW forces = (wb / c) * x;
+  const bool ok = r.status == Status::Ok && forces.allFinite() && c > W(0);
+  W scale = wb / (td * c);
+  if (!ok) {
+    // An upper bound: from the multipliers' direction T y, and from T^2 d (d . T^2 d > 0).
+    const Wrench<W> dsc = problem.norm().weights();
+    scale = wb * std::min(problem.scale_bound(grasp, d, dsc.cwiseProduct(r.y)),
+                          problem.scale_bound(grasp, d, dsc.cwiseProduct(dsc.cwiseProduct(d))));
+  }
+  if (forces.allFinite()) out.forces = forces.template cast<S>();
+  out.scale = S(std::min(scale, W(std::numeric_limits<S>::max())));  // finite (a tiny d's bound)
   out.residual = (grasp.wrench(out.forces) + out.scale * direction).norm();
+  out.status = ok ? Status::Ok : Status::IterationLimit;
   return out;
 }
 

@@ -31,6 +31,9 @@ struct ScalarTraits<double> {
   static constexpr double constrained_tolerance = 1e-12;
   /// The interior-point method's relative tolerance before solve_constrained's Newton refinement.
   static constexpr double interior_tolerance = 1e-7;
+  /// The interior-point method's gap where Newton's refinement takes over (solve_constrained;
+  /// the residuals to its square).
+  static constexpr double interior_handover = 1e-3;
   /// The fraction of the largest step into the cones that the interior-point method takes: near
   /// the boundary float computes that step to a few of its last places only.
   static constexpr double interior_step = 0.99;
@@ -38,7 +41,7 @@ struct ScalarTraits<double> {
   static constexpr double certificate_tolerance = 1e-5;
   /// The relative weight of F2 in the least-residual problem (ConstrainedSettings::least_residual_weight).
   static constexpr double least_residual_weight = 1e-6;
-  /// The scalar the offline conic analyses compute in (analysis/conic_dual.hpp).
+  /// The scalar the offline conic analyses compute in (analysis/detail/conic_analysis.hpp).
   using Wide = double;
 };
 
@@ -62,6 +65,9 @@ struct ScalarTraits<float> {
   static constexpr float constrained_tolerance = 1e-5f;
   /// The interior-point method's relative tolerance before solve_constrained's Newton refinement.
   static constexpr float interior_tolerance = 1e-3f;
+  /// The interior-point method's gap where Newton's refinement takes over (solve_constrained;
+  /// the residuals to its square).
+  static constexpr float interior_handover = 1e-3f;
   /// The fraction of the largest step into the cones that the interior-point method takes: near
   /// the boundary float computes that step to a few of its last places only.
   static constexpr float interior_step = 0.95f;
@@ -69,9 +75,9 @@ struct ScalarTraits<float> {
   static constexpr float certificate_tolerance = 1e-4f;
   /// The relative weight of F2 in the least-residual problem (ConstrainedSettings::least_residual_weight).
   static constexpr float least_residual_weight = 1e-4f;
-  /// The scalar the offline conic analyses compute in (analysis/conic_dual.hpp): double. Their
-  /// interior-point systems grow ill-conditioned as the iterates near the cones' boundaries,
-  /// and in float the dual residual then stalls above the default tolerance.
+  /// The scalar the offline conic analyses compute in (analysis/detail/conic_analysis.hpp):
+  /// double. Their interior-point systems grow ill-conditioned as the iterates near the cones'
+  /// boundaries, and in float the dual residual then stalls above the default tolerance.
   using Wide = double;
 };
 

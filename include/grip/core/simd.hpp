@@ -10,8 +10,9 @@
 #include <cstdint>
 
 /// Marks a function the compiler must inline (the SIMD passes into their callers, where their
-/// small results stay in registers).
-#if defined(__GNUC__) || defined(__clang__)
+/// small results stay in registers), except where the build optimises for size (-Os,
+/// __OPTIMIZE_SIZE__: a microcontroller's flash), which leaves the choice to the compiler.
+#if (defined(__GNUC__) || defined(__clang__)) && !defined(__OPTIMIZE_SIZE__)
 #define GRIP_ALWAYS_INLINE inline __attribute__((always_inline))
 #elif defined(_MSC_VER)
 #define GRIP_ALWAYS_INLINE __forceinline

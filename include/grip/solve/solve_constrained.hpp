@@ -287,13 +287,18 @@ EIGEN_DONT_INLINE void solve_constrained_iterate(const GraspT& grasp, const Wren
       return;
     }
   }
-  // 2. The interior-point method: the optimum (to its own tolerance: Newton's refinement gives the
-  // solve's), or a certificate that there is none; one iteration is kept for the least-residual
-  // problem.
+  // 2. The interior-point method: the optimum (to the handover tolerance, or its own: Newton's
+  // refinement gives the solve's), or a certificate that there is none; one iteration is kept
+  // for the least-residual problem.
   problem.fill(grasp, w_ext, k, S(1));
   InteriorPointSettings<S> ip;
-  ip.tolerance = std::max(S(ScalarTraits<S>::interior_tolerance), settings.tolerance);
-  ip.feasibility_tolerance = ip.tolerance;
+  const S interior = std::max(S(ScalarTraits<S>::interior_tolerance), settings.tolerance);
+  // With Newton's refinement to follow, the method hands over at the looser interior_handover (the
+  // gap; the residuals to its square): from there Newton's projections already have their
+  // regions (it converges in a few passes), and the last interior-point iterations are saved.
+  const S handover = S(ScalarTraits<S>::interior_handover);
+  ip.tolerance = newton_passes > 0 ? std::max(interior, handover) : interior;
+  ip.feasibility_tolerance = newton_passes > 0 ? std::max(interior, handover * handover) : interior;
   ip.certificate_tolerance = settings.certificate_tolerance;
   ip.max_iterations = settings.max_iterations - 1;
   ip.cost_offset = problem.cost_offset(grasp);
@@ -301,13 +306,6 @@ EIGEN_DONT_INLINE void solve_constrained_iterate(const GraspT& grasp, const Wren
   InteriorPointResult<S> r = interior_point(k, problem.b, problem.q_norm, ip);
   sol.iterations = r.iterations;
   sol.passes += 3 * r.iterations + 1 - 2 * r.backtracks;
-  if (r.status == Status::Infeasible) {
-    sol.certificate = problem.certificate(r.y);
-    least_residual_forces(grasp, w_ext, settings, gram_diagonal, r.iterations, k, problem, sol);
-    sol.residual = stable_norm(Wrench<S>(grasp.wrench(sol.forces) + w_ext));
-    sol.objective = objective_of(grasp, sol.forces);
-    return;
-  }
   if (r.status == Status::Ok && newton_passes > 0) {
     // 3. Refined by Newton from the interior-point multipliers: projections, KKT exact.
     const int before = newton.passes();
@@ -317,6 +315,24 @@ EIGEN_DONT_INLINE void solve_constrained_iterate(const GraspT& grasp, const Wren
       take_newton(newton, sol);
       return;
     }
+  }
+  if (r.status == Status::Ok && (ip.tolerance > interior || ip.feasibility_tolerance > interior)) {
+    // 4. Not refined from the handover: the interior-point method goes on to its own tolerance.
+    ip.tolerance = ip.feasibility_tolerance = interior;
+    const int before = r.iterations, back = r.backtracks;
+    r = interior_point(k, problem.b, problem.q_norm, ip, &r);
+    sol.iterations = r.iterations;
+    sol.passes += 3 * (r.iterations - before) + 1 - 2 * (r.backtracks - back);
+  }
+  // An infeasible grasp (found by the first run, or by the resumed one: near the boundary of
+  // feasibility the handover gap is reached before the certificate is clear): the certificate,
+  // and the least-residual forces.
+  if (r.status == Status::Infeasible) {
+    sol.certificate = problem.certificate(r.y);
+    least_residual_forces(grasp, w_ext, settings, gram_diagonal, r.iterations, k, problem, sol);
+    sol.residual = stable_norm(Wrench<S>(grasp.wrench(sol.forces) + w_ext));
+    sol.objective = objective_of(grasp, sol.forces);
+    return;
   }
   // The interior-point answer, not refined (a soft finger with a bound, a soft finger's torsion at
   // micrometres, G nearly of rank < 6): Ok to the interior-point method's tolerance, else its last

@@ -32,7 +32,7 @@ struct ConeBlock {
   using Mask = typename P::Mask;
   using Vec = ConeVec<P, D>;
   static constexpr int tri = D * (D + 1) / 2;  ///< entries of a symmetric D x D matrix
-  using Sym = std::array<P, static_cast<std::size_t>(tri)>;
+  using Sym = IntArray<P, tri>;
   /// A contact's bound row in lanes: lanes without one hold s = 1, t = 0, c = 0.
   struct Bound {
     Mask has{P::first(0)};
@@ -47,7 +47,7 @@ struct ConeBlock {
   static std::size_t idx(int i) { return static_cast<std::size_t>(i); }
   static P min(P x, P y) { return select(x < y, x, y); }
   /// g - A^T y.
-  static Vec minus_transpose(const Vec& g, const std::array<Vec, 6>& a, const P (&y)[6]) {
+  static Vec minus_transpose(const Vec& g, const IntArray<Vec, 6>& a, const P (&y)[6]) {
     Vec out;
     for (int k = 0; k < D; ++k) {
       P v = g[idx(k)];
@@ -58,7 +58,7 @@ struct ConeBlock {
   }
   /// dz = P du + A^T dy + q dtau + d_x + e dt (the dual residual's row of the Newton system).
   template <bool Bounded>
-  static Vec dual_direction(const std::array<Vec, 6>& a, const Vec& p, const Vec& q, const Vec& du, const P (&dy)[6],
+  static Vec dual_direction(const IntArray<Vec, 6>& a, const Vec& p, const Vec& q, const Vec& du, const P (&dy)[6],
                             P dtau, const Vec& dx, P dt) {
     Vec dz;
     for (int k = 0; k < D; ++k) {

@@ -18,6 +18,7 @@
 /// (2003), section 4.
 
 #include <array>
+#include <cstddef>
 #include <limits>
 
 #include "grip/core/simd.hpp"
@@ -25,9 +26,20 @@
 namespace grip {
 namespace detail {
 
+/// N values indexed by int or std::size_t: the lane algebra indexes by int loop counters, which
+/// std::array would have converted to size_t one by one.
+template <class T, int N>
+struct IntArray {
+  T v[N];
+  GRIP_ALWAYS_INLINE T& operator[](int i) { return v[i]; }
+  GRIP_ALWAYS_INLINE const T& operator[](int i) const { return v[i]; }
+  GRIP_ALWAYS_INLINE T& operator[](std::size_t i) { return v[i]; }
+  GRIP_ALWAYS_INLINE const T& operator[](std::size_t i) const { return v[i]; }
+};
+
 /// D packs: one cone vector per lane, component by component.
 template <class P, int D>
-using ConeVec = std::array<P, static_cast<std::size_t>(D)>;
+using ConeVec = IntArray<P, D>;
 
 /// a . b, lane by lane.
 template <class P, int D>

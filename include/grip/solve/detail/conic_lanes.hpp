@@ -34,6 +34,15 @@
 namespace grip {
 namespace detail {
 
+/// True where the build optimises for size (-Os, __OPTIMIZE_SIZE__: a microcontroller's flash):
+/// there one variant of each pass, the one with bound rows, serves every grasp (a lane without a
+/// bound adds nothing to them); elsewhere grasps without bounds take a variant without the rows.
+#if defined(__OPTIMIZE_SIZE__)
+constexpr bool conic_one_variant = true;
+#else
+constexpr bool conic_one_variant = false;
+#endif
+
 /// The interior-point method's passes over the contacts in SIMD lanes (see the file comment);
 /// the data are set through ConicStorage's public part.
 template <class S, int D, int Cap>
@@ -70,7 +79,11 @@ class ConicLanes : public ConicStorage<S, D, Cap> {
   /// alpha = 0), then at the new point and multipliers y, tau: the residuals rx_i, rb_i, the
   /// scalings, B_i^-1 (all kept for the next passes) and the sums of AssembleSums.
   AssembleSums<S> assemble(S alpha, const Wrench<S>& y, S tau) {
-    return this->bounded_ ? assemble_impl<true>(alpha, y, tau) : assemble_impl<false>(alpha, y, tau);
+    if constexpr (conic_one_variant) {
+      return assemble_impl<true>(alpha, y, tau);
+    } else {
+      return this->bounded_ ? assemble_impl<true>(alpha, y, tau) : assemble_impl<false>(alpha, y, tau);
+    }
   }
 
   /// Pass 2, the predictor (affine direction): with the constant system's y2, the predictor's y1,
@@ -78,17 +91,43 @@ class ConicLanes : public ConicStorage<S, D, Cap> {
   /// u2_i = B_i^-1 (gq_i - A_i^T y2) (kept), du_i = B_i^-1 (gp_i - A_i^T y1) + dtau u2_i and the
   /// rest of the direction (kept), its step length, and the corrector's parts (kept, and summed).
   PredictSums<S> predict(const Wrench<S>& y1, const Wrench<S>& y2, S dtau, const Wrench<S>& dy, S tau) {
-    return this->bounded_ ? predict_impl<true>(y1, y2, dtau, dy, tau) : predict_impl<false>(y1, y2, dtau, dy, tau);
+    if constexpr (conic_one_variant) {
+      return predict_impl<true>(y1, y2, dtau, dy, tau);
+    } else {
+      return this->bounded_ ? predict_impl<true>(y1, y2, dtau, dy, tau) : predict_impl<false>(y1, y2, dtau, dy, tau);
+    }
   }
 
   /// Pass 3, the corrector: with its y1 (the driver's solve of the summed right-hand side), dtau
   /// and dy = y1 + dtau y2, the direction du_i = B_i^-1 (g_i - A_i^T y1) + dtau u2_i and the rest
   /// (kept for assemble's step); returns its step length. `sigma_mu` = sigma mu.
   S correct(const Wrench<S>& y1, S dtau, const Wrench<S>& dy, S sigma, S sigma_mu) {
-    return this->bounded_ ? correct_impl<true>(y1, dtau, dy, sigma, sigma_mu) : correct_impl<false>(y1, dtau, dy, sigma, sigma_mu);
+    if constexpr (conic_one_variant) {
+      return correct_impl<true>(y1, dtau, dy, sigma, sigma_mu);
+    } else {
+      return this->bounded_ ? correct_impl<true>(y1, dtau, dy, sigma, sigma_mu)
+                            : correct_impl<false>(y1, dtau, dy, sigma, sigma_mu);
+    }
   }
 
  private:
+  /// The sums across the lanes of `count` accumulator packs: summed into an array, or read from
+  /// the packs themselves when they have one lane (no second array on a microcontroller's stack).
+  template <int count>
+  struct Totals {
+    explicit Totals(const P* packs) : acc(packs) {
+      if constexpr (width > 1) sum_all(packs, sums, count);
+    }
+    S operator()(int e) const {
+      if constexpr (width > 1) {
+        return sums[e];
+      } else {
+        return acc[e].sum();
+      }
+    }
+    const P* acc;
+    S sums[width > 1 ? count : 1]{};
+  };
   /// The passes, for grasps with (Bounded) and without bounds: without, every bound term is
   /// compiled out.
   template <bool Bounded>
@@ -209,29 +248,28 @@ class ConicLanes : public ConicStorage<S, D, Cap> {
         add(47, cone_dot<P, D>(z, z));
       }
     }
-    S tot[nacc];
-    sum_all(acc, tot, nacc);
+    const Totals<nacc> tot(acc);
     AssembleSums<S> out;
     int e = 6;
     for (int r = 0; r < 6; ++r) {
-      out.au(r) = tot[r];
-      out.a_bq(r) = tot[27 + r];
-      out.a_bp(r) = tot[33 + r];
-      for (int l = r; l < 6; ++l, ++e) out.schur(r, l) = out.schur(l, r) = tot[e];
+      out.au(r) = tot(r);
+      out.a_bq(r) = tot(27 + r);
+      out.a_bp(r) = tot(33 + r);
+      for (int l = r; l < 6; ++l, ++e) out.schur(r, l) = out.schur(l, r) = tot(e);
     }
-    out.kp = tot[39];
-    out.upu = tot[40];
-    out.qu = tot[41];
-    out.ct = tot[42];
-    out.gap = tot[43];
-    out.rx2 = tot[44];
-    out.rb2 = tot[45];
-    out.x2 = tot[46];
-    out.z2 = tot[47];
-    for (int r = 0; r < 6; ++r) out.h(r) = tot[48 + r];
-    out.c_bq = tot[54];
-    out.c_bp = tot[55];
-    out.cc_hb = tot[56];
+    out.kp = tot(39);
+    out.upu = tot(40);
+    out.qu = tot(41);
+    out.ct = tot(42);
+    out.gap = tot(43);
+    out.rx2 = tot(44);
+    out.rb2 = tot(45);
+    out.x2 = tot(46);
+    out.z2 = tot(47);
+    for (int r = 0; r < 6; ++r) out.h(r) = tot(48 + r);
+    out.c_bq = tot(54);
+    out.c_bp = tot(55);
+    out.cc_hb = tot(56);
     out.certificate = least(cert);
     out.ok = ok && std::isfinite(out.schur.sum());
     return out;
@@ -331,17 +369,16 @@ class ConicLanes : public ConicStorage<S, D, Cap> {
         add(20, zero - b0.c * b0.is);
       }
     }
-    S tot[nacc];
-    sum_all(acc, tot, nacc);
+    const Totals<nacc> tot(acc);
     PredictSums<S> out;
     for (int j = 0; j < 3; ++j) {
-      for (int r = 0; r < 6; ++r) out.a_bg[j](r) = tot[6 * j + r];
-      out.k[j] = tot[18 + j];
-      out.c_bg[j] = tot[24 + j];
+      for (int r = 0; r < 6; ++r) out.a_bg[j](r) = tot(6 * j + r);
+      out.k[j] = tot(18 + j);
+      out.c_bg[j] = tot(24 + j);
     }
-    out.gap1 = tot[21];
-    out.gap2 = tot[22];
-    out.den = tot[23];
+    out.gap1 = tot(21);
+    out.gap2 = tot(22);
+    out.den = tot(23);
     out.step = least(step);
     return out;
   }

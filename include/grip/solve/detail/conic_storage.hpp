@@ -60,7 +60,7 @@ class ConicStorage : protected ConeBlock<typename ConicPackOf<S, Cap>::type, D> 
   using Mask = typename P::Mask;
   using Vec = ConeVec<P, D>;
   static constexpr int width = P::width;
-  static constexpr int stride = (Cap + 7) / 8 * 8;  ///< lanes per component (a multiple of every width)
+  static constexpr int stride = (Cap + width - 1) / width * width;  ///< lanes per component (whole packs)
   static constexpr int tri = Block::tri;             ///< entries of a symmetric D x D matrix
   using Field = std::array<S, static_cast<std::size_t>(D * stride)>;
   using Column = std::array<S, static_cast<std::size_t>(stride)>;
@@ -159,8 +159,8 @@ class ConicStorage : protected ConeBlock<typename ConicPackOf<S, Cap>::type, D> 
   static void store(F& f, int o, const Vec& v) {
     for (int r = 0; r < D; ++r) v[idx(r)].store(&f[at(r, o)]);
   }
-  std::array<Vec, 6> load_map(int o) const {
-    std::array<Vec, 6> m;
+  IntArray<Vec, 6> load_map(int o) const {
+    IntArray<Vec, 6> m;
     for (int r = 0; r < 6; ++r)
       for (int k = 0; k < D; ++k) m[idx(r)][idx(k)] = P::load(&a_[at(r * D + k, o)]);
     return m;

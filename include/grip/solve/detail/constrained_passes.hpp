@@ -265,10 +265,19 @@ S second_trial(const Passes& passes, const Wrench<S>& l, const Wrench<S>& dir, S
   return kink < alpha && ahead ? kink * (S(1) + std::sqrt(eps)) : alpha;
 }
 
-/// The pass engine of solve_constrained for a grasp type.
+/// The pass engine of solve_constrained for a grasp type: CoulombPassTable for hard fingers,
+/// except where the build optimises for size (-Os, __OPTIMIZE_SIZE__: a microcontroller's flash),
+/// which takes the contact-by-contact ContactPasses for every model (one pass's code instead of
+/// two: the bounded projections need it anyway).
+#if defined(__OPTIMIZE_SIZE__)
+constexpr bool vectorised_passes = false;
+#else
+constexpr bool vectorised_passes = true;
+#endif
 template <class GraspT>
-using ConstrainedPasses = typename std::conditional<std::is_same<typename GraspT::ModelType, HardFinger>::value,
-                                                    CoulombPassTable<GraspT>, ContactPasses<GraspT>>::type;
+using ConstrainedPasses =
+    typename std::conditional<vectorised_passes && std::is_same<typename GraspT::ModelType, HardFinger>::value,
+                              CoulombPassTable<GraspT>, ContactPasses<GraspT>>::type;
 
 }  // namespace detail
 }  // namespace grip
