@@ -1023,8 +1023,9 @@ TEST_CASE_TEMPLATE("solve_constrained: an inactive bound changes nothing, and so
       CHECK(std::abs(double(same.objective) - f2) <= objective_tolerance(g, w, free, f2) + objective_tolerance(high, w, same, f2));
       const auto cut = solve_constrained(low, w);
       // Float's allowance: soft fingers with bounds have the interior-point method alone, whose
-      // float iterates can stall short of its tolerance (one grasp in forty here, or none, by
-      // the compiler's contractions).
+      // float iterates can stall short of its tolerance (none to two grasps in forty here, by
+      // the compiler's contractions: two on armhf, whose VFP has no fused multiply-add; see
+      // docs/solve.md, known limits).
       if (cut.status == Status::IterationLimit && std::is_same<S, float>::value && d == 4) {
         ++stalled;
         continue;
@@ -1041,7 +1042,7 @@ TEST_CASE_TEMPLATE("solve_constrained: an inactive bound changes nothing, and so
       }
     }
     MESSAGE("model dim ", d, ": ", compared, " compared, ", capped, " held under lower bounds");
-    CHECK(stalled <= 1);
+    CHECK(stalled <= 2);
     CHECK(compared >= 10);
     CHECK(capped >= 3);
   };
