@@ -247,6 +247,9 @@ void least_residual_forces(const GraspT& grasp, const Wrench<typename GraspT::Sc
   sol.iterations += q.iterations;
   sol.passes += 3 * q.iterations + 1 - 2 * q.backtracks;
   problem.forces(grasp, k, q.tau, sol.forces);
+  // A breakdown of the method (tau or an iterate not finite, in float at extreme scales): no
+  // forces, whose residual is w_ext itself.
+  if (!sol.forces.allFinite()) sol.forces.setZero(grasp.unknowns());
   keep_within_bounds(grasp, sol.forces);
   sol.multipliers.setZero();
   sol.status = Status::Infeasible;

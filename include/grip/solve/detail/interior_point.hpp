@@ -151,6 +151,17 @@ InteriorPointResult<S> interior_point(Lanes& k, const Wrench<S>& b, S q_norm, co
       ++out.backtracks;
       a = k.assemble(-alpha, y, tau);
     }
+    if (!a.ok && alpha > S(0)) {
+      // Out of backtracks (or of iterations for them): back to the last iterate, which is inside
+      // the cones, and stop there.
+      y -= alpha * last_dy;
+      r -= alpha * last_dr;
+      tau -= alpha * last_dtau;
+      kappa -= alpha * last_dkappa;
+      (void)k.assemble(-alpha, y, tau);
+      alpha = S(0);
+      break;
+    }
     alpha = S(0);  // taken
     if (!a.ok || !(tau > S(0)) || !std::isfinite(tau) || !std::isfinite(kappa)) break;
     // Residuals and the stopping tests (in the solution's units: divided by tau).
