@@ -20,6 +20,7 @@
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
 #include "grip/grasp/grasp.hpp"
+#include "grip/grasp/objective.hpp"
 #include "grip/solve/constrained_settings.hpp"
 #include "grip/solve/detail/dual_newton.hpp"
 #include "grip/solve/detail/equilibrium_norm.hpp"
@@ -176,20 +177,6 @@ EIGEN_DONT_INLINE bool constrained_fast_path(const GraspT& grasp, const Wrench<t
   return true;
 }
 
-/// F2 of the stacked unknowns x.
-template <class GraspT, class Vec>
-typename GraspT::ScalarType objective_of(const GraspT& grasp, const Vec& x) {
-  using S = typename GraspT::ScalarType;
-  using M = typename GraspT::ModelType;
-  constexpr int d = GraspT::dim;
-  S f2(0);
-  for (int i = 0; i < grasp.size(); ++i) {
-    const auto& c = grasp.contact(i);
-    f2 += S(0.5) * c.weight * (x.template segment<d>(i * d) - M::target(c)).squaredNorm();
-  }
-  return f2;
-}
-
 /// The interior-point iterate's forces, each scaled into its bound if the (infeasible-start)
 /// iterate has not yet met it: the answer of a solve that the bound on iterations cuts.
 template <class GraspT, class Vec>
@@ -334,7 +321,7 @@ EIGEN_DONT_INLINE void solve_constrained_iterate(const GraspT& grasp, const Wren
     sol.certificate = problem.certificate(r.y);
     least_residual_forces(grasp, w_ext, settings, gram_diagonal, r.iterations, k, problem, sol);
     sol.residual = stable_norm(Wrench<S>(grasp.wrench(sol.forces) + w_ext));
-    sol.objective = objective_of(grasp, sol.forces);
+    sol.objective = objective_f2(grasp, sol.forces);
     return;
   }
   // The interior-point answer, not refined (a soft finger with a bound, a soft finger's torsion at
@@ -346,7 +333,7 @@ EIGEN_DONT_INLINE void solve_constrained_iterate(const GraspT& grasp, const Wren
   sol.status = Status::IterationLimit;
   const Wrench<S> res = grasp.wrench(sol.forces) + w_ext;
   sol.residual = stable_norm(res);
-  sol.objective = objective_of(grasp, sol.forces);
+  sol.objective = objective_f2(grasp, sol.forces);
   const EquilibriumNorm<S>& norm = problem.norm;
   S squeeze(0);
   for (int i = 0; i < grasp.size(); ++i) squeeze = std::max(squeeze, grasp.contact(i).squeeze);
@@ -359,7 +346,7 @@ EIGEN_DONT_INLINE void solve_constrained_iterate(const GraspT& grasp, const Wren
     sol.forces.setZero(m);
     sol.multipliers.setZero();
     sol.residual = stable_norm(w_ext);
-    sol.objective = objective_of(grasp, sol.forces);
+    sol.objective = objective_f2(grasp, sol.forces);
     if (sol.status == Status::Ok) sol.status = Status::IterationLimit;
   }
 }
