@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <random>
+#include <type_traits>
 
 #include <Eigen/Geometry>
 
@@ -680,6 +681,208 @@ TEST_CASE_TEMPLATE("a mesh's own hierarchy as stage 2: the contacts of every sam
   std::mt19937 rng(21);
   const int trials = grip_test::scaled(40, 5);
   CHECK(compare_broad_phase<S>(mug_shape<S>(), 3, rng, trials) > grip_test::scaled_bound(10, trials, 40));
+}
+
+namespace {
+// A prism of `sides` sides around the z axis (radius to its vertices, half height): a convex
+// mesh of a cylinder, its rings counter-clockwise seen from +z, triangles outward.
+grip_mesh_test::Soup prism_soup(int sides, double radius, double half) {
+  grip_mesh_test::Soup s;
+  for (int i = 0; i < sides; ++i) {
+    const double a = 2 * grip_test::pi * i / sides;
+    s.v.push_back(V3(radius * std::cos(a), radius * std::sin(a), -half));
+    s.v.push_back(V3(radius * std::cos(a), radius * std::sin(a), half));
+  }
+  const int bottom = 2 * sides, top = 2 * sides + 1;
+  s.v.push_back(V3(0, 0, -half));
+  s.v.push_back(V3(0, 0, half));
+  for (int i = 0; i < sides; ++i) {
+    const int b0 = 2 * i, t0 = 2 * i + 1, b1 = 2 * ((i + 1) % sides), t1 = b1 + 1;
+    s.t.push_back({b0, b1, t1});
+    s.t.push_back({b0, t1, t0});
+    s.t.push_back({bottom, b1, b0});
+    s.t.push_back({top, t0, t1});
+  }
+  return s;
+}
+
+// The exact signed distance of a closed convex triangle soup, by brute force in plain doubles:
+// the least distance to its triangles, negative where p is behind every triangle's plane.
+struct ExactConvexSoup {
+  grip_mesh_test::Soup soup;
+  double operator()(const V3& p) const {
+    double d2 = 1e300;
+    bool inside = true;
+    for (const auto& t : soup.t) {
+      const V3& a = soup.v[static_cast<std::size_t>(t[0])];
+      const V3& b = soup.v[static_cast<std::size_t>(t[1])];
+      const V3& c = soup.v[static_cast<std::size_t>(t[2])];
+      d2 = std::min(d2, grip_mesh_test::triangle_distance2(p.data(), a.data(), b.data(), c.data()));
+      inside = inside && (b - a).cross(c - a).dot(p - a) <= 0;
+    }
+    return inside ? -std::sqrt(d2) : std::sqrt(d2);
+  }
+};
+
+// A phalanx axis through q (just inside a convex solid near an edge or corner) whose eight
+// samples all lie outside it: the axis pierces the solid between two samples. False when
+// none was found in 200 tries.
+template <class Exact>
+bool pierce_between_samples(std::mt19937& rng, const Exact& exact, const V3& q, V3& a, V3& b) {
+  for (int attempt = 0; attempt < 200; ++attempt) {
+    const V3 u = grip_test::unit_vector(rng);
+    const double L = uniform(rng, 0.012, 0.045), lambda = grip_test::u01(rng);
+    a = q - lambda * L * u;
+    b = a + L * u;
+    bool outside = true;
+    for (int j = 0; j < 8 && outside; ++j) outside = exact(a + (j / 7.0) * (b - a)) > 0;
+    if (outside) return true;
+  }
+  return false;
+}
+
+// Convex meshes pierced near their edges and corners (the box's, and a prism's rims and side
+// edges), every sample outside: the convex bounds against the exact distance. Returns the
+// trials in which the capsule's true depth exceeds its deepest sample's by over 0.1 mm.
+template <class S, class MeshT, class Exact, class Feature>
+int pierce_and_check(const MeshShape<S, MeshT::max_vertices, MeshT::max_triangles>& shape, const Exact& exact,
+                     std::mt19937& rng, int trials, Feature&& feature, Tally& tally) {
+  int beyond_samples = 0;
+  for (int trial = 0; trial < trials; ++trial) {
+    V3 a, b;
+    int features = 0;  // points too deep for a chord between two samples are drawn again
+    while (!pierce_between_samples(rng, exact, feature(rng, trial), a, b)) REQUIRE(++features < 100);
+    const double r = uniform(rng, 0.006, 0.011);
+    double deepest_sample = -1;
+    for (int j = 0; j < 8; ++j) deepest_sample = std::max(deepest_sample, r - exact(a + (j / 7.0) * (b - a)));
+    if (r - grip_test::segment_minimum(exact, a, b, nullptr, 400) > deepest_sample + 1e-4) ++beyond_samples;
+    check_phalanx<S>(shape, exact, surface_of(exact), random_pose<S>(rng), a, b, r, true, tally, 400);
+  }
+  return beyond_samples;
+}
+}  // namespace
+
+TEST_CASE_TEMPLATE("convex meshes pierced near an edge or corner between samples: the exact deepest point", S, double,
+                   float) {
+  // Every sample outside, the axis inside the solid between two of them: the search by
+  // triangles meets a triangle or stops on another face's, and the deepest point must still be
+  // found (collision.hpp's convex bounds), against the exact box and a brute-force distance.
+  std::mt19937 rng(23);
+  const int trials = grip_test::scaled(200, 30);
+  Tally tally;
+  {
+    const V3 h(0.0625, 0.046875, 0.03125);
+    static TriangleMesh<S, 16, 16> mesh;
+    REQUIRE(grip_mesh_test::load(grip_mesh_test::box_soup(h), mesh).status == Status::Ok);
+    static MeshShape<S, 16, 16> shape;
+    REQUIRE(shape.build(mesh) == Status::Ok);
+    REQUIRE(octree<S>().build(winding_signed(shape), 3) == Status::Ok);
+    const grip_test::ExactBox exact{V3::Zero(), h, Eigen::Matrix3d::Identity()};
+    const auto feature = [&](std::mt19937& g, int trial) {  // within 1.5 mm of an edge (or a corner), inside
+      V3 q;
+      const int free_axis = trial % 4;  // 3: a corner
+      for (int i = 0; i < 3; ++i) q(i) = sign(g) * (h(i) - uniform(g, 0.00005, 0.0015));
+      if (free_axis < 3) q(free_axis) = uniform(g, -0.8, 0.8) * h(free_axis);
+      return q;
+    };
+    const int beyond = pierce_and_check<S, TriangleMesh<S, 16, 16>>(shape, exact, rng, trials, feature, tally);
+    CHECK(beyond > grip_test::scaled_bound(20, trials, 200));  // the deepest point lies between samples
+  }
+  {
+    const double radius = 0.035, half = 0.05;
+    const ExactConvexSoup exact{prism_soup(24, radius, half)};
+    static TriangleMesh<S, 64, 128> mesh;
+    REQUIRE(grip_mesh_test::load(exact.soup, mesh).status == Status::Ok);
+    static MeshShape<S, 64, 128> shape;
+    REQUIRE(shape.build(mesh) == Status::Ok);
+    REQUIRE(octree<S>().build(winding_signed(shape), 3) == Status::Ok);
+    const auto feature = [&](std::mt19937& g, int trial) {  // inside, near a rim or a side edge
+      const int i = int(grip_test::u01(g) * 24) % 24;
+      const double a0 = 2 * grip_test::pi * i / 24, a1 = 2 * grip_test::pi * (i + 1) / 24;
+      const double in = uniform(g, 0.00005, 0.0015);
+      if (trial % 2 == 0) {  // a rim: a point of a rim edge, pulled in and down
+        const double w = grip_test::u01(g);
+        const V3 p = (1 - w) * V3(std::cos(a0), std::sin(a0), 0) + w * V3(std::cos(a1), std::sin(a1), 0);
+        return V3((radius - in) * p.x(), (radius - in) * p.y(), sign(g) * (half - uniform(g, 0.00005, 0.0015)));
+      }
+      return V3((radius - in) * std::cos(a0), (radius - in) * std::sin(a0), uniform(g, -0.8, 0.8) * half);
+    };
+    const int beyond = pierce_and_check<S, TriangleMesh<S, 64, 128>>(shape, exact, rng, trials, feature, tally);
+    CHECK(beyond > grip_test::scaled_bound(20, trials, 200));
+  }
+  CHECK(tally.contacts == 2 * trials);  // the axis pierces: every capsule penetrates
+}
+
+TEST_CASE_TEMPLATE("contact normals on curved surfaces: within sqrt(2 tol / R) of the deepest point's", S, double,
+                   float) {
+  // A sphere and a cylinder's side, whose deepest axis point and its normal are known in
+  // closed form: the foot of the perpendicular from the centre, and the point of the axis
+  // nearest the cylinder's axis line. A contact's axis point has a distance within tol of the
+  // least; across a level surface of radius R that turns the normal by at most sqrt(2 tol / R)
+  // (collision.hpp). tol: the depth bound of these tests (the search's tolerance and rounding).
+  // The default tolerance that collision.hpp documents, and the settings' own.
+  const double documented = std::is_same<S, float>::value ? 1e-7 : 1e-12;
+  CHECK(double(ContactSettings<S>{}.refine_tolerance) == doctest::Approx(documented).epsilon(1e-6));
+  std::mt19937 rng(24);
+  const int trials = grip_test::scaled(300, 40);
+  int checked = 0;
+  double worst = 0;  // the largest turn over its bound
+  const auto check_normal = [&](const auto& shape, const V3& n_star, double R, const V3& a,
+                                const V3& b, double r) {
+    const Iso<S> pose = random_pose<S>(rng);
+    const Iso<double> pose_d = pose.template cast<double>();
+    HandCollisionModel<S> hand;
+    REQUIRE(hand.set_posture(single<S>(5, (pose_d * a).cast<S>(), (pose_d * b).cast<S>(), S(r))) == Status::Ok);
+    HandContacts<S> out;
+    REQUIRE(detect_contacts(hand, octree<S>(), shape, pose, out) == Status::Ok);
+    if (out.count != 1) return;
+    const V3 normal = pose_d.linear().transpose() * out[0].normal.template cast<double>();
+    const double tol = documented + 64 * double(std::numeric_limits<S>::epsilon()) * 0.5;  // and rounding
+    const double turn = std::acos(std::clamp(-normal.dot(n_star), -1.0, 1.0));
+    // The bound, plus the normal's own rounding (a few ulps of a unit vector over R).
+    const double allowed = std::sqrt(2 * tol / R) + tol / R;
+    worst = std::max(worst, turn / allowed);
+    CHECK(turn <= allowed);
+    ++checked;
+  };
+  const V3 c(0.004, -0.002, 0.001);
+  const double ball_radius = 0.04;
+  const Shape<S> sphere(make_sphere<S>(S(ball_radius), c.cast<S>()));
+  REQUIRE(octree<S>().build(sphere, 5) == Status::Ok);
+  for (int trial = 0; trial < trials; ++trial) {
+    const V3 u = grip_test::unit_vector(rng);
+    V3 a, b;
+    const double r = uniform(rng, 0.006, 0.01);
+    aim(rng, c + ball_radius * u, u, r, a, b);
+    const double t = std::clamp((c - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+    const V3 x = a + t * (b - a);
+    const double R = (x - c).norm();
+    if (R < 0.01) continue;  // near the centre: no curvature to speak of
+    check_normal(sphere, (x - c) / R, R, a, b, r);
+  }
+  const Eigen::Matrix3d Rc = grip_test::rotation(rng);
+  const double radius = 0.035, half = 0.07;
+  const Shape<S> cylinder(make_cylinder<S>(S(radius), S(half), c.cast<S>(), Rc.cast<S>()));
+  REQUIRE(octree<S>().build(cylinder, 5) == Status::Ok);
+  for (int trial = 0; trial < trials; ++trial) {
+    const double angle = uniform(rng, 0, 2 * grip_test::pi);
+    const V3 radial(std::cos(angle), std::sin(angle), 0);
+    const V3 f = radius * radial + V3(0, 0, uniform(rng, -0.6, 0.6) * half);
+    V3 a, b;
+    const double r = uniform(rng, 0.006, 0.01);
+    aim(rng, f, radial, r, a, b);  // local frame
+    // The axis point nearest the cylinder's axis (local z): least x^2 + y^2 over [a, b].
+    const Eigen::Vector2d a2 = a.head<2>(), d2 = (b - a).head<2>();
+    const double t = d2.squaredNorm() > 0 ? std::clamp(-a2.dot(d2) / d2.squaredNorm(), 0.0, 1.0) : 0.0;
+    const V3 x = a + t * (b - a);
+    const double R = x.head<2>().norm();
+    // Only where the side decides the distance near x (not a cap), away from the axis.
+    if (R < 0.01 || std::abs(x.z()) > half - 0.02 || std::abs(x.z()) - half > R - radius) continue;
+    const V3 n_local(x.x() / R, x.y() / R, 0);
+    check_normal(cylinder, Rc * n_local, R, c + Rc * a, c + Rc * b, r);
+  }
+  MESSAGE("largest normal turn over its bound: " << worst);
+  CHECK(checked > grip_test::scaled_bound(300, 2 * trials, 600));
 }
 
 }  // namespace collision_bounds_test

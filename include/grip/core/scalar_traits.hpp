@@ -41,6 +41,10 @@ struct ScalarTraits<double> {
   static constexpr double certificate_tolerance = 1e-5;
   /// The relative weight of F2 in the least-residual problem (ConstrainedSettings::least_residual_weight).
   static constexpr double least_residual_weight = 1e-6;
+  /// The contact search's certified depth tolerance (m; ContactSettings::refine_tolerance):
+  /// far below a micrometre, so that the contact's point and normal are those of the deepest
+  /// point to the precision docs/geometry.md states.
+  static constexpr double contact_tolerance = 1e-12;
   /// The scalar the offline conic analyses compute in (analysis/detail/conic_analysis.hpp).
   using Wide = double;
 };
@@ -75,6 +79,9 @@ struct ScalarTraits<float> {
   static constexpr float certificate_tolerance = 1e-4f;
   /// The relative weight of F2 in the least-residual problem (ConstrainedSettings::least_residual_weight).
   static constexpr float least_residual_weight = 1e-4f;
+  /// The contact search's certified depth tolerance (m; ContactSettings::refine_tolerance): a
+  /// few units in the last place of coordinates of a few decimetres.
+  static constexpr float contact_tolerance = 1e-7f;
   /// The scalar the offline conic analyses compute in (analysis/detail/conic_analysis.hpp):
   /// double. Their interior-point systems grow ill-conditioned as the iterates near the cones'
   /// boundaries, and in float the dual residual then stalls above the default tolerance.

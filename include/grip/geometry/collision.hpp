@@ -24,12 +24,16 @@
 /// - Convex fields (sphere, box, cylinder, capsule; a union where the deepest point's
 ///   primitive is the only one within reach), with K = 1: the contact is the capsule's
 ///   deepest point, on faces, edges, rims, corners and for deep samples alike: depth
-///   r - min_t phi(t) within ContactSettings::refine_tolerance (0.1 um by default), the
-///   point and normal those of its axis point exactly; no contact unless the capsule
-///   penetrates by more than that tolerance, and none missed where it penetrates by more.
-/// - Meshes are refined triangle by triangle (detail/narrow_phase.hpp): exact for a convex
-///   mesh as above; on others the search stops at a point whose nearest triangle is the one
-///   it minimised, and the bounds of any field below hold.
+///   r - min_t phi(t) within tol = ContactSettings::refine_tolerance (1e-12 m in double,
+///   1e-7 m in float by default); no contact unless the capsule penetrates by more than tol,
+///   and none missed where it penetrates by more. The contact's axis point x is one whose
+///   distance is within tol of the least, its point and normal exact for x; they are within
+///   sqrt(2 tol R) (m) and sqrt(2 tol / R) (rad) of the deepest axis point's, R the radius of
+///   curvature there of the level surface of phi (a sphere's: the distance from its centre; a
+///   cylinder side's: from its axis; near an edge or corner: from it), and exact on a face.
+/// - Meshes are refined triangle by triangle (detail/narrow_phase.hpp), then by the slopes
+///   where that does not certify its point: exact for a convex mesh as above; on others the
+///   bounds of any field below hold.
 /// - Any field (meshes, unions): every depth is a true penetration of the capsule (never
 ///   more than its deepest), at least that of the deepest sample, and at least the capsule's
 ///   true depth minus s / 2 (phi is 1-Lipschitz); each contact's point and normal are exact

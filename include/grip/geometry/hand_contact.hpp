@@ -8,6 +8,7 @@
 #include <cstdint>
 
 #include "grip/core/index.hpp"
+#include "grip/core/scalar_traits.hpp"
 #include "grip/core/types.hpp"
 #include "grip/hand/hand_model.hpp"
 #include "grip/hand/squeeze.hpp"
@@ -79,8 +80,10 @@ struct ContactSettings {
   /// the bound caps the worst case.
   int refine_iterations{16};
   /// The search stops when the deepest point found is certified within this distance (m) of
-  /// the capsule's deepest (for a convex field: the end tangents bound the minimum).
-  Scalar refine_tolerance{Scalar(1e-7)};
+  /// the capsule's deepest (for a convex field: the end tangents bound the minimum); what this
+  /// certifies of the point and normal: collision.hpp. ScalarTraits::contact_tolerance by
+  /// default (1e-12 m in double, 1e-7 m in float).
+  Scalar refine_tolerance{ScalarTraits<Scalar>::contact_tolerance};
   /// Contacts of one phalanx (with PerPhalanx > 1): a penetrating sample whose outward
   /// normal is within this angle (rad) of a contact's joins it; one farther from every
   /// contact starts one more contact while there is room. Default 40 degrees: the two walls of

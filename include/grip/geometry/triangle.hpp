@@ -100,21 +100,6 @@ Scalar closest_point_on_segment(const Vector3<Scalar>& p, const Vector3<Scalar>&
   return (p - q).squaredNorm();
 }
 
-/// q = a + v ab + w ac with (v, w) clamped to the triangle (rounding can push a point of the
-/// face region a hair outside).
-template <class Scalar>
-void face_point(const Vector3<Scalar>& a, const Vector3<Scalar>& ab, const Vector3<Scalar>& ac, Scalar v, Scalar w,
-                Vector3<Scalar>& q) {
-  v = v < Scalar(0) ? Scalar(0) : v;
-  w = w < Scalar(0) ? Scalar(0) : w;
-  const Scalar s = v + w;
-  if (s > Scalar(1)) {
-    v /= s;
-    w /= s;
-  }
-  q = a + v * ab + w * ac;
-}
-
 /// Closest points of segments [p, p + d] and [q, q + e]: their squared distance, with `s` and
 /// `t` the parameters (in [0, 1]) of a closest pair. The unconstrained minimiser of
 /// |p + s d - q - t e|^2 is clamped to [0, 1] in s, t is the best for that s, and s is
@@ -221,9 +206,14 @@ Scalar closest_point_on_triangle(const Vector3<Scalar>& p, const Vector3<Scalar>
   }
   const Scalar den = va + vb + vc;
   if (!(den > Scalar(0))) return detail::closest_point_on_flat_triangle(p, a, b, c, q, feature);
-  detail::face_point(a, ab, ac, vb / den, vc / den, q);
+  // The face region: p's projection onto the plane, from the plane's own normal (the
+  // barycentric numerators above are differences of products, too coarse in float to place
+  // q within a few units in the last place of p).
+  const Vector3<Scalar> n = ab.cross(ac);
+  const Scalar h = n.dot(ap) / area2;
+  q = p - h * n;
   feature = TriangleFeature::Face;
-  return (p - q).squaredNorm();
+  return h * h * area2;
 }
 
 template <class Scalar>

@@ -99,14 +99,17 @@ struct TriangleBlock {
     const Vector3<Scalar> ap = p - a;
     const Scalar d1 = u.dot(ap), d2 = v.dot(ap);
     const Scalar s = d1 * vv[l] - d2 * uv[l], t = d2 * uu[l] - d1 * uv[l];
-    // q from the vertex and the edges (as closest_point_on_triangle: on a face parallel to a
-    // coordinate plane that coordinate of q is the vertex's, exactly), then |p - q|^2.
-    if (s > Scalar(0) && t > Scalar(0) && s + t < det[l]) {  // the open face: boundaries are edges
-      const Scalar inv = Scalar(1) / det[l];
-      q = a + (s * inv) * u + (t * inv) * v;
+    // The open face (its boundaries are edges): p's projection onto the plane, from the plane's
+    // normal as closest_point_on_triangle() (s and t, differences of products, are too coarse
+    // in float to place q within a few units in the last place of p).
+    if (s > Scalar(0) && t > Scalar(0) && s + t < det[l]) {
+      const Vector3<Scalar> n(nx[l], ny[l], nz[l]);
+      const Scalar h = n.dot(ap) * inv_nn[l];
+      q = p - h * n;
       feature = TriangleFeature::Face;
-      return (p - q).squaredNorm();
+      return h * h * n.squaredNorm();
     }
+    // q from the vertex and the edges, then |p - q|^2.
     auto clamp01 = [](Scalar x) { return x < Scalar(0) ? Scalar(0) : (x > Scalar(1) ? Scalar(1) : x); };
     // Each edge from its first vertex: (origin, direction, parameter, its edge, its two vertices).
     const Vector3<Scalar> w = v - u, bp = ap - u;

@@ -24,8 +24,10 @@ namespace grip {
 /// of mass) among up to MaxObstacles obstacles; at most PerPhalanx contacts per phalanx.
 ///
 /// - Hand contacts: the exact narrow phase of collision.hpp on the cylinder's distance field,
-///   each phalanx sampled by `Samples` spheres: a contact's depth is its capsule's exact
-///   deepest point (with PerPhalanx = 1), on the side, an end cap or a rim. The cylinder is
+///   each phalanx sampled by `Samples` spheres: with PerPhalanx = 1, a contact is its capsule's
+///   deepest point on the side, an end cap or a rim, its depth within
+///   `contact_settings.refine_tolerance` and its point and normal within the bounds that
+///   collision.hpp states for convex fields. The cylinder is
 ///   convex, so even 2 samples find it; where the deepest points form a line (a phalanx lying
 ///   along the side) the samples decide which of them is reported: the first, from the base.
 /// - Obstacle contacts: `rim_points` points on each end-cap rim (2 rim_points in all) against

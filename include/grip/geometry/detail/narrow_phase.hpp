@@ -140,8 +140,11 @@ void evaluate_samples(Probe& probe, const PhalanxAxis<Scalar>& ax, Scalar band, 
 /// value over the axis points within a spacing of sample j is exact (segment_distance2()):
 /// starting from sample j's nearest triangle, the field is evaluated at that least point, and
 /// again from the triangle nearest there, until a point's nearest triangle is the one that
-/// chose it, the value stops falling, or `settings.refine_iterations` evaluations. False
-/// (nothing evaluated) when the axis meets sample j's triangle: the slopes decide then.
+/// chose it, the value stops falling, the axis meets the triangle, or
+/// `settings.refine_iterations` evaluations. Returns true only in the first case with the
+/// point outside the object: the field touches that triangle's distance from below there, so
+/// its slope along the axis is zero (or the point is a bracket end), which for a convex field
+/// is the least value over the axis. `best` keeps the least value evaluated in every case.
 template <class Scalar, int Samples, class Probe>
 bool refine_by_triangles(Probe& probe, const PhalanxAxis<Scalar>& ax, const SampleField<Scalar, Samples>& s, int j,
                          Scalar band, const ContactSettings<Scalar>& settings, Penetration<Scalar>& best) {
@@ -153,10 +156,7 @@ bool refine_by_triangles(Probe& probe, const PhalanxAxis<Scalar>& ax, const Samp
   Scalar last = best.phi;
   for (int it = 0; it < settings.refine_iterations && place >= 0; ++it) {
     Scalar u = Scalar(0);
-    if (!(probe.field.segment_distance2(place, p0, p1, u) > Scalar(0))) {
-      if (it == 0) return false;
-      break;
-    }
+    if (!(probe.field.segment_distance2(place, p0, p1, u) > Scalar(0))) return false;  // the axis meets it
     // At an end of the bracket: a sample, known already if it was evaluated.
     const int m = u == Scalar(0) ? std::max(0, j - 1) : (u == Scalar(1) ? std::min(Samples - 1, j + 1) : -1);
     Scalar t = lo + u * (hi - lo), phi = Scalar(0);
@@ -177,12 +177,12 @@ bool refine_by_triangles(Probe& probe, const PhalanxAxis<Scalar>& ax, const Samp
       best.t = t;
       best.normal = n;
     }
-    if (at == place || !(phi < last)) break;
+    if (at == place) return phi > Scalar(0);
+    if (!(phi < last)) return false;
     last = phi;
     place = at;
   }
-  best.depth = ax.radius - best.phi;
-  return true;
+  return false;
 }
 
 /// The deepest point of the axis near sample j (see the file comment). The bracket runs from
@@ -192,7 +192,9 @@ bool refine_by_triangles(Probe& probe, const PhalanxAxis<Scalar>& ax, const Samp
 /// piecewise linear, inside a box) in turn; the bracket end of the same slope sign moves
 /// there. For convex phi the two tangents bound min phi from below: the iteration stops
 /// when the best value is within `settings.refine_tolerance` of that bound, or after
-/// `settings.refine_iterations` evaluations.
+/// `settings.refine_iterations` evaluations. A mesh is first refined by triangles; when that
+/// search does not certify its point, this search follows (from the same samples, keeping the
+/// least value found), with a budget of its own: at most 2 `refine_iterations` evaluations.
 template <class Scalar, int Samples, class Probe>
 Penetration<Scalar> refine(Probe& probe, const PhalanxAxis<Scalar>& ax, const SampleField<Scalar, Samples>& s, int j,
                            Scalar band, const ContactSettings<Scalar>& settings) {
@@ -203,12 +205,16 @@ Penetration<Scalar> refine(Probe& probe, const PhalanxAxis<Scalar>& ax, const Sa
   const Scalar h = Scalar(1) / Scalar(Samples - 1);
   Penetration<Scalar> best{ax.radius - s.phi[sj], Scalar(j) * h, s.phi[sj], s.normal[sj], j, false};
   if constexpr (Probe::segments) {
-    if (s.phi[sj] > Scalar(0) && refine_by_triangles(probe, ax, s, j, band, settings, best)) return best;
+    if (s.phi[sj] > Scalar(0) && refine_by_triangles(probe, ax, s, j, band, settings, best)) {
+      best.depth = ax.radius - best.phi;
+      return best;
+    }
   }
   const Vector3<Scalar> d = ax.b - ax.a;
   const Scalar slope = s.normal[sj].dot(d);
   const int k = slope > Scalar(0) ? j - 1 : j + 1;
   int budget = settings.refine_iterations;
+  best.depth = ax.radius - best.phi;
   if (slope == Scalar(0) || k < 0 || k >= Samples || budget <= 0) return best;
   // Every point of the bracket is within one spacing of sample j, below the band: its
   // distance is below band + spacing.
@@ -225,7 +231,7 @@ Penetration<Scalar> refine(Probe& probe, const PhalanxAxis<Scalar>& ax, const Sa
     phik = distance(Scalar(k) * h, nk);
     --budget;
   }
-  End lo{best.t, best.phi, slope}, hi{Scalar(k) * h, phik, nk.dot(d)};
+  End lo{Scalar(j) * h, s.phi[sj], slope}, hi{Scalar(k) * h, phik, nk.dot(d)};
   if (k < j) std::swap(lo, hi);
   for (int it = 0; it < budget; ++it) {
     const Scalar dg = hi.slope - lo.slope;
