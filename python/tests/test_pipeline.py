@@ -110,10 +110,19 @@ def test_the_python_session_matches_the_cpp_example(run, tmp_path):
     cols = [header.index(f"F{k}_norm") for k in range(14)]
     cpp = np.array([[float(r[c]) for c in cols] for r in rows[1:]])
     cpp_held = np.array([r[header.index("held")] == "1" for r in rows[1:]])
+    cpp_contacts = np.array([int(r[header.index("contacts")]) for r in rows[1:]])
     times, frames = run
     py = np.array([np.linalg.norm(f.force, axis=1) for f in frames])
     assert cpp.shape == py.shape
     # The CSV's rounding (5e-5 N) and round-off of two builds (the module's and the example's),
     # which the session's contacts amplify over 6 500 frames: a few mN of forces up to 25 N.
-    assert np.abs(py - cpp).max() <= 1e-2
+    # Where a contact comes or goes (a phalanx grazing the object as the hand lets go), that
+    # round-off may move the event by a frame, and the object's flight with it for a few frames:
+    # at most 0.1 % of the frames, each with the other build's contact count nearby.
+    off = np.nonzero(np.abs(py - cpp).max(axis=1) > 1e-2)[0]
+    assert len(off) <= len(frames) // 1000, off
+    py_contacts = np.array([f.contacts for f in frames])
+    for i in off:
+        near = slice(max(0, i - 3), i + 4)
+        assert (cpp_contacts[near] != py_contacts[near]).any() or len(set(cpp_contacts[near])) > 1, i
     assert np.mean(cpp_held == np.array([f.held for f in frames])) >= 0.995

@@ -36,7 +36,10 @@ struct PalmUp {
     object.mass = mass;
     object.principal_inertia = solid_cylinder_inertia<double>(mass, radius, half_length);
     wrist.pose = Iso::Identity();
-    wrist.pose.linear() = Eigen::AngleAxisd(3.141592653589793, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    // Palm up, tilted by 0.02 rad so that the object leans on the metacarpal heads: lying on
+    // the flat palm alone, a cylinder touches it along one line, a grasp matrix of rank 5.
+    wrist.pose.linear() = Eigen::AngleAxisd(3.141592653589793, Eigen::Vector3d::UnitX()).toRotationMatrix() *
+                          Eigen::AngleAxisd(0.02, Eigen::Vector3d::UnitY()).toRotationMatrix();
     wrist.pose.translation() = Eigen::Vector3d(0.1, 0.2, 0.5);
     const Eigen::Vector3d in_hand(0.34 * L, 0.0, -(radius + 0.055 * L - 0.001));
     object.position = wrist.pose * in_hand;

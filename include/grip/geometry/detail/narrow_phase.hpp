@@ -172,7 +172,7 @@ bool refine_by_triangles(Probe& probe, const PhalanxAxis<Scalar>& ax, const Samp
       if (!probe.within(ax.at(t), limit, phi, n)) phi = probe.exact(ax.at(t), n);
       at = probe.place();
     }
-    if (phi < best.phi) {
+    if (phi < best.phi - settings.refine_tolerance) {  // (equally deep: the sample's is kept)
       best.phi = phi;
       best.t = t;
       best.normal = n;
@@ -195,6 +195,8 @@ bool refine_by_triangles(Probe& probe, const PhalanxAxis<Scalar>& ax, const Samp
 /// `settings.refine_iterations` evaluations. A mesh is first refined by triangles; when that
 /// search does not certify its point, this search follows (from the same samples, keeping the
 /// least value found), with a budget of its own: at most 2 `refine_iterations` evaluations.
+/// Either search replaces its best point only by one deeper by more than the tolerance: among
+/// equally deep points (a phalanx lying along a face) the sample's is kept.
 template <class Scalar, int Samples, class Probe>
 Penetration<Scalar> refine(Probe& probe, const PhalanxAxis<Scalar>& ax, const SampleField<Scalar, Samples>& s, int j,
                            Scalar band, const ContactSettings<Scalar>& settings) {
@@ -237,13 +239,17 @@ Penetration<Scalar> refine(Probe& probe, const PhalanxAxis<Scalar>& ax, const Sa
     const Scalar dg = hi.slope - lo.slope;
     if (!(dg > Scalar(0))) break;  // no bracket of a minimum (not convex here)
     const Scalar t_tangents = (lo.phi - hi.phi + hi.slope * hi.t - lo.slope * lo.t) / dg;
-    const Scalar lower = lo.phi + lo.slope * (t_tangents - lo.t);
+    // The least over the bracket of the greater tangent: at their crossing if it lies inside,
+    // else at an end (nearly parallel tangents: a phalanx lying along a face).
+    auto tangents = [&](Scalar t) { return std::max(lo.phi + lo.slope * (t - lo.t), hi.phi + hi.slope * (t - hi.t)); };
+    Scalar lower = std::min(tangents(lo.t), tangents(hi.t));
+    if (t_tangents > lo.t && t_tangents < hi.t) lower = std::min(lower, tangents(t_tangents));
     if (!(best.phi - lower > settings.refine_tolerance)) break;
     Scalar t = it % 2 == 0 ? lo.t - lo.slope * (hi.t - lo.t) / dg : t_tangents;
     if (!(t > lo.t && t < hi.t)) t = Scalar(0.5) * (lo.t + hi.t);
     Vector3<Scalar> n;
     const Scalar phi = distance(t, n);
-    if (phi < best.phi) {
+    if (phi < best.phi - settings.refine_tolerance) {  // (equally deep: the sample's is kept)
       best.phi = phi;
       best.t = t;
       best.normal = n;
