@@ -458,6 +458,66 @@ TEST_CASE_TEMPLATE("solve_constrained: warm starts of a slowly moving grasp", S,
   CHECK(warm_total < cold_total);
 }
 
+TEST_CASE_TEMPLATE("solve_constrained: a warm start follows a slowly moving grasp in a few Newton passes", S, double,
+                   float) {
+  // The contract: warm-started from the previous frame's multipliers, a frame whose contacts
+  // moved by up to 1 mm and whose load changed by a few percent is answered by Newton's method
+  // on the dual alone (no interior-point iteration, KKT exact) in at most warm_pass_bound
+  // passes, line-search trials included, while the same frame solved cold needs the
+  // interior-point method and more than twice as many passes (so that a warm start that is
+  // ignored, or that starts anywhere but near the optimum, breaks the bound).
+  // warm_pass_bound is one pass above the most any frame here takes, in float or in double.
+  constexpr int warm_pass_bound = 7;
+  // Five hard fingers (mu 0.3, squeeze 0.2 N) at seeded points of a 4 cm sphere that turns by
+  // 0.025 rad a frame about a fixed axis; the load is a 0.5 kg weight swinging by 10 % with a
+  // lateral push of at most 0.7 N and small moments: consecutive loads differ by at most 3.5 %.
+  // The low friction and squeeze keep cones active, where the unconstrained optimum's
+  // multipliers (the cold start) are too far for Newton's method.
+  using GraspT = Grasp<Dynamic, HardFinger, S, 20>;
+  std::mt19937 rng(5);
+  grip_test::Uniform u01(0, 1);
+  Eigen::Vector3d dirs[5];
+  for (Eigen::Vector3d& u : dirs) {
+    const double th = std::acos(1 - 2 * u01(rng)), ph = 6.283185307179586 * u01(rng);
+    u = Eigen::Vector3d(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
+  }
+  const Eigen::Vector3d axis = Eigen::Vector3d(1, 2, 3).normalized();
+  Wrench<S> warm = Wrench<S>::Zero();
+  for (int frame = 0; frame < 30; ++frame) {
+    const Eigen::Matrix3d turn = Eigen::AngleAxisd(0.025 * frame, axis).toRotationMatrix();
+    GraspT g;
+    for (const Eigen::Vector3d& u0 : dirs) {
+      const Eigen::Vector3d u = turn * u0;
+      Contact<S> c;
+      c.position = (0.04 * u).cast<S>();
+      c.normal = (-u).cast<S>();
+      c.friction = S(0.3);
+      c.squeeze = S(0.2);
+      REQUIRE(g.add(c) == Status::Ok);
+    }
+    Wrench<S> w;
+    w << S(0.5 * std::sin(0.2 * frame)), S(0.5), S(-4.905 * (1 + 0.1 * std::sin(0.3 * frame))),
+        S(0.01 * std::cos(0.3 * frame)), S(0.01), S(0);
+    const auto cold = solve_constrained(g, w);
+    REQUIRE(cold.status == Status::Ok);
+    if (frame == 0) {
+      warm = cold.multipliers;
+      continue;
+    }
+    const auto hot = solve_constrained(g, w, ConstrainedSettings<S>{}, warm);
+    REQUIRE(hot.status == Status::Ok);
+    CHECK(hot.refined);
+    CHECK(hot.iterations == 0);
+    CHECK(hot.passes <= warm_pass_bound);
+    CHECK(cold.iterations > 0);
+    CHECK(cold.passes > 2 * warm_pass_bound);
+    // The same optimum either way (as in the test above).
+    CHECK(std::abs(double(hot.objective - cold.objective)) <=
+          objective_tolerance(g, w, hot, double(cold.objective)) + objective_tolerance(g, w, cold, double(cold.objective)));
+    warm = hot.multipliers;  // as a haptic loop chains them
+  }
+}
+
 TEST_CASE_TEMPLATE("solve_constrained: a contact at its apex can be dropped, the others' optimum unchanged", S, double,
                    float) {
   // What lets the haptic pipeline skip a second solve after dropping separating contacts: if

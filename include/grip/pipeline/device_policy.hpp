@@ -205,7 +205,9 @@ Status render_joints(const std::array<Scalar, hand_dof_count>& limit, const Felt
   }
   for (int i = 0; i < hand_dof_count; ++i) {
     const Scalar l = limit[idx(i)];
-    const bool renders = velocity == nullptr || out.wanted(i) * (*velocity)(i) <= Scalar(0);
+    // tau qdot > 0 by the signs (their product underflows to 0 at the smallest speeds).
+    const Scalar tau = out.wanted(i), qdot = velocity == nullptr ? Scalar(0) : (*velocity)(i);
+    const bool renders = !((tau > Scalar(0) && qdot > Scalar(0)) || (tau < Scalar(0) && qdot < Scalar(0)));
     out.torque(i) = renders ? std::fmin(l, std::fmax(-l, out.wanted(i))) : Scalar(0);
     out.clipped += out.torque(i) != out.wanted(i) ? 1 : 0;
   }
