@@ -5,9 +5,12 @@ that balance an object's external wrench (with or without Coulomb friction cones
 force closure, grasp quality and epsilon, and batches of thousands of candidate grasps on
 all cores (grip.batch), on the C++ library grip. Units: metres, newtons, newton metres; normals are
 unit and point INTO the object; forces are those the contacts apply ON the object.
+Complex input raises TypeError naming the argument. __version__ is the C++ library's version
+(include/grip/core/version.hpp) that the module was built from.
 """
 
 from ._grip import (
+    __version__,
     ConicAnalysisSettings,
     ConstrainedSettings,
     ConstrainedSolution,

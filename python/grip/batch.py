@@ -4,7 +4,8 @@ Every candidate of a batch has the same number of contacts n and the same contac
 The per-contact numbers may be scalars, arrays of shape (n,) (the same for every
 candidate) or (k, n). Each candidate is evaluated by the same C++ code as a single call,
 on one thread, so results do not depend on the number of threads and equal the single
-calls' bit for bit.
+calls' bit for bit. Complex input raises TypeError naming the argument (a cast to float would
+keep only its real parts).
 """
 
 import numpy as np
@@ -13,8 +14,23 @@ from . import _grip
 from ._grip import ConstrainedSettings, Model
 
 
+def _real(value, name):
+    """value as a NumPy array of floats; TypeError naming `name` when it holds complex numbers."""
+    value = np.asarray(value)
+    if value.dtype.kind == "c":
+        raise TypeError(f"{name}: complex values are not accepted (imaginary parts would be dropped)")
+    return np.asarray(value, dtype=float)
+
+
+def _scalar(value, name, kind):
+    """value as a Python float or int (kind); TypeError naming `name` when it is complex."""
+    if np.iscomplexobj(value):
+        raise TypeError(f"{name}: complex values are not accepted (imaginary parts would be dropped)")
+    return kind(value)
+
+
 def _per_contact(value, name, k, n):
-    value = np.asarray(value, dtype=float)
+    value = _real(value, name)
     try:
         return np.ascontiguousarray(np.broadcast_to(value, (k, n)))
     except ValueError:
@@ -22,8 +38,8 @@ def _per_contact(value, name, k, n):
 
 
 def _arrays(positions, normals, friction, torsional_friction, squeeze, weights):
-    positions = np.ascontiguousarray(positions, dtype=float)
-    normals = np.ascontiguousarray(normals, dtype=float)
+    positions = np.ascontiguousarray(_real(positions, "positions"))
+    normals = np.ascontiguousarray(_real(normals, "normals"))
     if positions.ndim != 3 or positions.shape[2] != 3:
         raise ValueError(f"positions must have shape (k, n, 3), not {positions.shape}")
     k, n = positions.shape[:2]
@@ -44,8 +60,9 @@ def evaluate_batch(positions, normals, friction, *, torsional_friction=0.0, sque
     threads: 0 for every core. Invalid input raises ValueError naming the grasp and contact.
     """
     args = _arrays(positions, normals, friction, torsional_friction, squeeze, weights)
-    return _grip._evaluate_batch(*args, model, float(torque_scale), bool(force_closure), bool(epsilon_l1),
-                                 bool(epsilon_linf), int(sides), int(threads), int(_first))
+    return _grip._evaluate_batch(*args, model, _scalar(torque_scale, "torque_scale", float), bool(force_closure),
+                                 bool(epsilon_l1), bool(epsilon_linf), _scalar(sides, "sides", int),
+                                 _scalar(threads, "threads", int), int(_first))
 
 
 def solve_batch(positions, normals, friction, w_ext, *, torsional_friction=0.0, squeeze=0.0, weights=1.0,
@@ -63,10 +80,11 @@ def solve_batch(positions, normals, friction, w_ext, *, torsional_friction=0.0, 
     args = _arrays(positions, normals, friction, torsional_friction, squeeze, weights)
     k, n = args[0].shape[:2]
     bounds = _per_contact(max_normal_force, "max_normal_force", k, n)
-    w = np.asarray(w_ext, dtype=float)
+    w = _real(w_ext, "w_ext")
     try:
         w = np.ascontiguousarray(np.broadcast_to(w, (k, 6)))
     except ValueError:
         raise ValueError(f"w_ext must have shape (6,) or (k, 6) = ({k}, 6), not {w.shape}")
     settings = settings if settings is not None else ConstrainedSettings()
-    return _grip._solve_batch(*args, bounds, model, w, str(method), settings, int(threads), int(_first))
+    return _grip._solve_batch(*args, bounds, model, w, str(method), settings, _scalar(threads, "threads", int),
+                              int(_first))

@@ -25,13 +25,16 @@ from ._grip import Model
 
 
 def _chunks(value, k, n, shape, chunk_size, name):
-    """value as a list of per-chunk delayed (or NumPy) blocks of `shape` ((k, n), (k, n, 3) or (k, 6))."""
+    """value as a list of per-chunk delayed (or NumPy) blocks of `shape` ((k, n), (k, n, 3) or (k, 6));
+    TypeError naming `name` when it holds complex numbers (a Dask array's dtype tells, uncomputed)."""
     if isinstance(value, da.Array):
+        if value.dtype.kind == "c":
+            raise TypeError(f"{name}: complex values are not accepted (imaginary parts would be dropped)")
         if value.shape != shape:
             raise ValueError(f"{name} must have shape {shape}, not {value.shape}")
         value = value.rechunk((chunk_size,) + value.shape[1:])
         return list(value.to_delayed().ravel())
-    value = np.ascontiguousarray(np.broadcast_to(np.asarray(value, dtype=float), shape))
+    value = np.ascontiguousarray(np.broadcast_to(_batch._real(value, name), shape))
     return [value[s:s + chunk_size] for s in range(0, k, chunk_size)]
 
 

@@ -92,7 +92,7 @@ Batch batch(const py::handle& positions, const py::handle& normals, const py::ha
   Batch b;
   b.first = first;
   auto get = [](const py::handle& h, const char* name, int ndim) {
-    Array x = Array::ensure(h);
+    Array x = numbers(h, name);
     if (!x || x.ndim() != ndim) invalid(std::string(name) + " must be an array of " + std::to_string(ndim) + " dimensions");
     return x;
   };
@@ -152,11 +152,11 @@ G build(const Batch& b, py::ssize_t j) {
 
 py::dict evaluate_batch(const py::handle& positions, const py::handle& normals, const py::handle& friction,
                         const py::handle& torsional_friction, const py::handle& squeeze, const py::handle& weights,
-                        Model model, double torque_scale, bool closure, bool eps_l1, bool eps_linf, int sides,
-                        int threads, py::ssize_t first) {
+                        Model model, Real torque_scale, bool closure, bool eps_l1, bool eps_linf, Integer sides,
+                        Integer threads, py::ssize_t first) {
   const Batch b = batch(positions, normals, friction, torsional_friction, squeeze, weights, py::none(), first);
   grip::BatchSettings<double> settings;
-  settings.torque_scale = positive(torque_scale, "torque_scale");
+  settings.torque_scale = positive(torque_scale.get("torque_scale"), "torque_scale");
   settings.force_closure = closure;
   settings.epsilon_l1 = eps_l1;
   settings.epsilon_linf = eps_linf;
@@ -168,12 +168,13 @@ py::dict evaluate_batch(const py::handle& positions, const py::handle& normals, 
          *pm = margin.mutable_data(), *pe1 = e1.mutable_data(), *pinf = einf.mutable_data();
   bool* pc = in_closure.mutable_data();
   int* pst = status.mutable_data();
-  with_sides(sides, [&](auto kk) {
+  const int nthreads = threads.get("threads");
+  with_sides(sides.get("sides"), [&](auto kk) {
     constexpr int K = decltype(kk)::value;
     dispatch(model, [&](auto tag) {
       using G = typename decltype(tag)::type;
       py::gil_scoped_release release;
-      parallel(k, threads, [&](py::ssize_t begin, py::ssize_t end) {
+      parallel(k, nthreads, [&](py::ssize_t begin, py::ssize_t end) {
         grip::EpsilonWorkspace<double>& ws = workspace();
         for (py::ssize_t j = begin; j < end; ++j) {
           const auto r = grip::evaluate_grasp<K>(build<G>(b, j), settings, ws);
@@ -204,18 +205,19 @@ py::dict evaluate_batch(const py::handle& positions, const py::handle& normals, 
 py::dict solve_batch(const py::handle& positions, const py::handle& normals, const py::handle& friction,
                      const py::handle& torsional_friction, const py::handle& squeeze, const py::handle& weights,
                      const py::handle& max_normal_force, Model model, const py::handle& w_ext,
-                     const std::string& method, const grip::ConstrainedSettings<double>& settings, int threads,
+                     const std::string& method, const grip::ConstrainedSettings<double>& settings, Integer threads,
                      py::ssize_t first) {
   const Batch b = batch(positions, normals, friction, torsional_friction, squeeze, weights, max_normal_force, first);
   if (method != "range_space" && method != "kkt" && method != "constrained")
     invalid("method must be 'range_space', 'kkt' or 'constrained', not '" + method + "'");
-  const Array wa = Array::ensure(w_ext);
+  const Array wa = numbers(w_ext, "w_ext");
   if (!wa || wa.ndim() != 2 || wa.shape(0) != b.k || wa.shape(1) != 6)
     invalid("w_ext must have shape (k, 6) = (" + std::to_string(b.k) + ", 6), not " + (wa ? shape_of(wa) : std::string("?")));
   for (py::ssize_t j = 0; j < b.k; ++j)
     for (int q = 0; q < 6; ++q)
       if (!std::isfinite(wa.at(j, q)) || std::abs(wa.at(j, q)) > grip::ScalarTraits<double>::max_magnitude)
         invalid("w_ext[" + std::to_string(first + j) + ", " + std::to_string(q) + "] is not finite (or beyond 1e15)");
+  const int nthreads = threads.get("threads");
   const py::ssize_t k = b.k;
   int dim = 0;
   dispatch(model, [&](auto tag) { dim = decltype(tag)::type::dim; });
@@ -229,7 +231,7 @@ py::dict solve_batch(const py::handle& positions, const py::handle& normals, con
   dispatch(model, [&](auto tag) {
     using G = typename decltype(tag)::type;
     py::gil_scoped_release release;
-    parallel(k, threads, [&](py::ssize_t begin, py::ssize_t end) {
+    parallel(k, nthreads, [&](py::ssize_t begin, py::ssize_t end) {
       for (py::ssize_t j = begin; j < end; ++j) {
         const G g = build<G>(b, j);
         grip::Wrench<double> w;
@@ -291,8 +293,8 @@ void bind_analysis(py::module_& m) {
       .def_readonly("isotropy", &grip::GraspQuality<double>::isotropy, "sigma_min / sigma_max")
       .def_readonly("status", &grip::GraspQuality<double>::status);
   m.def("grasp_quality",
-        [](const PyGrasp& g, double torque_scale) {
-          const double rho = positive(torque_scale, "torque_scale");
+        [](const PyGrasp& g, Real torque_scale) {
+          const double rho = positive(torque_scale.get("torque_scale"), "torque_scale");
           return g.visit([rho](const auto& x) { return grip::grasp_quality(x, rho); });
         },
         py::arg("grasp"), py::arg("torque_scale") = 1.0,
@@ -307,11 +309,11 @@ void bind_analysis(py::module_& m) {
       .def_readonly("facets", &EpsilonPy::facets)
       .def_readonly("status", &EpsilonPy::status);
   m.def("epsilon",
-        [](const PyGrasp& g, const std::string& norm, double torque_scale, int sides) {
+        [](const PyGrasp& g, const std::string& norm, Real torque_scale, Integer sides) {
           const grip::EpsilonNorm nm = epsilon_norm(norm);
-          const double rho = positive(torque_scale, "torque_scale");
+          const double rho = positive(torque_scale.get("torque_scale"), "torque_scale");
           EpsilonPy out;
-          with_sides(sides, [&](auto kk) {
+          with_sides(sides.get("sides"), [&](auto kk) {
             py::gil_scoped_release release;
             g.visit([&](const auto& x) {
               const auto e = grip::ferrari_canny_epsilon<decltype(kk)::value>(x, nm, rho, workspace());
@@ -326,7 +328,7 @@ void bind_analysis(py::module_& m) {
 
   m.def("decompose_forces",
         [](const PyGrasp& g, const py::handle& forces) {
-          const Array f = Array::ensure(forces);
+          const Array f = numbers(forces, "forces");
           if (!f || f.ndim() != 2 || f.shape(0) != g.size() || f.shape(1) != g.dim())
             invalid("forces must have shape (" + std::to_string(g.size()) + ", " + std::to_string(g.dim()) + ")");
           Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(f.data(), f.size());

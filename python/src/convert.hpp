@@ -1,7 +1,9 @@
 #pragma once
 // NumPy arrays in, grip's types out: shape and value checks that raise ValueError naming the
 // field and the index, before anything reaches the library (whose own checks answer with a
-// Status, not a message).
+// Status, not a message). Complex input, which a cast to double would reduce to its real parts,
+// raises TypeError naming the argument: every array the bindings take is read by numbers(),
+// every number by the type Real or Integer (below).
 
 #include <cmath>
 #include <limits>
@@ -22,6 +24,63 @@ constexpr int max_contacts = 64;
 
 using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
+/// The TypeError's message for complex values given as `name`.
+inline std::string complex_error(const std::string& name) {
+  return name + ": complex values are not accepted (imaginary parts would be dropped)";
+}
+
+/// True for an array of complex dtype.
+inline bool complex_array(const py::handle& obj) {
+  return py::isinstance<py::array>(obj) && py::reinterpret_borrow<py::array>(obj).dtype().kind() == 'c';
+}
+
+/// True for a complex number as a scalar: Python's complex, NumPy's complex scalars, or any
+/// object whose `dtype` is complex (a 0-d or 1-element array, which a float conversion would
+/// also reduce to its real part).
+inline bool complex_scalar(const py::handle& obj) {
+  if (PyFloat_Check(obj.ptr()) || PyLong_Check(obj.ptr())) return false;  // the common case, first
+  if (PyComplex_Check(obj.ptr()) || complex_array(obj)) return true;
+  if (!py::hasattr(obj, "dtype")) return false;
+  const py::object dtype = obj.attr("dtype");
+  return py::isinstance<py::dtype>(dtype) && py::reinterpret_borrow<py::dtype>(dtype).kind() == 'c';
+}
+
+/// The numbers of `obj` (an array, a sequence or a scalar) as a C-contiguous array of T, cast
+/// as NumPy casts (a null array when it cannot: the caller's ValueError names the shape it
+/// wants); TypeError naming `name` when they are complex. Every array argument of the
+/// bindings is read through it.
+template <class T = double>
+py::array_t<T, py::array::c_style | py::array::forcecast> numbers(const py::handle& obj, const char* name) {
+  using Out = py::array_t<T, py::array::c_style | py::array::forcecast>;
+  if (PyFloat_Check(obj.ptr()) || PyLong_Check(obj.ptr())) return Out::ensure(obj);
+  if (py::isinstance<py::array>(obj)) {
+    if (complex_array(obj)) throw py::type_error(complex_error(name));
+    return Out::ensure(obj);
+  }
+  // A sequence or another scalar: NumPy's own dtype for it first (a list holding one complex
+  // number is complex), then the cast from that array.
+  const py::array natural = py::array::ensure(obj);
+  if (!natural) return Out::ensure(obj);
+  if (complex_array(natural)) throw py::type_error(complex_error(name));
+  return Out::ensure(natural);
+}
+
+/// A number argument of type T (double or int): what pybind11 takes for a T, except complex
+/// numbers, which it would cast to their real parts (NumPy's complex scalars) or refuse without
+/// naming the argument (Python's complex). get(name) is the value, or TypeError naming `name`
+/// for a complex number. Declare the argument as Real or Integer and read it with get().
+template <class T>
+struct Number {
+  T value{};
+  bool complex{false};
+  T get(const char* name) const {
+    if (complex) throw py::type_error(complex_error(name));
+    return value;
+  }
+};
+using Real = Number<double>;
+using Integer = Number<int>;
+
 inline std::string shape_of(const Array& a) {
   std::string s = "(";
   for (py::ssize_t k = 0; k < a.ndim(); ++k) s += (k ? ", " : "") + std::to_string(a.shape(k));
@@ -32,7 +91,7 @@ inline std::string shape_of(const Array& a) {
 
 /// An (n, 3) array of finite numbers within grip's magnitude bound.
 inline Array rows3(const py::handle& obj, const char* name) {
-  Array a = Array::ensure(obj);
+  Array a = numbers(obj, name);
   if (!a) invalid(std::string(name) + " must be an array of numbers of shape (n, 3)");
   if (a.ndim() != 2 || a.shape(1) != 3) invalid(std::string(name) + " must have shape (n, 3), not " + shape_of(a));
   for (py::ssize_t i = 0; i < a.shape(0); ++i)
@@ -58,7 +117,7 @@ struct PerContact {
 inline PerContact per_contact_values(const py::handle& obj, py::ssize_t n, const char* name) {
   PerContact out;
   out.values.resize(static_cast<std::size_t>(n));
-  Array a = Array::ensure(obj);
+  Array a = numbers(obj, name);
   if (!a) invalid(std::string(name) + " must be a number or an array of shape (n,)");
   if (a.ndim() == 0) {
     out.scalar = true;
@@ -105,7 +164,7 @@ inline std::vector<double> normal_force_bounds(const py::handle& obj, py::ssize_
 
 /// A wrench (force in N; moment in N m), shape (6,), finite.
 inline grip::Wrench<double> wrench(const py::handle& obj, const char* name) {
-  Array a = Array::ensure(obj);
+  Array a = numbers(obj, name);
   if (!a || a.ndim() != 1 || a.shape(0) != 6)
     invalid(std::string(name) + " must have shape (6,) (force; moment), not " + (a ? shape_of(a) : std::string("a non-array")));
   grip::Wrench<double> w;
@@ -178,7 +237,7 @@ inline std::vector<grip::Contact<double>> contacts(const py::handle& positions, 
 
 /// A (3,) vector of finite numbers.
 inline grip::Vector3<double> vec3(const py::handle& obj, const char* name) {
-  const Array a = Array::ensure(obj);
+  const Array a = numbers(obj, name);
   if (!a || a.ndim() != 1 || a.shape(0) != 3) invalid(std::string(name) + " must have shape (3,)");
   const grip::Vector3<double> v(a.at(0), a.at(1), a.at(2));
   if (!v.allFinite()) invalid(std::string(name) + " is not finite");
@@ -188,7 +247,7 @@ inline grip::Vector3<double> vec3(const py::handle& obj, const char* name) {
 /// A rigid pose from a (4, 4) homogeneous matrix: finite, the rotation orthonormal to 1e-3,
 /// the last row 0 0 0 1.
 inline grip::Isometry3<double> pose(const py::handle& obj, const char* name) {
-  const Array a = Array::ensure(obj);
+  const Array a = numbers(obj, name);
   if (!a || a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4)
     invalid(std::string(name) + " must be a (4, 4) homogeneous matrix, not " + (a ? shape_of(a) : std::string("?")));
   Eigen::Matrix4d m;
@@ -208,7 +267,7 @@ inline grip::Isometry3<double> pose(const py::handle& obj, const char* name) {
 /// A finite vector of Size joint values (rad) named `name` in messages.
 template <int Size>
 Eigen::Matrix<double, Size, 1> joint_vector(const py::handle& obj, const char* name) {
-  const Array a = Array::ensure(obj);
+  const Array a = numbers(obj, name);
   if (!a || a.ndim() != 1 || a.shape(0) != Size)
     invalid(std::string(name) + " must have shape (" + std::to_string(Size) +
             ",) (rad, the joint order of docs/hand.md), not " + (a ? shape_of(a) : std::string("?")));
@@ -227,3 +286,33 @@ inline grip::HandJoints<double> joints(const py::handle& obj) { return joint_vec
 inline grip::JointAngles<double> angles(const py::handle& obj) { return joint_vector<grip::hand_joint_count>(obj, "angles"); }
 
 }  // namespace grip_python
+
+namespace pybind11 {
+namespace detail {
+
+/// Real and Integer from Python: a complex number is taken (and refused by get(), naming the
+/// argument); anything else is loaded as pybind11 loads a double or an int, which keeps the
+/// signatures' types (float, int) and pybind11's own TypeError for what is not a number.
+template <class T>
+struct type_caster<grip_python::Number<T>> {
+  PYBIND11_TYPE_CASTER(grip_python::Number<T>, make_caster<T>::name);
+
+  bool load(handle src, bool convert) {
+    value = grip_python::Number<T>{};
+    if (grip_python::complex_scalar(src)) {
+      value.complex = true;
+      return true;
+    }
+    make_caster<T> inner;
+    if (!inner.load(src, convert)) return false;
+    value.value = cast_op<T>(inner);
+    return true;
+  }
+
+  static handle cast(const grip_python::Number<T>& x, return_value_policy policy, handle parent) {
+    return make_caster<T>::cast(x.value, policy, parent);
+  }
+};
+
+}  // namespace detail
+}  // namespace pybind11

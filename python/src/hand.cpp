@@ -23,8 +23,9 @@ using Prim = grip::ShapePrimitive<double>;
 using Table = grip::ContributionTable<double>;
 
 /// A contribution table from a (5, 3) array of shares [digit][phalanx] and the palm's share.
-Table table_of(const py::handle& share, double palm) {
-  const Array a = Array::ensure(share);
+Table table_of(const py::handle& share, Real palm_share) {
+  const Array a = numbers(share, "share");
+  const double palm = palm_share.get("palm");
   if (!a || a.ndim() != 2 || a.shape(0) != 5 || a.shape(1) != 3) invalid("share must have shape (5, 3)");
   Table t{};
   for (int f = 0; f < 5; ++f)
@@ -46,7 +47,7 @@ grip::Finger finger_of(int f) {
 /// A (3, 3) rotation, the identity for None (validate() checks it).
 Eigen::Matrix3d rotation(const py::handle& obj) {
   if (obj.is_none()) return Eigen::Matrix3d::Identity();
-  const Array a = Array::ensure(obj);
+  const Array a = numbers(obj, "rotation");
   if (!a || a.ndim() != 2 || a.shape(0) != 3 || a.shape(1) != 3) invalid("rotation must have shape (3, 3)");
   Eigen::Matrix3d r;
   for (int i = 0; i < 3; ++i)
@@ -69,7 +70,7 @@ RowMatrix rows(const std::array<grip::Vector3<double>, 5>& v) {
 /// The posture of the paper's hand (14 angles) or of the whole hand (20 joints), by q's length.
 grip::HandPosture<double> posture(const Dims& dims, const py::handle& wrist, const py::handle& q) {
   grip::HandPosture<double> out;
-  const Array a = Array::ensure(q);
+  const Array a = numbers(q, "angles");
   const bool whole = a && a.ndim() == 1 && a.shape(0) == grip::hand_dof_count;
   const grip::Status st = whole ? grip::forward_kinematics(dims, pose(wrist, "wrist"), joints(q), out)
                                 : grip::forward_kinematics(dims, pose(wrist, "wrist"), angles(q), out);
@@ -169,7 +170,7 @@ void bind_hand(py::module_& m) {
         for (int k = 0; k < grip::hand_phalanx_count; ++k) d(k) = t(grip::phalanx_finger(k), grip::phalanx_kind(k));
         return d;
       }, "(14,) d of each phalanx in the order of docs/hand.md (hand_contacts' phalanx index)")
-      .def("finger_total", [](const Table& t, int f) { return t.finger_total(finger_of(f)); }, py::arg("finger"),
+      .def("finger_total", [](const Table& t, Integer f) { return t.finger_total(finger_of(f.get("finger"))); }, py::arg("finger"),
            "sum over a digit's phalanges, 0 (thumb) to 4 (little)")
       .def("four_finger_total", &Table::four_finger_total, "sum over index to little: 1 in grip's tables")
       .def("total", &Table::total, "sum of every share, thumb and palm included");
@@ -177,7 +178,8 @@ void bind_hand(py::module_& m) {
         py::arg("grasp_type") = grip::GraspType::CylindricalPower, "The ContributionTable of a GraspType.");
 
   py::class_<Dims>(m, "HandDimensions", "The hand model's sizes (m) and joint axes, hand frame (docs/hand.md).")
-      .def_static("standard", [](double L, bool left) {
+      .def_static("standard", [](Real length, bool left) {
+        const double L = length.get("hand_length");
         if (!(L > 0) || !std::isfinite(L)) invalid("hand_length must be finite and > 0");
         return Dims::standard(L, left ? grip::Side::Left : grip::Side::Right);
       }, py::arg("hand_length") = 0.19, py::arg("left") = false,
@@ -192,7 +194,7 @@ void bind_hand(py::module_& m) {
       .def_property_readonly("radius", [](const Dims& d) { return std::vector<double>(d.radius.begin(), d.radius.end()); })
       .def_property("base", [](const Dims& d) { return rows(d.base); },
                     [](Dims& d, const py::handle& v) {
-                      const Array a = Array::ensure(v);
+                      const Array a = numbers(v, "base");
                       if (!a || a.ndim() != 2 || a.shape(0) != 5 || a.shape(1) != 3) invalid("base must have shape (5, 3)");
                       for (int f = 0; f < 5; ++f) d.base[static_cast<std::size_t>(f)] = grip::Vector3<double>(a.at(f, 0), a.at(f, 1), a.at(f, 2));
                     },
@@ -214,7 +216,8 @@ void bind_hand(py::module_& m) {
         "(n = 14 phalanges, or 19 with the palm's metacarpals), joint_axis and joint_point (20, 3), in the orders of "
         "docs/hand.md (a joint the hand holds fixed has a zero axis).");
   m.def("point_jacobian",
-        [](const py::handle& wrist, const py::handle& q, int body, const py::handle& point, const Dims* dims) {
+        [](const py::handle& wrist, const py::handle& q, Integer body_index, const py::handle& point, const Dims* dims) {
+          const int body = body_index.get("body");
           const grip::HandPosture<double> p = posture(dims ? *dims : Dims::standard(), wrist, q);
           if (body < 0 || body >= grip::hand_body_count || !(p.bodies >> body & 1u)) invalid("body must be one of the posed hand's bodies, not " + std::to_string(body));
           grip::PointJacobian<double> J;
@@ -226,7 +229,8 @@ void bind_hand(py::module_& m) {
         "respect to the 20 joints; J.T @ f is the joint torques of a force f on that point (docs/hand.md).");
 
   py::class_<Prim>(m, "Primitive", "A sphere, box, cylinder or capsule with its pose in the object frame.");
-  m.def("sphere", [](double r, const py::handle& c) { return checked(grip::make_sphere(r, vec3(c, "center")), "sphere"); },
+  m.def("sphere",
+        [](Real r, const py::handle& c) { return checked(grip::make_sphere(r.get("radius"), vec3(c, "center")), "sphere"); },
         py::arg("radius"), py::arg("center") = std::vector<double>{0, 0, 0});
   m.def("box",
         [](const py::handle& h, const py::handle& c, const py::handle& rot) {
@@ -234,14 +238,16 @@ void bind_hand(py::module_& m) {
         },
         py::arg("half_extents"), py::arg("center") = std::vector<double>{0, 0, 0}, py::arg("rotation") = py::none());
   m.def("cylinder",
-        [](double r, double h, const py::handle& c, const py::handle& rot) {
-          return checked(grip::make_cylinder(r, h, vec3(c, "center"), rotation(rot)), "cylinder");
+        [](Real r, Real h, const py::handle& c, const py::handle& rot) {
+          return checked(grip::make_cylinder(r.get("radius"), h.get("half_length"), vec3(c, "center"), rotation(rot)),
+                         "cylinder");
         },
         py::arg("radius"), py::arg("half_length"), py::arg("center") = std::vector<double>{0, 0, 0},
         py::arg("rotation") = py::none(), "axis along the rotation's third column (object z by default)");
   m.def("capsule",
-        [](double r, double h, const py::handle& c, const py::handle& rot) {
-          return checked(grip::make_capsule(r, h, vec3(c, "center"), rotation(rot)), "capsule");
+        [](Real r, Real h, const py::handle& c, const py::handle& rot) {
+          return checked(grip::make_capsule(r.get("radius"), h.get("half_length"), vec3(c, "center"), rotation(rot)),
+                         "capsule");
         },
         py::arg("radius"), py::arg("half_length"), py::arg("center") = std::vector<double>{0, 0, 0},
         py::arg("rotation") = py::none());
@@ -260,7 +266,8 @@ void bind_hand(py::module_& m) {
 
   m.def("hand_contacts",
         [](const py::object& field, const py::handle& wrist, const py::handle& q, const py::handle& object_pose,
-           const Dims* dims, int per_phalanx, const py::object& octree) {
+           const Dims* dims, Integer phalanx_contacts, const py::object& octree) {
+          const int per_phalanx = phalanx_contacts.get("per_phalanx");
           const grip::HandPosture<double> p = posture(dims ? *dims : Dims::standard(), wrist, q);
           const Iso object = object_pose.is_none() ? Iso::Identity() : pose(object_pose, "object_pose");
           grip::HandCollisionModel<double, 8> model;

@@ -44,8 +44,7 @@ PyMesh from_bytes(const py::bytes& data, const std::string& format) {
 
 PyMesh from_arrays(const py::handle& vertices, const py::handle& triangles) {
   const Array v = rows3(vertices, "vertices");
-  const py::array_t<long long, py::array::c_style | py::array::forcecast> t =
-      py::array_t<long long, py::array::c_style | py::array::forcecast>::ensure(triangles);
+  const py::array_t<long long, py::array::c_style | py::array::forcecast> t = numbers<long long>(triangles, "triangles");
   if (!t || t.ndim() != 2 || t.shape(1) != 3) invalid("triangles must be integers of shape (t, 3)");
   if (v.shape(0) > mesh_vertices || t.shape(0) > mesh_triangles)
     invalid("a mesh holds at most " + std::to_string(mesh_vertices) + " vertices and " + std::to_string(mesh_triangles) +
@@ -99,7 +98,8 @@ void bind_mesh(py::module_& m) {
   py::class_<PyOctree>(m, "SphericalOctree",
                        "The paper's spherical octree of a Shape or a Mesh, to max_depth (0 .. 15): the broad phase "
                        "of hand_contacts. Storage from the heap (up to 65 536 cells).")
-      .def(py::init([](const py::object& field, int depth) {
+      .def(py::init([](const py::object& field, Integer max_depth) {
+             const int depth = max_depth.get("max_depth");
              PyOctree o;
              o.field = field;
              grip::Status st = grip::Status::InvalidInput;

@@ -105,6 +105,15 @@ py::tuple time_constrained(const PyGrasp& g, const py::handle& w_ext, int repeat
   return py::make_tuple(least, status, iterations, passes);
 }
 
+/// cls.name: `member` read and written like def_readwrite, but a complex number raises
+/// TypeError naming the field (def_readwrite would keep a NumPy complex scalar's real part).
+template <class C, class T>
+py::class_<C>& settable(py::class_<C>& cls, const char* name, T C::*member, const char* doc) {
+  return cls.def_property(
+      name, [member](const C& c) { return c.*member; }, [member, name](C& c, Number<T> v) { c.*member = v.get(name); },
+      doc);
+}
+
 }  // namespace grip_python
 
 using namespace grip_python;
@@ -112,6 +121,7 @@ using namespace grip_python;
 PYBIND11_MODULE(_grip, m) {
   m.doc() = "grip: grasp mechanics (the grasp matrix, optimal contact forces, friction cones, force closure).";
   m.attr("max_contacts") = max_contacts;
+  m.attr("__version__") = GRIP_VERSION_STRING;  // include/grip/core/version.hpp, the one place it is written
 
   py::enum_<grip::Status>(m, "Status", "The outcome of every grip computation.")
       .value("Ok", grip::Status::Ok, "success: the answer, to round-off or the tolerance")
@@ -211,34 +221,35 @@ PYBIND11_MODULE(_grip, m) {
       });
 
   using CS = grip::ConstrainedSettings<double>;
-  py::class_<CS>(m, "ConstrainedSettings",
-                 "Tolerances and bounds of solve_constrained (docs/solve.md). Reals finite, > 0 and < 1; "
-                 "max_iterations >= 1, newton_passes >= 0; otherwise the solve answers InvalidInput.")
-      .def(py::init<>())
-      .def_readwrite("tolerance", &CS::tolerance,
-                     "Ok when |G x + w_ext|_L <= tolerance (|w_ext|_L + |x|) and |lambda.(G x + w_ext)| <= tolerance F2")
-      .def_readwrite("certificate_tolerance", &CS::certificate_tolerance,
-                     "Infeasible when y.w_ext > 0 and every G_i^T y is within certificate_tolerance (y.w_ext) / "
-                     "|w_ext|_L of K_i^* (its dual cone)")
-      .def_readwrite("least_residual_weight", &CS::least_residual_weight,
-                     "delta / (largest diagonal entry of G W^-1 G^T in |.|_L's units): Infeasible forces minimise "
-                     "|r|_L^2/2 + delta F2")
-      .def_readwrite("max_iterations", &CS::max_iterations,
-                     "interior-point iterations of a solve, both problems together (three O(n) passes each): the "
-                     "deadline (default 40)")
-      .def_readwrite("newton_passes", &CS::newton_passes,
-                     "Newton passes of the warm start and of the refinement, each (one O(n) pass and a 6x6 solve "
-                     "each; default 8)");
+  py::class_<CS> constrained_settings(m, "ConstrainedSettings",
+                                     "Tolerances and bounds of solve_constrained (docs/solve.md). Reals finite, > 0 "
+                                     "and < 1; max_iterations >= 1, newton_passes >= 0; otherwise the solve answers "
+                                     "InvalidInput.");
+  constrained_settings.def(py::init<>());
+  settable(constrained_settings, "tolerance", &CS::tolerance,
+           "Ok when |G x + w_ext|_L <= tolerance (|w_ext|_L + |x|) and |lambda.(G x + w_ext)| <= tolerance F2");
+  settable(constrained_settings, "certificate_tolerance", &CS::certificate_tolerance,
+           "Infeasible when y.w_ext > 0 and every G_i^T y is within certificate_tolerance (y.w_ext) / "
+           "|w_ext|_L of K_i^* (its dual cone)");
+  settable(constrained_settings, "least_residual_weight", &CS::least_residual_weight,
+           "delta / (largest diagonal entry of G W^-1 G^T in |.|_L's units): Infeasible forces minimise "
+           "|r|_L^2/2 + delta F2");
+  settable(constrained_settings, "max_iterations", &CS::max_iterations,
+           "interior-point iterations of a solve, both problems together (three O(n) passes each): the "
+           "deadline (default 40)");
+  settable(constrained_settings, "newton_passes", &CS::newton_passes,
+           "Newton passes of the warm start and of the refinement, each (one O(n) pass and a 6x6 solve "
+           "each; default 8)");
   using AS = grip::ConicAnalysisSettings<double>;
-  py::class_<AS>(m, "ConicAnalysisSettings",
-                 "Tolerance and bound of force_closure (docs/analysis.md). tolerance finite and > 0, max_iterations "
-                 ">= 1; otherwise the analysis answers InvalidInput.")
-      .def(py::init<>())
-      .def_readwrite("tolerance", &AS::tolerance,
-                     "the interior-point method's residuals and gap (relative) below it; Ok when the margin is "
-                     "bracketed within tolerance (1 + |margin|); closure when margin > 10 tolerance (default 1e-6)")
-      .def_readwrite("max_iterations", &AS::max_iterations,
-                     "interior-point iterations (three O(n) passes each): the worst-case time (default 50)");
+  py::class_<AS> analysis_settings(m, "ConicAnalysisSettings",
+                                   "Tolerance and bound of force_closure (docs/analysis.md). tolerance finite and > 0, "
+                                   "max_iterations >= 1; otherwise the analysis answers InvalidInput.");
+  analysis_settings.def(py::init<>());
+  settable(analysis_settings, "tolerance", &AS::tolerance,
+           "the interior-point method's residuals and gap (relative) below it; Ok when the margin is "
+           "bracketed within tolerance (1 + |margin|); closure when margin > 10 tolerance (default 1e-6)");
+  settable(analysis_settings, "max_iterations", &AS::max_iterations,
+           "interior-point iterations (three O(n) passes each): the worst-case time (default 50)");
 
   m.def("solve_range_space",
         direct_solver([](const auto& x, const grip::Wrench<double>& w) { return grip::solve_range_space(x, w); }),

@@ -23,8 +23,10 @@ struct MonitorPy {
   grip::Status status{grip::Status::InvalidInput};
 };
 
-MonitorPy monitor(const PyGrasp& g, const py::handle& forces, double relative_tolerance, double absolute_tolerance) {
-  const Array f = Array::ensure(forces);
+MonitorPy monitor(const PyGrasp& g, const py::handle& forces, Real relative, Real absolute) {
+  const Array f = numbers(forces, "forces");
+  const double relative_tolerance = relative.get("relative_tolerance");
+  const double absolute_tolerance = absolute.get("absolute_tolerance");
   if (!f || f.ndim() != 2 || f.shape(0) != g.size() || f.shape(1) != g.dim())
     invalid("forces must have shape (" + std::to_string(g.size()) + ", " + std::to_string(g.dim()) + ")");
   for (py::ssize_t k = 0; k < f.size(); ++k)

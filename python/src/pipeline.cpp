@@ -45,18 +45,27 @@ struct FramePy {
 
 class PyHapticLoop {
  public:
-  PyHapticLoop(double radius, double half_length, double mass, const py::handle& position, const py::handle& rotation,
+  PyHapticLoop(Real radius_arg, Real half_length_arg, Real mass_arg, const py::handle& position, const py::handle& rotation,
                const std::vector<std::pair<py::object, py::object>>& boxes, const grip::HandDimensions<double>& hand,
-               double friction, const py::handle& stiffness, const py::handle& device_limit,
-               const grip::ContributionTable<double>& contribution, double dt, int max_iterations,
-               bool bound_by_device, double obstacle_stiffness, double obstacle_damping) {
+               Real friction_arg, const py::handle& stiffness, const py::handle& device_limit,
+               const grip::ContributionTable<double>& contribution, Real dt_arg, Integer max_iterations_arg,
+               bool bound_by_device, Real obstacle_stiffness_arg, Real obstacle_damping_arg) {
+    const double radius = radius_arg.get("radius"), half_length = half_length_arg.get("half_length"),
+                 mass = mass_arg.get("mass"), friction = friction_arg.get("friction"), dt = dt_arg.get("dt"),
+                 obstacle_stiffness = obstacle_stiffness_arg.get("obstacle_stiffness"),
+                 obstacle_damping = obstacle_damping_arg.get("obstacle_damping");
+    const int max_iterations = max_iterations_arg.get("max_iterations");
     if (!(radius > 0) || !(half_length > 0) || !(mass > 0) || !std::isfinite(radius + half_length + mass))
       invalid("radius, half_length and mass must be finite and > 0");
     scene_.radius = radius;
     scene_.half_length = half_length;
-    for (const auto& b : boxes)
-      if (scene_.obstacles.add_box(vec3(b.first, "box lower corner"), vec3(b.second, "box upper corner")) != grip::Status::Ok)
-        invalid("an obstacle box needs lower < upper and room in the scene");
+    for (std::size_t i = 0; i < boxes.size(); ++i) {
+      const std::string box = "boxes[" + std::to_string(i) + "]";
+      const auto lower = vec3(boxes[i].first, (box + " (lower corner)").c_str());
+      const auto upper = vec3(boxes[i].second, (box + " (upper corner)").c_str());
+      if (scene_.obstacles.add_box(lower, upper) != grip::Status::Ok)
+        invalid(box + ": an obstacle box needs lower < upper and room in the scene");
+    }
     grip::HapticSettings<double> s;
     s.hand = hand;
     if (!(friction >= 0) || !std::isfinite(friction)) invalid("friction must be finite and >= 0");
@@ -75,7 +84,7 @@ class PyHapticLoop {
     object_.mass = mass;
     object_.principal_inertia = grip::solid_cylinder_inertia<double>(mass, radius, half_length);
     object_.position = vec3(position, "position");
-    const Array r = Array::ensure(rotation);
+    const Array r = numbers(rotation, "rotation");
     if (!r || r.ndim() != 2 || r.shape(0) != 3 || r.shape(1) != 3) invalid("rotation must have shape (3, 3)");
     Eigen::Matrix3d m;
     for (int i = 0; i < 3; ++i)
@@ -135,7 +144,8 @@ class PyHapticLoop {
   }
 
   /// The joint angles at which the hand posed at `wrist` closes on the object (see close_hand_in_scene).
-  py::tuple close_hand(const py::handle& wrist, double depth) const {
+  py::tuple close_hand(const py::handle& wrist, Real depth_arg) const {
+    const double depth = depth_arg.get("depth");
     if (!(depth >= 0) || !std::isfinite(depth)) invalid("depth must be finite and >= 0");
     const auto c = grip::close_hand_in_scene<double>(scene_, loop_->settings().hand, pose(wrist, "wrist"), loop_->object(), depth);
     return py::make_tuple(Eigen::VectorXd(c.angles), c.touching, c.status);
@@ -182,10 +192,10 @@ void bind_pipeline(py::module_& m) {
                            "hold the object; False: no bounds, the device clips. contribution: the phalanges' shares d "
                            "(a ContributionTable, the cylindrical power grip by default); obstacle_stiffness (N/m) and "
                            "obstacle_damping (N s/m) per obstacle contact point.")
-      .def(py::init<double, double, double, const py::handle&, const py::handle&,
-                    const std::vector<std::pair<py::object, py::object>>&, const grip::HandDimensions<double>&, double,
-                    const py::handle&, const py::handle&, const grip::ContributionTable<double>&, double, int, bool,
-                    double, double>(),
+      .def(py::init<Real, Real, Real, const py::handle&, const py::handle&,
+                    const std::vector<std::pair<py::object, py::object>>&, const grip::HandDimensions<double>&, Real,
+                    const py::handle&, const py::handle&, const grip::ContributionTable<double>&, Real, Integer, bool,
+                    Real, Real>(),
            py::kw_only(), py::arg("radius") = 0.035, py::arg("half_length") = 0.06, py::arg("mass") = 0.4,
            py::arg("position"), py::arg("rotation") = Eigen::Matrix3d::Identity(),
            py::arg("boxes") = std::vector<std::pair<py::object, py::object>>{},
