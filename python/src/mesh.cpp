@@ -3,6 +3,7 @@
 // issue and where), with their exact signed distance; the spherical octree of a shape or a
 // mesh; and the hand's contacts with a mesh, by the octree or directly.
 
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -44,7 +45,8 @@ PyMesh from_bytes(const py::bytes& data, const std::string& format) {
 
 PyMesh from_arrays(const py::handle& vertices, const py::handle& triangles) {
   const Array v = rows3(vertices, "vertices");
-  const py::array_t<long long, py::array::c_style | py::array::forcecast> t = numbers<long long>(triangles, "triangles");
+  // As numbers, so that a fractional index is refused rather than truncated.
+  const Array t = numbers(triangles, "triangles");
   if (!t || t.ndim() != 2 || t.shape(1) != 3) invalid("triangles must be integers of shape (t, 3)");
   if (v.shape(0) > mesh_vertices || t.shape(0) > mesh_triangles)
     invalid("a mesh holds at most " + std::to_string(mesh_vertices) + " vertices and " + std::to_string(mesh_triangles) +
@@ -58,8 +60,10 @@ PyMesh from_arrays(const py::handle& vertices, const py::handle& triangles) {
   for (py::ssize_t j = 0; j < t.shape(0); ++j) {
     int c[3];
     for (int k = 0; k < 3; ++k) {
-      const long long x = t.at(j, k);
-      if (x < 0 || x >= v.shape(0)) invalid("triangles[" + std::to_string(j) + "] refers to a vertex that does not exist");
+      const double x = t.at(j, k);
+      if (!(x == std::floor(x))) invalid("triangles[" + std::to_string(j) + "] must hold integers (vertex indices)");
+      if (x < 0 || x >= double(v.shape(0)))
+        invalid("triangles[" + std::to_string(j) + "] refers to a vertex that does not exist");
       c[k] = index[static_cast<std::size_t>(x)];
     }
     if (m.mesh->add_triangle(c[0], c[1], c[2]) < 0) invalid("triangles[" + std::to_string(j) + "] cannot be added");

@@ -58,6 +58,17 @@ def test_refused_meshes_raise_value_error_naming_the_issue():
         bad = v.copy()
         bad[3, 0] = np.nan
         grip.Mesh.from_arrays(bad, t)
+    # Vertex indices given as floats: whole numbers are indices, a fraction is refused (a cast
+    # to an integer would silently truncate it).
+    assert grip.Mesh.from_arrays(v, t.astype(float)).triangle_count == len(t)
+    frac = t.astype(float)
+    frac[5, 1] += 0.5
+    with pytest.raises(ValueError, match=r"triangles\[5\] must hold integers"):
+        grip.Mesh.from_arrays(v, frac)
+    nan = t.astype(float)
+    nan[2, 0] = np.nan
+    with pytest.raises(ValueError, match=r"triangles\[2\] must hold integers"):
+        grip.Mesh.from_arrays(v, nan)
     # A binary STL that declares 4 facets and holds 2.
     facet = np.zeros(12, dtype="<f4").tobytes() + b"\0\0"
     with pytest.raises(ValueError, match="truncated"):
