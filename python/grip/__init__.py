@@ -3,7 +3,8 @@
 The grasp matrix of a set of contacts, the contact forces nearest given squeezing forces
 that balance an object's external wrench (with or without Coulomb friction cones), and
 force closure, grasp quality and epsilon, and batches of thousands of candidate grasps on
-all cores (grip.batch), on the C++ library grip. Units: metres, newtons, newton metres; normals are
+all cores (grip.batch), grip's hand as MJCF for MuJoCo (hand_mjcf; grip.mujoco adapts MuJoCo's
+Python package, imported only there), on the C++ library grip. Units: metres, newtons, newton metres; normals are
 unit and point INTO the object; forces are those the contacts apply ON the object.
 Complex input raises TypeError naming the argument. __version__ is the C++ library's version
 (include/grip/core/version.hpp) that the module was built from.
@@ -41,7 +42,10 @@ from ._grip import (
     force_closure,
     forward_kinematics,
     grasp_quality,
+    hand_body_names,
     hand_contacts,
+    hand_joint_names,
+    hand_mjcf,
     max_contacts,
     max_mesh_triangles,
     max_mesh_vertices,
@@ -86,7 +90,10 @@ __all__ = [
     "force_closure",
     "forward_kinematics",
     "grasp_quality",
+    "hand_body_names",
     "hand_contacts",
+    "hand_joint_names",
+    "hand_mjcf",
     "max_contacts",
     "max_mesh_triangles",
     "max_mesh_vertices",

@@ -1,7 +1,8 @@
 // The hand and collision from Python: hand dimensions, forward kinematics of the 14 flexion
 // joints, shapes (sphere, box, cylinder, capsule and unions of up to four) with their exact
 // signed distance, the contacts of a posed hand with a shape (the exact narrow phase), and the
-// grasp types' contribution tables d of eq. 8.
+// grasp types' contribution tables d of eq. 8; the whole hand written as MJCF for MuJoCo (text
+// only: grip/mujoco/hand_mjcf.hpp calls no MuJoCo function).
 
 #include <string>
 #include <vector>
@@ -10,6 +11,8 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+
+#include <grip/mujoco/hand_mjcf.hpp>
 
 #include "mesh.hpp"
 
@@ -142,6 +145,67 @@ py::dict contacts_with(const grip::HandCollisionModel<double, 8>& model, const F
     case 4: return contacts_of<4>(model, field, octree, object);
     default: invalid("per_phalanx must be 1, 2 or 4, not " + std::to_string(per_phalanx));
   }
+}
+
+/// The options of grip::mujoco::hand_mjcf() from Python, each checked here so that the
+/// ValueError names the one that is wrong (the library answers InvalidInput for all).
+struct MjcfArgs {
+  const Dims* dims;
+  std::string prefix;
+  py::handle wrist;
+  bool mocap;
+  Real servo_gain, timestep, friction;
+  Integer condim;
+  std::string worldbody, extra, model;
+  Real palm_mass, joint_damping, armature, density, torsional_friction;
+};
+
+void mjcf_name(const std::string& s, const char* name) {
+  if (!grip::mujoco::detail::mjcf_name_ok(s))
+    invalid(std::string(name) + " may hold only the characters A-Z a-z 0-9 _ - ., not \"" + s + "\"");
+}
+
+double mjcf_real(const Real& x, const char* name, bool positive) {
+  const double v = x.get(name);
+  if (!std::isfinite(v) || (positive ? !(v > 0) : !(v >= 0)))
+    invalid(std::string(name) + " must be finite and " + (positive ? "> 0" : ">= 0") + ", not " + std::to_string(v));
+  return v;
+}
+
+std::string hand_mjcf_of(const MjcfArgs& a) {
+  const Dims dims = a.dims ? *a.dims : Dims::standard();
+  if (grip::validate(dims) != grip::Status::Ok) invalid("dims are invalid (grip's checks of HandDimensions fail)");
+  grip::mujoco::HandMjcf o;
+  mjcf_name(a.prefix, "prefix");
+  mjcf_name(a.model, "model");
+  o.prefix = a.prefix;
+  o.model = a.model;
+  if (!a.wrist.is_none()) {
+    const grip::Isometry3<double> w = pose(a.wrist, "wrist");
+    const Eigen::Matrix3d r = w.linear();
+    if (!((r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-9) || !(r.determinant() > 0))
+      invalid("wrist must be a proper rigid motion: its rotation orthonormal to 1e-9, determinant +1");
+    o.wrist = Iso::Identity();
+    o.wrist.linear() = r;
+    o.wrist.translation() = w.translation();
+  }
+  o.mocap = a.mocap;
+  o.servo_gain = mjcf_real(a.servo_gain, "servo_gain", false);
+  o.timestep = mjcf_real(a.timestep, "timestep", true);
+  o.friction = mjcf_real(a.friction, "friction", false);
+  o.torsional_friction = mjcf_real(a.torsional_friction, "torsional_friction", false);
+  o.palm_mass = mjcf_real(a.palm_mass, "palm_mass", true);
+  o.joint_damping = mjcf_real(a.joint_damping, "joint_damping", false);
+  o.armature = mjcf_real(a.armature, "armature", false);
+  o.density = mjcf_real(a.density, "density", true);
+  o.condim = a.condim.get("condim");
+  if (o.condim != 1 && o.condim != 3 && o.condim != 4 && o.condim != 6)
+    invalid("condim must be 1, 3, 4 or 6, not " + std::to_string(o.condim));
+  o.worldbody = a.worldbody;
+  o.extra = a.extra;
+  std::string out;
+  if (grip::mujoco::hand_mjcf(dims, o, out) != grip::Status::Ok) invalid("hand_mjcf refused its options");
+  return out;
 }
 
 }  // namespace
@@ -290,6 +354,48 @@ void bind_hand(py::module_& m) {
         "(identity by default), through `octree` (a SphericalOctree of the same field) when given, else directly: "
         "a dict of phalanx (m,) (0..13; 14..18 the palm's bodies with 20 joints), point (m, 3) on the surface and normal (m, 3) into the object (world), "
         "depth (m,) (m, > 0), sample, axis_parameter and status. Exact at faces, edges and corners (docs/geometry.md).");
+  const grip::mujoco::HandMjcf mjcf_defaults{};
+  m.def("hand_mjcf",
+        [](const Dims* dims, const std::string& prefix, const py::handle& wrist, bool mocap, Real servo_gain,
+           Real timestep, Real friction, Integer condim, const std::string& worldbody, const std::string& extra,
+           const std::string& model, Real palm_mass, Real joint_damping, Real armature, Real density,
+           Real torsional_friction) {
+          return hand_mjcf_of(MjcfArgs{dims, prefix, wrist, mocap, servo_gain, timestep, friction, condim, worldbody,
+                                       extra, model, palm_mass, joint_damping, armature, density, torsional_friction});
+        },
+        py::arg("dims") = nullptr, py::kw_only(), py::arg("prefix") = mjcf_defaults.prefix,
+        py::arg("wrist") = py::none(), py::arg("mocap") = mjcf_defaults.mocap,
+        py::arg("servo_gain") = mjcf_defaults.servo_gain, py::arg("timestep") = mjcf_defaults.timestep,
+        py::arg("friction") = mjcf_defaults.friction, py::arg("condim") = mjcf_defaults.condim,
+        py::arg("worldbody") = mjcf_defaults.worldbody, py::arg("extra") = mjcf_defaults.extra,
+        py::arg("model") = mjcf_defaults.model, py::arg("palm_mass") = mjcf_defaults.palm_mass,
+        py::arg("joint_damping") = mjcf_defaults.joint_damping, py::arg("armature") = mjcf_defaults.armature,
+        py::arg("density") = mjcf_defaults.density, py::arg("torsional_friction") = mjcf_defaults.torsional_friction,
+        "grip's whole hand (dims, HandDimensions.standard() for None) as a complete MJCF document (a str) that "
+        "MuJoCo moves exactly as forward_kinematics: a body 'hand' at `wrist` ((4, 4) hand frame to world, m; "
+        "the identity for None), free and welded to a mocap body 'hand_target' when mocap is True, else fixed; "
+        "the 19 bodies hand_body_names() with their capsules (origins at the phalanges' bases); the 20 hinge "
+        "joints hand_joint_names() in grip's order with its limits (rad), in qpos after the hand's free joint "
+        "(7 numbers, when mocap); with servo_gain > 0 (N m/rad) a position actuator per joint (ctrl: target "
+        "angle, rad). Every name is prefixed by `prefix`; worldbody is XML placed in <worldbody> after the hand, "
+        "extra XML after it (assets, contacts). timestep (s), friction and torsional_friction (m) and condim "
+        "(1, 3, 4, 6) of the hand geoms, palm_mass (kg), joint_damping (N m s/rad), armature (kg m^2), density "
+        "(kg/m^3). ValueError names an invalid option. No MuJoCo call: load the text with "
+        "mujoco.MjModel.from_xml_string.");
+  m.def("hand_body_names",
+        [] {
+          std::vector<std::string> names;
+          for (int k = 0; k < grip::hand_body_count; ++k) names.emplace_back(grip::mujoco::hand_body_name(k));
+          return names;
+        },
+        "The 19 body names hand_mjcf() writes, in grip's body order (0..13 phalanges, 14..18 metacarpals).");
+  m.def("hand_joint_names",
+        [] {
+          std::vector<std::string> names;
+          for (int i = 0; i < grip::hand_dof_count; ++i) names.emplace_back(grip::mujoco::hand_joint_name(i));
+          return names;
+        },
+        "The 20 joint (and actuator) names hand_mjcf() writes, in grip's joint order (docs/hand.md).");
 }
 
 }  // namespace grip_python

@@ -100,7 +100,7 @@ bool in_cones(const A& a) {
 
 }  // namespace
 
-TEST_CASE("mujoco adapter: a held box; felt sum m (g - a), MuJoCo's own hand forces, exact cones") {
+TEST_CASE("mujoco adapter: a held box: felt sum m (g - a), MuJoCo's own hand forces, exact cones") {
   Sim s(scene(0.2, 0.2, 0.0));
   Adapter<> a;
   REQUIRE(a.bind(s.m.get(), "box", pads, 2) == Status::Ok);
@@ -160,7 +160,7 @@ TEST_CASE("mujoco adapter: the table as an external force, a pad outside the map
   CHECK((hand + rest).norm() <= 1e-6 * (1 + hand.norm()));
 }
 
-TEST_CASE("mujoco adapter: no contact gives Singular and zero forces; no heap in update and solve") {
+TEST_CASE("mujoco adapter: no contact gives Singular and zero forces, no heap in update and solve") {
   Sim s(scene(0.2, 0.2, 0.0));
   Adapter<> a;
   REQUIRE(a.bind(s.m.get(), "box", pads, 2) == Status::Ok);

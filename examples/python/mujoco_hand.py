@@ -1,0 +1,123 @@
+#!/usr/bin/env python3
+"""A robot hand in MuJoCo closes on an object, and grip says what each finger feels.
+
+Loads a MuJoCo Menagerie hand scene (the Shadow Hand or the Allegro Hand, chosen by the
+model's folder name: shadow_hand or wonik_allegro; left or right by its file name), whose
+body "object" (a small ellipsoid) falls onto the palm. After 0.5 s the fingers' flexion
+actuators move their targets linearly to the upper ends of their ctrlrange over 1 s, and the
+hand holds. Every step, grip.mujoco.Adapter turns the hand's contacts with the object into a
+grip grasp (update) and solves it (solve, grip.solve_constrained): the forces that balance the
+object's weight and inertia, nearest the squeezes its penetrations ask for, inside the
+friction cones. Plots each digit's felt force magnitude over time (|sum of -f| over the digit's
+grip bodies, N; the palm's bodies together) to an SVG and prints a small table.
+
+Needs MuJoCo's Python package (pip install mujoco) and matplotlib. The models are not part of
+grip: MuJoCo Menagerie's, by default in ../shared/models next to the repository.
+
+    python3 examples/python/mujoco_hand.py [--model scene.xml] [--duration 2.5] [output.svg]
+    python3 examples/python/mujoco_hand.py --model ../shared/models/wonik_allegro/scene_right.xml
+"""
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+import grip  # noqa: E402
+import grip.mujoco as gm  # noqa: E402
+
+try:
+    import mujoco
+except ImportError:
+    sys.exit("this example needs MuJoCo's Python package: pip install mujoco")
+
+MODELS = Path(__file__).resolve().parents[3] / "shared" / "models"
+DIGITS = [("thumb", [0, 1, 14]), ("index", [2, 3, 4]), ("long", [5, 6, 7]), ("ring", [8, 9, 10]),
+          ("little", [11, 12, 13]), ("palm", [15, 16, 17, 18])]
+CLOSE_START, CLOSE_TIME = 0.5, 1.0  # s
+
+
+def hand_of(path):
+    """(body map, names of the actuators that close the hand) for a Menagerie scene file."""
+    folder, left = path.resolve().parent.name, "left" in path.name
+    if folder == "shadow_hand":
+        side = "lh" if left else "rh"
+        fingers = [f"{side}_A_{f}J{j}" for f in ("FF", "MF", "RF", "LF") for j in (3, 0)]
+        thumb = [f"{side}_A_THJ{j}" for j in (5, 4, 1)]
+        return (gm.SHADOW_LEFT if left else gm.SHADOW_RIGHT), fingers + thumb
+    if folder == "wonik_allegro":
+        fingers = [f"{f}a{j}" for f in ("ff", "mf", "rf") for j in (1, 2, 3)]
+        return (gm.ALLEGRO_LEFT if left else gm.ALLEGRO_RIGHT), fingers + [f"tha{j}" for j in range(4)]
+    sys.exit(f"unknown hand folder {folder!r}: expected shadow_hand or wonik_allegro")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("output", nargs="?", default="mujoco_hand.svg", help="the SVG to write")
+    parser.add_argument("--model", type=Path, default=MODELS / "shadow_hand" / "scene_right.xml",
+                        help="a Menagerie hand scene with a free body 'object' (default: the Shadow Hand's)")
+    parser.add_argument("--duration", type=float, default=2.5, help="simulated time (s)")
+    args = parser.parse_args()
+    if not args.model.is_file():
+        sys.exit(f"{args.model} not found: give a MuJoCo Menagerie hand scene with --model")
+
+    bodies, closing = hand_of(args.model)
+    m = mujoco.MjModel.from_xml_path(str(args.model))
+    d = mujoco.MjData(m)
+    adapter = gm.Adapter(m, "object", bodies)
+    actuators = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_ACTUATOR, n) for n in closing]
+    upper = m.actuator_ctrlrange[actuators, 1]
+    weight = m.body_mass[adapter.object] * np.linalg.norm(m.opt.gravity)
+
+    steps = int(round(args.duration / m.opt.timestep))
+    t = np.arange(1, steps + 1) * m.opt.timestep
+    felt = np.zeros((steps, len(DIGITS)))
+    status = []
+    contacts = np.zeros(steps, dtype=int)
+    start = time.perf_counter()
+    for step in range(steps):
+        ramp = np.clip((step * m.opt.timestep - CLOSE_START) / CLOSE_TIME, 0.0, 1.0)
+        d.ctrl[actuators] = ramp * upper
+        mujoco.mj_step(m, d)
+        u = adapter.update(d)
+        result = adapter.solve(grip.solve_constrained)
+        felt[step] = [np.linalg.norm(result.felt[ks].sum(axis=0)) for _, ks in DIGITS]
+        status.append(result.status)
+        contacts[step] = len(u.contacts)
+    elapsed = time.perf_counter() - start
+
+    name = f"{args.model.parent.name}/{args.model.name}"
+    print(f"{name}: {steps} steps of {m.opt.timestep * 1e3:g} ms ({args.duration:g} s simulated) with "
+          f"update + solve each in {elapsed:.2f} s ({elapsed / steps * 1e6:.0f} us per step)")
+    print(f"object {m.body_mass[adapter.object] * 1e3:.1f} g (weight {weight:.3f} N); felt force per digit (N):")
+    print(f"{'t (s)':>6} {'status':>10} {'contacts':>8} " + " ".join(f"{n:>7}" for n, _ in DIGITS))
+    for when in np.arange(0.5, args.duration + 1e-9, 0.5):
+        i = min(steps - 1, int(round(when / m.opt.timestep)) - 1)
+        print(f"{t[i]:6.2f} {status[i].name:>10} {contacts[i]:8d} " + " ".join(f"{x:7.3f}" for x in felt[i]))
+    counts = {s.name: status.count(s) for s in set(status)}
+    print("statuses over the run: " + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
+
+    fig, ax = plt.subplots(figsize=(8, 4.2))
+    ax.axvspan(CLOSE_START, CLOSE_START + CLOSE_TIME, color="0.92", label="closing")
+    for (label, _), series in zip(DIGITS, felt.T):
+        ax.plot(t, series, lw=1.3, label=label)
+    ax.axhline(weight, color="k", ls="--", lw=0.8, label="object's weight")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("felt force |sum of -f| (N)")
+    ax.set_title(f"{name}: what each digit feels (grip.mujoco, solve_constrained)")
+    ax.set_xlim(0, args.duration)
+    ax.set_ylim(bottom=0)
+    ax.legend(loc="upper left", fontsize=8, ncol=2)
+    fig.tight_layout()
+    fig.savefig(args.output)
+    print(f"wrote {args.output}")
+
+
+if __name__ == "__main__":
+    main()
