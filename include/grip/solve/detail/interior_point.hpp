@@ -188,11 +188,16 @@ InteriorPointResult<S> interior_point(Lanes& k, const Wrench<S>& b, S q_norm, co
       break;
     }
     // A certificate: b^T y (+ the bounds' c^T t) < 0 with every A_i^T y (+ e t_i) in Q to within
-    // certificate_tolerance |b^T y|, and |b^T y| not at y's round-off (at least
-    // certificate_tolerance |b| |y|: a y along a near null space of A^T is no proof).
+    // certificate_tolerance |b^T y|: then no x in the cones with sum_i |u_i| below about
+    // 1 / certificate_tolerance satisfies A x = b (the rows normalised with b), whether y lies in
+    // the range of A or along a null space of A^T (contacts that cannot resist some wrench at
+    // all, rank(G) < 6). |b^T y| must stand above y's round-off: at least rho |b| |y|, with
+    // rho = min(certificate_tolerance, 64 eps / certificate_tolerance) (in double far below the
+    // tolerance; in float, where the two meet, the tolerance).
     const S byc = by + a.ct;
+    const S rho = std::min(st.certificate_tolerance, S(64) * eps / st.certificate_tolerance);
     if (!st.soft && byc < S(0) && a.certificate >= st.certificate_tolerance * byc &&
-        -byc >= st.certificate_tolerance * b_norm * y.norm()) {
+        -byc >= rho * b_norm * y.norm()) {
       out.status = Status::Infeasible;
       break;
     }
