@@ -40,7 +40,7 @@ namespace mujoco {
 
 /// Options of hand_mjcf(); one line each.
 struct HandMjcf {
-  std::string model{"grip_hand"};  ///< The <mujoco model=...> name.
+  std::string model{"grip_hand"};  ///< The `<mujoco model=...>` name.
   std::string prefix{};            ///< Prepended to every name the hand writes (two hands in one scene).
   Eigen::Isometry3d wrist{Eigen::Isometry3d::Identity()};  ///< The hand frame's initial pose (m; world).
   bool mocap{true};                ///< The hand welded to a mocap target (tracker-driven); false: fixed.
@@ -53,8 +53,8 @@ struct HandMjcf {
   double torsional_friction{0.005};  ///< Their torsional coefficient (m), used with condim 4 and 6.
   int condim{3};                   ///< The hand geoms' contact dimension (1, 3, 4 or 6).
   double timestep{0.001};          ///< The model's timestep (s).
-  std::string worldbody{};         ///< XML placed in <worldbody> after the hand (a table, an object).
-  std::string extra{};             ///< XML placed in <mujoco> after the worldbody (assets, contacts).
+  std::string worldbody{};         ///< XML placed in `<worldbody>` after the hand (a table, an object).
+  std::string extra{};             ///< XML placed in `<mujoco>` after the worldbody (assets, contacts).
 };
 
 /// Writes grip's whole hand of dimensions `dims` as a complete MJCF document into `out`.
