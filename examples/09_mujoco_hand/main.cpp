@@ -187,8 +187,7 @@ int main(int argc, char** argv) {
   grip::mujoco::Adapter<grip::HardFinger, double, 96> adapter;
   const auto names = grip::mujoco::grip_hand_body_names();
   grip::mujoco::AdapterSettings<double> settings;
-  settings.contact.stiffness = {};  // K_i: 1.5e4 N/m, as the session
-  for (auto& row : settings.contact.stiffness) row.fill(1.5e4);
+  for (auto& row : settings.contact.stiffness) row.fill(1.5e4);  // K_i (N/m), as example 6's session
   if (adapter.bind(m, "box", names.data(), static_cast<int>(names.size()), settings) != grip::Status::Ok) {
     std::printf("bind: %s\n", grip::mujoco::to_string(adapter.problem()));
     return 1;

@@ -12,10 +12,10 @@ friction cones. Plots each digit's felt force magnitude over time (|sum of -f| o
 grip bodies, N; the palm's bodies together) to an SVG and prints a small table.
 
 Needs MuJoCo's Python package (pip install mujoco) and matplotlib. The models are not part of
-grip: MuJoCo Menagerie's, by default in ../shared/models next to the repository.
+grip: take them from MuJoCo Menagerie (github.com/google-deepmind/mujoco_menagerie).
 
-    python3 examples/python/mujoco_hand.py [--model scene.xml] [--duration 2.5] [output.svg]
-    python3 examples/python/mujoco_hand.py --model ../shared/models/wonik_allegro/scene_right.xml
+    python3 examples/python/mujoco_hand.py --model SCENE.xml [--duration 2.5] [output.svg]
+    python3 examples/python/mujoco_hand.py --model mujoco_menagerie/wonik_allegro/scene_right.xml
 """
 
 import argparse
@@ -37,7 +37,6 @@ try:
 except ImportError:
     sys.exit("this example needs MuJoCo's Python package: pip install mujoco")
 
-MODELS = Path(__file__).resolve().parents[3] / "shared" / "models"
 DIGITS = [("thumb", [0, 1, 14]), ("index", [2, 3, 4]), ("long", [5, 6, 7]), ("ring", [8, 9, 10]),
           ("little", [11, 12, 13]), ("palm", [15, 16, 17, 18])]
 CLOSE_START, CLOSE_TIME = 0.5, 1.0  # s
@@ -60,8 +59,8 @@ def hand_of(path):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("output", nargs="?", default="mujoco_hand.svg", help="the SVG to write")
-    parser.add_argument("--model", type=Path, default=MODELS / "shadow_hand" / "scene_right.xml",
-                        help="a Menagerie hand scene with a free body 'object' (default: the Shadow Hand's)")
+    parser.add_argument("--model", type=Path, required=True,
+                        help="a Menagerie hand scene (shadow_hand or wonik_allegro) with a free body 'object'")
     parser.add_argument("--duration", type=float, default=2.5, help="simulated time (s)")
     args = parser.parse_args()
     if not args.model.is_file():

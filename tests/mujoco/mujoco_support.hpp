@@ -1,6 +1,5 @@
 #pragma once
-// Loading MJCF text into MuJoCo for the tests of grip::mujoco, and where the shared robot
-// hands are (../shared/models next to the repository; absent in a user's clone).
+// Loading MJCF text into MuJoCo for the tests of grip::mujoco.
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -38,12 +37,6 @@ inline ModelPtr load_mjcf(const std::string& xml, std::string* error = nullptr) 
   std::filesystem::remove(path);
   if (error) *error = buf;
   return ModelPtr(m);
-}
-
-/// The folder of the shared robot hands, or an empty path when it is absent.
-inline std::filesystem::path shared_models() {
-  const std::filesystem::path p = std::filesystem::path(GRIP_SOURCE_DIR) / ".." / "shared" / "models";
-  return std::filesystem::exists(p / "shadow_hand" / "scene_right.xml") ? p : std::filesystem::path();
 }
 
 }  // namespace grip_test
