@@ -488,3 +488,20 @@ def test_the_example_closes_a_menagerie_hand_and_writes_its_svg(tmp_path):
                           cwd=tmp_path, env=env, check=True, capture_output=True, text=True, timeout=300).stdout
     assert f"wrote {out}" in text and "statuses over the run" in text
     assert out.read_text().lstrip().startswith("<?xml") and out.stat().st_size > 10_000
+
+
+def test_the_example_cups_grips_own_hand_around_a_ball(tmp_path):
+    pytest.importorskip("matplotlib")
+    import os
+    import subprocess
+    import sys
+
+    script = Path(__file__).resolve().parents[2] / "examples" / "python" / "mujoco_hand.py"
+    out = tmp_path / "felt.svg"
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
+    text = subprocess.run([sys.executable, str(script), "--model", "grip", "--duration", "2", str(out)],
+                          cwd=tmp_path, env=env, check=True, capture_output=True, text=True, timeout=300).stdout
+    assert f"wrote {out}" in text
+    # The ball is still in the hand at the end: the last row of the table solved with contacts.
+    last = [line.split() for line in text.splitlines() if line.strip().startswith("2.00")][-1]
+    assert last[1] == "Ok" and int(last[2]) > 0, text

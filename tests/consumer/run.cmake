@@ -13,19 +13,23 @@ function(run)
   endif()
 endfunction()
 
-# The first ```<language> block of README.md after the line `marker`, its text up to the
-# closing fence (last newline included).
+# The first ```<language> block after the line `marker` in README.md or, failing that, in
+# docs/install.md: its text up to the closing fence (last newline included).
 function(readme_block marker language out_var)
   file(READ ${GRIP_SOURCE}/README.md readme)
   string(FIND "${readme}" "${marker}" at)
   if(at EQUAL -1)
-    message(FATAL_ERROR "README.md has no line ${marker}")
+    file(READ ${GRIP_SOURCE}/docs/install.md readme)
+    string(FIND "${readme}" "${marker}" at)
+  endif()
+  if(at EQUAL -1)
+    message(FATAL_ERROR "neither README.md nor docs/install.md has the line ${marker}")
   endif()
   string(SUBSTRING "${readme}" ${at} -1 rest)
   string(FIND "${rest}" "```${language}\n" open)
   string(FIND "${rest}" "\n```\n" close)
   if(open EQUAL -1 OR close LESS open)
-    message(FATAL_ERROR "no ```${language} block follows ${marker} in README.md")
+    message(FATAL_ERROR "no ```${language} block follows ${marker}")
   endif()
   string(LENGTH "```${language}\n" fence)
   math(EXPR first "${open} + ${fence}")
@@ -34,7 +38,7 @@ function(readme_block marker language out_var)
   set(${out_var} "${block}" PARENT_SCOPE)
 endfunction()
 
-# The README's CMake snippet marked <!-- consumer: NAME -->.
+# The CMake snippet marked <!-- consumer: NAME --> (README.md or docs/install.md).
 function(readme_snippet name out_var)
   readme_block("<!-- consumer: ${name} -->" cmake block)
   set(${out_var} "${block}" PARENT_SCOPE)
