@@ -1,9 +1,8 @@
 """grip.__version__ is the C++ library's version, as its files state it: the macros of
 include/grip/core/version.hpp, the version CMake's project() gives (read from that header), and
-the package's (python/pyproject.toml's, or setup.py's from that header when it is dynamic).
+the package's (python/pyproject.toml's, or the one its build backend reads from that header).
 Each file is read here on its own, not through the module."""
 
-import ast
 import importlib.metadata
 import os
 import pathlib
@@ -65,28 +64,29 @@ def test_version_equals_the_python_packages():
     if static:
         assert static.group(1) == grip.__version__
     else:
-        # dynamic = ["version"]: setup.py supplies it, from version.hpp's macros.
+        # dynamic = ["version"]: scikit-build-core's regex provider reads it from version.hpp.
         assert re.search(r'^dynamic\s*=\s*\[[^\]]*"version"', project, re.M), "pyproject.toml: no version"
-        assert setup_py_version() == grip.__version__
+        assert pyproject_regex_version(text) == grip.__version__
 
 
-def setup_py_version():
-    """The version python/setup.py gives setup(): its version() function run on its own, the
-    call setup(version=version()) checked to be there."""
-    tree = ast.parse(read("python/setup.py"))
-    calls = [n for n in ast.walk(tree) if isinstance(n, ast.Call) and getattr(n.func, "id", None) == "setup"]
-    assert len(calls) == 1
-    given = [k.value for k in calls[0].keywords if k.arg == "version"]
-    assert len(given) == 1 and isinstance(given[0], ast.Call) and given[0].func.id == "version" and not given[0].args
-    function = next(n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name == "version")
-    scope = {"os": os, "re": re, "INCLUDE": str(ROOT / "include")}
-    exec(compile(ast.Module(body=[function], type_ignores=[]), "python/setup.py", "exec"), scope)
-    return scope["version"]()
+def pyproject_regex_version(text):
+    """The version scikit-build-core's regex provider computes from the table
+    [tool.scikit-build.metadata.version]: its regex searched in its input file (relative to
+    python/), the named groups put into its result, as the provider does."""
+    table = re.search(r"^\[tool\.scikit-build\.metadata\.version\]\n(.*?)(?=^\[|\Z)", text, re.M | re.S)
+    assert table, "pyproject.toml: no [tool.scikit-build.metadata.version]"
+    pairs = re.findall(r"""^(\w+)\s*=\s*(?:"([^"]*)"|'([^']*)')""", table.group(1), re.M)
+    settings = {key: double or single for key, double, single in pairs}
+    assert settings.get("provider") == "scikit_build_core.metadata.regex", settings
+    source = (ROOT / "python" / settings["input"]).resolve().read_text()
+    match = re.search(settings["regex"], source, re.M)
+    assert match, settings["regex"]
+    return settings["result"].format(*match.groups(), **match.groupdict())
 
 
 def test_version_equals_the_installed_distributions():
     """When the grip imported here was installed by pip, its metadata (built from
-    pyproject.toml and setup.py) carries the same version."""
+    pyproject.toml) carries the same version."""
     try:
         dist = importlib.metadata.distribution("grip")
     except importlib.metadata.PackageNotFoundError:
