@@ -49,7 +49,8 @@ void BM_EpsilonL1(benchmark::State& st) {
   const auto v = grasps(static_cast<int>(st.range(0)), 64, 2);
   auto ws = std::make_unique<grip::EpsilonWorkspace<double>>();
   std::size_t i = 0;
-  for (auto _ : st) benchmark::DoNotOptimize(grip::ferrari_canny_epsilon<8>(v[i++ % v.size()], grip::EpsilonNorm::L1, 0.04, *ws));
+  for (auto _ : st)
+    benchmark::DoNotOptimize(grip::ferrari_canny_epsilon<8>(v[i++ % v.size()], grip::EpsilonNorm::L1, 0.04, *ws));
 }
 BENCHMARK(BM_EpsilonL1)->DenseRange(3, 20, 1);
 
@@ -57,7 +58,9 @@ void BM_EpsilonLinf(benchmark::State& st) {
   const auto v = grasps(static_cast<int>(st.range(0)), 64, 3);
   auto ws = std::make_unique<grip::EpsilonWorkspace<double>>();
   std::size_t i = 0;
-  for (auto _ : st) benchmark::DoNotOptimize(grip::ferrari_canny_epsilon<8>(v[i++ % v.size()], grip::EpsilonNorm::LInfinity, 0.04, *ws));
+  for (auto _ : st)
+    benchmark::DoNotOptimize(
+        grip::ferrari_canny_epsilon<8>(v[i++ % v.size()], grip::EpsilonNorm::LInfinity, 0.04, *ws));
 }
 BENCHMARK(BM_EpsilonLinf)->DenseRange(3, 20, 1);
 

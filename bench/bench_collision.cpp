@@ -82,7 +82,8 @@ struct Fixture {
     Vector3<S> lo, hi;
     blob_shape.bounding_box(lo, hi);
     pose[2] = Iso::Identity();
-    pose[2].translation() = Vector3<S>(dims.base[1].x() + S(0.02), S(0), -(S(0.5) * (hi.z() - lo.z()) + dims.radius[2]));
+    pose[2].translation() =
+        Vector3<S>(dims.base[1].x() + S(0.02), S(0), -(S(0.5) * (hi.z() - lo.z()) + dims.radius[2]));
     for (int o = 0; o < 3; ++o) {
       angles[o] = JointAngles<S>::Zero();
       if (o == 0) close_hand(dims, Iso::Identity(), octree[o][5], cylinder, pose[o], S(0.002), S(0.02), angles[o]);
@@ -100,9 +101,12 @@ Fixture& fixture() {
 template <class Fn>
 void with_field(Object o, Fn&& fn) {
   Fixture& f = fixture();
-  if (o == Object::Cylinder) fn(f.cylinder);
-  else if (o == Object::Cube) fn(f.cube);
-  else fn(f.blob_shape);
+  if (o == Object::Cylinder)
+    fn(f.cylinder);
+  else if (o == Object::Cube)
+    fn(f.cube);
+  else
+    fn(f.blob_shape);
 }
 
 template <Object O>
@@ -165,8 +169,10 @@ void BM_AllPairs(benchmark::State& state) {
       benchmark::ClobberMemory();
     }
   };
-  if (O == Object::Mesh) run(BruteMesh{&f.blob_shape});
-  else with_field(O, run);
+  if (O == Object::Mesh)
+    run(BruteMesh{&f.blob_shape});
+  else
+    with_field(O, run);
   state.counters["contacts"] = out.count;
 }
 
@@ -205,8 +211,10 @@ void BM_BuildOctree(benchmark::State& state) {
   static SphericalOctree<S, cap> oct;
   Fixture& f = fixture();
   for (auto _ : state) {
-    if (O == Object::Mesh) oct.build(winding_signed(f.blob_shape), static_cast<int>(state.range(0)));
-    else with_field(O, [&](const auto& field) { oct.build(field, static_cast<int>(state.range(0))); });
+    if (O == Object::Mesh)
+      oct.build(winding_signed(f.blob_shape), static_cast<int>(state.range(0)));
+    else
+      with_field(O, [&](const auto& field) { oct.build(field, static_cast<int>(state.range(0))); });
     benchmark::DoNotOptimize(oct.tree().size());
   }
   state.counters["cells"] = oct.tree().size();

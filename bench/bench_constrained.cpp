@@ -96,7 +96,9 @@ Instance<N> make_instance(std::mt19937& rng, bool active) {
     if (rs.status != grip::Status::Ok) continue;
     bool inside = true;
     for (int i = 0; i < N; ++i)
-      inside = inside && grip::CoulombCone<double>::from_contact(in.grasp.contact(i)).margin(rs.forces.template segment<3>(3 * i)) > 0;
+      inside =
+          inside &&
+          grip::CoulombCone<double>::from_contact(in.grasp.contact(i)).margin(rs.forces.template segment<3>(3 * i)) > 0;
     if (inside == active) continue;
     const auto sol = grip::solve_constrained(in.grasp, in.w_ext);
     if (sol.status != grip::Status::Ok) continue;
@@ -299,7 +301,8 @@ Instance<N> make_hard_instance(std::mt19937& rng) {
   for (;;) {
     Instance<N> in;
     for (int i = 0; i < N; ++i)
-      (void)in.grasp.set(i, on_sphere(std::acos(1 - 2 * u01(rng)), 6.283185307179586 * u01(rng), 0.3 + 0.7 * u01(rng), 0.3));
+      (void)in.grasp.set(
+          i, on_sphere(std::acos(1 - 2 * u01(rng)), 6.283185307179586 * u01(rng), 0.3 + 0.7 * u01(rng), 0.3));
     const double size = 0.5 * std::pow(400.0, u01(rng));
     for (int k = 0; k < 6; ++k) in.w_ext(k) = (k < 3 ? 1.0 : 0.03) * n01(rng);
     in.w_ext.template head<3>() *= size / in.w_ext.template head<3>().norm();
@@ -427,13 +430,13 @@ void Bound(benchmark::State& state) {
   state.counters["worst_iterations"] = worst_iterations;
 }
 
-#define GRIP_BENCH_N(N)                                              \
-  BENCHMARK_TEMPLATE(Constrained, N);                                \
-  BENCHMARK_TEMPLATE(RangeSpace, N, true);                           \
-  BENCHMARK_TEMPLATE(ConstrainedWarm, N);                            \
-  BENCHMARK_TEMPLATE(FastPath, N);                                   \
-  BENCHMARK_TEMPLATE(RangeSpace, N, false);                          \
-  BENCHMARK_TEMPLATE(FastPathRatio, N);                              \
+#define GRIP_BENCH_N(N)                                                              \
+  BENCHMARK_TEMPLATE(Constrained, N);                                                \
+  BENCHMARK_TEMPLATE(RangeSpace, N, true);                                           \
+  BENCHMARK_TEMPLATE(ConstrainedWarm, N);                                            \
+  BENCHMARK_TEMPLATE(FastPath, N);                                                   \
+  BENCHMARK_TEMPLATE(RangeSpace, N, false);                                          \
+  BENCHMARK_TEMPLATE(FastPathRatio, N);                                              \
   BENCHMARK_TEMPLATE(Distribution, N)->Iterations(1)->Unit(benchmark::kMillisecond); \
   BENCHMARK_TEMPLATE(Loads, N)->Iterations(1)->Unit(benchmark::kMillisecond);        \
   BENCHMARK_TEMPLATE(Bound, N)->Unit(benchmark::kMillisecond)

@@ -182,9 +182,12 @@ FrameClassTimes classify_session(bool bound_by_device) {
     pipeline.step(in.wrist[i], in.angles[i], frame);
     const bool slipping = frame.contacts > 0 && (frame.solve_status != grip::Status::Ok || frame.sliding > 0);
     const bool shaking = std::string(phases[phase_at(static_cast<S>(i) / rate)].name) == "shake";
-    if (slipping) out.us[2].push_back(least);
-    else if (frame.held && shaking) out.us[1].push_back(least);
-    else if (frame.held) out.us[0].push_back(least);
+    if (slipping)
+      out.us[2].push_back(least);
+    else if (frame.held && shaking)
+      out.us[1].push_back(least);
+    else if (frame.held)
+      out.us[0].push_back(least);
   }
   for (auto& v : out.us) std::sort(v.begin(), v.end());
   return out;
@@ -205,17 +208,29 @@ void write_histograms(const char* path, const FrameClassTimes& bounded, const Fr
   const int bins = 36;
   const char* names[3] = {"holding", "shaking", "slipping"};
   const auto X = [&](double us) { return left + pw * (std::log10(std::max(us, 1.0)) / 3.0); };
-  std::fprintf(f, "<svg xmlns='http://www.w3.org/2000/svg' width='%.0f' height='%.0f' font-family='sans-serif' font-size='12'>\n", W, H);
+  std::fprintf(
+      f,
+      "<svg xmlns='http://www.w3.org/2000/svg' width='%.0f' height='%.0f' font-family='sans-serif' font-size='12'>\n",
+      W, H);
   std::fprintf(f, "<rect width='100%%' height='100%%' fill='white'/>\n");
-  std::fprintf(f, "<text x='%.0f' y='24' font-size='15'>grip haptic loop: frame times, solve_constrained with the device limits in the problem and clipped after it</text>\n", left);
+  std::fprintf(f,
+               "<text x='%.0f' y='24' font-size='15'>grip haptic loop: frame times, solve_constrained with the device "
+               "limits in the problem and clipped after it</text>\n",
+               left);
   const double yb = top + 3 * ph + 2 * gap;  // the bottom of the last panel
   for (int d = 0; d <= 3; ++d) {
     const double x = X(std::pow(10.0, d));
     std::fprintf(f, "<line x1='%.1f' x2='%.1f' y1='%.0f' y2='%.0f' stroke='#ccc'/>\n", x, x, top, yb);
     std::fprintf(f, "<text x='%.1f' y='%.0f' text-anchor='middle'>%s</text>\n", x, yb + 16,
-                 d == 0 ? "1" : d == 1 ? "10" : d == 2 ? "100" : "1000");
+                 d == 0   ? "1"
+                 : d == 1 ? "10"
+                 : d == 2 ? "100"
+                          : "1000");
   }
-  std::fprintf(f, "<text x='%.0f' y='%.0f' text-anchor='middle'>frame time (us, log scale); bar height: fraction of the class's frames</text>\n", left + pw / 2, yb + 34);
+  std::fprintf(f,
+               "<text x='%.0f' y='%.0f' text-anchor='middle'>frame time (us, log scale); bar height: fraction of the "
+               "class's frames</text>\n",
+               left + pw / 2, yb + 34);
   for (int c = 0; c < 3; ++c) {
     const double y0 = top + c * (ph + gap);
     double hist[2][bins] = {};
@@ -229,14 +244,15 @@ void write_histograms(const char* path, const FrameClassTimes& bounded, const Fr
       }
       for (int b = 0; b < bins; ++b) peak = std::max(peak, hist[k][b]);
     }
-    std::fprintf(f, "<rect x='%.0f' y='%.0f' width='%.0f' height='%.0f' fill='none' stroke='black'/>\n", left, y0, pw, ph);
+    std::fprintf(f, "<rect x='%.0f' y='%.0f' width='%.0f' height='%.0f' fill='none' stroke='black'/>\n", left, y0, pw,
+                 ph);
     for (int k = 0; k < 2; ++k)
       for (int b = 0; b < bins; ++b) {
         if (hist[k][b] <= 0) continue;
         const double x0 = left + pw * b / bins, x1 = left + pw * (b + 1) / bins, h = ph * hist[k][b] / peak;
-        std::fprintf(f, "<rect x='%.1f' y='%.1f' width='%.1f' height='%.1f' fill='%s' fill-opacity='%s' stroke='%s'/>\n",
-                     x0, y0 + ph - h, x1 - x0, h, k == 0 ? "#999" : "#1f77b4", k == 0 ? "0.5" : "0.6",
-                     k == 0 ? "#666" : "#1f77b4");
+        std::fprintf(
+            f, "<rect x='%.1f' y='%.1f' width='%.1f' height='%.1f' fill='%s' fill-opacity='%s' stroke='%s'/>\n", x0,
+            y0 + ph - h, x1 - x0, h, k == 0 ? "#999" : "#1f77b4", k == 0 ? "0.5" : "0.6", k == 0 ? "#666" : "#1f77b4");
       }
     std::fprintf(f, "<text x='%.0f' y='%.0f' font-size='13'>%s</text>\n", left + 6, y0 + 16, names[c]);
     for (int k = 0; k < 2; ++k) {
@@ -384,8 +400,10 @@ void run_grasp(benchmark::State& state) {
   using Pipeline = grip::HapticPipeline<S, grip::CylinderScene<S>, grip::RangeSpaceFrameSolver, Device>;
   Pipeline first(g.settings, g.scene, g.object);
   grip::HapticFrame<S> frame;
-  if constexpr (whole) first.step(g.wrist, g.joints, frame);
-  else first.step(g.wrist, g.angles, frame);
+  if constexpr (whole)
+    first.step(g.wrist, g.joints, frame);
+  else
+    first.step(g.wrist, g.angles, frame);
   std::vector<double> us;
   for (auto _ : state) {
     state.PauseTiming();

@@ -54,7 +54,8 @@ struct Scene {
       double a = u(), b = u();
       if (a + b > 1) a = 1 - a, b = 1 - b;
       const auto& tri = mesh.triangle(t);
-      const Vector3<double> p0 = mesh.vertex(tri[0]).template cast<double>(), p1 = mesh.vertex(tri[1]).template cast<double>(),
+      const Vector3<double> p0 = mesh.vertex(tri[0]).template cast<double>(),
+                            p1 = mesh.vertex(tri[1]).template cast<double>(),
                             p2 = mesh.vertex(tri[2]).template cast<double>();
       const Vector3<double> q = p0 + a * (p1 - p0) + b * (p2 - p0);
       out.push_back((q + (2 * u() - 1) * range * mesh.face_normal(t).template cast<double>()).template cast<S>());
@@ -72,7 +73,9 @@ struct Scene {
       int t = 0;
       TriangleFeature f = TriangleFeature::Face;
       shape.closest_point((0.1 * dir).template cast<S>(), q, t, f);  // the surface point seen from outside
-      out.push_back((q.template cast<double>() + range * std::sin(0.05 * i) * mesh.face_normal(t).template cast<double>()).template cast<S>());
+      out.push_back(
+          (q.template cast<double>() + range * std::sin(0.05 * i) * mesh.face_normal(t).template cast<double>())
+              .template cast<S>());
     }
     return out;
   }

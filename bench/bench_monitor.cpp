@@ -97,9 +97,13 @@ void monitor20(benchmark::State& st) {
   }
 }
 template <class Cone, class Model>
-void BM_Monitor20(benchmark::State& st) { monitor20<Cone, Model, true>(st); }
+void BM_Monitor20(benchmark::State& st) {
+  monitor20<Cone, Model, true>(st);
+}
 template <class Cone, class Model>
-void BM_Classify20(benchmark::State& st) { monitor20<Cone, Model, false>(st); }
+void BM_Classify20(benchmark::State& st) {
+  monitor20<Cone, Model, false>(st);
+}
 BENCHMARK_TEMPLATE(BM_Monitor20, grip::CoulombCone<double>, grip::HardFinger);
 BENCHMARK_TEMPLATE(BM_Monitor20, grip::PyramidCone<8, double>, grip::HardFinger);
 BENCHMARK_TEMPLATE(BM_Monitor20, grip::SoftFingerCone<double>, grip::SoftFinger);
@@ -135,7 +139,9 @@ void BM_MonitorToSolveRatio(benchmark::State& st) {
   grip::GraspState<G<grip::HardFinger>> state;
   grip::GraspModes<G<grip::HardFinger>> modes;
   std::vector<double> solve, eval, cls, frame, steady;
-  const auto seconds = [](clock::time_point a, clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
+  const auto seconds = [](clock::time_point a, clock::time_point b) {
+    return std::chrono::duration<double>(b - a).count();
+  };
   const auto solve_pass = [&] {
     for (const auto& c : v) {
       const auto sol = grip::solve_range_space(c.grasp, c.w);
@@ -165,9 +171,15 @@ void BM_MonitorToSolveRatio(benchmark::State& st) {
     }
     const auto t3 = clock::now();
     frame_first = !frame_first;
-    if (frame_first) frame_pass(); else solve_pass();
+    if (frame_first)
+      frame_pass();
+    else
+      solve_pass();
     const auto t4 = clock::now();
-    if (frame_first) solve_pass(); else frame_pass();
+    if (frame_first)
+      solve_pass();
+    else
+      frame_pass();
     const auto t5 = clock::now();
     for (int r = 0; r < 10; ++r)
       for (const auto& c : v) {

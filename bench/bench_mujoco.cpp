@@ -32,9 +32,11 @@ std::string scene_xml() {
   return "<mujoco><option timestep=\"0.001\" cone=\"elliptic\" impratio=\"10\"/><worldbody>"
          "<geom type=\"plane\" pos=\"0 0 -0.5\" size=\"1 1 0.1\"/>"
          "<body name=\"target\" mocap=\"true\" pos=\"0 0 0.2\"/>"
-         "<body name=\"rig\" pos=\"0 0 0.2\"><freejoint/><inertial pos=\"0 0 0\" mass=\"1\" diaginertia=\"0.01 0.01 0.01\"/>" +
+         "<body name=\"rig\" pos=\"0 0 0.2\"><freejoint/><inertial pos=\"0 0 0\" mass=\"1\" diaginertia=\"0.01 0.01 "
+         "0.01\"/>" +
          pads +
-         "</body><body name=\"box\" pos=\"0 0 0.2\"><freejoint/><geom type=\"box\" size=\"0.03 0.03 0.03\" mass=\"0.2\"/>"
+         "</body><body name=\"box\" pos=\"0 0 0.2\"><freejoint/><geom type=\"box\" size=\"0.03 0.03 0.03\" "
+         "mass=\"0.2\"/>"
          "</body></worldbody><equality><weld body1=\"target\" body2=\"rig\" solref=\"0.01 1\"/></equality></mujoco>";
 }
 

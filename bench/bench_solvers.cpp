@@ -89,8 +89,8 @@ void range_space_fixed(benchmark::State& state) {
     benchmark::DoNotOptimize(sol.forces.data());
   }
   state.counters["n"] = N;
-  state.counters["ns_per_contact"] = benchmark::Counter(double(N), benchmark::Counter::kIsIterationInvariantRate |
-                                                                        benchmark::Counter::kInvert);
+  state.counters["ns_per_contact"] =
+      benchmark::Counter(double(N), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
 template <int N>
@@ -102,8 +102,8 @@ void range_space_bounded(benchmark::State& state) {
     benchmark::DoNotOptimize(sol.forces.data());
   }
   state.counters["n"] = N;
-  state.counters["ns_per_contact"] = benchmark::Counter(double(N), benchmark::Counter::kIsIterationInvariantRate |
-                                                                        benchmark::Counter::kInvert);
+  state.counters["ns_per_contact"] =
+      benchmark::Counter(double(N), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
 template <int N>
@@ -127,7 +127,7 @@ void range_space_float(benchmark::State& state) {
 
 }  // namespace
 
-#define GRIP_TABLE2(N)                        \
+#define GRIP_TABLE2(N)                         \
   BENCHMARK_TEMPLATE(naive_partial_piv_lu, N); \
   BENCHMARK_TEMPLATE(paper_solve_kkt, N);      \
   BENCHMARK_TEMPLATE(range_space_fixed, N);    \

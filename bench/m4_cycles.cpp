@@ -53,8 +53,8 @@ Instance make_instance(std::mt19937& rng, Kind kind) {
   for (;;) {
     Instance in;
     for (int i = 0; i < 5; ++i)
-      (void)in.grasp.set(i, on_sphere(std::acos(1.0f - 2.0f * u01(rng)), 6.2831853f * u01(rng),
-                                      0.3f + 0.7f * u01(rng), inside ? 6.0f : 0.3f));
+      (void)in.grasp.set(i, on_sphere(std::acos(1.0f - 2.0f * u01(rng)), 6.2831853f * u01(rng), 0.3f + 0.7f * u01(rng),
+                                      inside ? 6.0f : 0.3f));
     const float size = inside ? 5.0f : 0.5f * std::pow(400.0f, u01(rng));
     for (int k = 0; k < 6; ++k) in.w_ext(k) = (k < 3 ? 1.0f : 0.03f) * n01(rng);
     in.w_ext.head<3>() *= size / in.w_ext.head<3>().norm();

@@ -8,8 +8,8 @@
 
 namespace {
 
-bool g_ran = false;        // a test run (not a query such as --list-test-cases) took place
-unsigned g_matched = 0;    // test cases that passed the filters in that run
+bool g_ran = false;      // a test run (not a query such as --list-test-cases) took place
+unsigned g_matched = 0;  // test cases that passed the filters in that run
 
 /// Records how many test cases the run selected; reports nothing itself.
 struct MatchCounter : doctest::IReporter {

@@ -45,10 +45,11 @@ constexpr int n = sizeof(sites) / sizeof(sites[0]);
 void report(const char* title, const grip::Grasp<n>& grasp, const grip::Wrench<double>& w_ext) {
   const auto sol = grip::solve_range_space(grasp, w_ext);
   const auto check = grip::solve_kkt(grasp, w_ext);  // the paper's method, for comparison
-  std::printf("\n%s\n  w_ext = [%.2f %.2f %.2f | %.3f %.3f %.3f]  status %s, residual %.1e, "
-              "|range-space - KKT| = %.1e\n",
-              title, w_ext(0), w_ext(1), w_ext(2), w_ext(3), w_ext(4), w_ext(5), grip::to_string(sol.status),
-              sol.residual, (sol.forces - check.forces).norm());
+  std::printf(
+      "\n%s\n  w_ext = [%.2f %.2f %.2f | %.3f %.3f %.3f]  status %s, residual %.1e, "
+      "|range-space - KKT| = %.1e\n",
+      title, w_ext(0), w_ext(1), w_ext(2), w_ext(3), w_ext(4), w_ext(5), grip::to_string(sol.status), sol.residual,
+      (sol.forces - check.forces).norm());
   std::printf("  %-16s %8s %8s %8s %10s  %s\n", "phalanx", "s_i (N)", "f_n (N)", "|f_t| N", "|f_t|/mu f_n",
               "felt by the hand -f (N)");
   for (int i = 0; i < n; ++i) {
@@ -57,8 +58,8 @@ void report(const char* title, const grip::Grasp<n>& grasp, const grip::Wrench<d
     const double fn = f.dot(c.normal);
     const double ft = (f - fn * c.normal).norm();
     const double ratio = fn > 0 ? ft / (c.friction * fn) : 1e9;
-    std::printf("  %-16s %8.2f %8.2f %8.2f %10.2f%s  [%6.2f %6.2f %6.2f]\n", sites[i].name, c.squeeze, fn, ft,
-                ratio, ratio > 1 ? " SLIP" : "     ", -f.x(), -f.y(), -f.z());
+    std::printf("  %-16s %8.2f %8.2f %8.2f %10.2f%s  [%6.2f %6.2f %6.2f]\n", sites[i].name, c.squeeze, fn, ft, ratio,
+                ratio > 1 ? " SLIP" : "     ", -f.x(), -f.y(), -f.z());
   }
 }
 
@@ -90,7 +91,7 @@ int main() {
   report("1. holding still: the weight", grasp, w);
 
   const grip::Vector3<double> a(6.0, 0.0, 15.0);  // a shake: up and towards the finger tips
-  w.head<3>() = mass * g - mass * a;               // inertial term -m a joins gravity
+  w.head<3>() = mass * g - mass * a;              // inertial term -m a joins gravity
   report("2. shaking: weight plus inertia -m a, a = (6, 0, 15) m/s^2", grasp, w);
 
   grip::Wrench<double> tilt = grip::Wrench<double>::Zero();

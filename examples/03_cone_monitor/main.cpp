@@ -37,8 +37,8 @@ void pinch() {
   for (int step = 0; step <= 40; ++step) {
     const S weight = 0.25 * step;
     grip::Wrench<S> w = grip::Wrench<S>::Zero();
-    w(2) = -weight;                // gravity
-    w(3) = -0.01 * weight;         // (0, 10 mm, 0) x (0, 0, -W): moment about x
+    w(2) = -weight;         // gravity
+    w(3) = -0.01 * weight;  // (0, 10 mm, 0) x (0, 0, -W): moment about x
     const auto sol = grip::solve_range_space(g, w);
     const auto st = grip::monitor_grasp(g, sol.forces);
     for (int i = 0; i < 2; ++i) {
@@ -49,12 +49,12 @@ void pinch() {
     }
     if (!st.stable) {
       const auto r = grip::resolve(g, sol.forces, st, w);
-      std::printf("\n   The pinch slips at W = %.2f N (smallest margin %.3f N at finger %d).\n", weight,
-                  st.min_margin, st.min_margin_index);
-      std::printf("   Kinetic friction transmitted, unbalanced wrench on the box: F = (%.3f, %.3f, %.3f) N,"
-                  " M = (%.4f, %.4f, %.4f) N m\n\n",
-                  r.unbalanced(0), r.unbalanced(1), r.unbalanced(2), r.unbalanced(3), r.unbalanced(4),
-                  r.unbalanced(5));
+      std::printf("\n   The pinch slips at W = %.2f N (smallest margin %.3f N at finger %d).\n", weight, st.min_margin,
+                  st.min_margin_index);
+      std::printf(
+          "   Kinetic friction transmitted, unbalanced wrench on the box: F = (%.3f, %.3f, %.3f) N,"
+          " M = (%.4f, %.4f, %.4f) N m\n\n",
+          r.unbalanced(0), r.unbalanced(1), r.unbalanced(2), r.unbalanced(3), r.unbalanced(4), r.unbalanced(5));
       return;
     }
   }

@@ -29,12 +29,12 @@ namespace {
 
 using namespace haptic_session;
 constexpr int n_phalanx = grip::hand_phalanx_count;
-const char* const phalanx_names[n_phalanx] = {"thumb prox", "thumb dist", "index prox", "index mid", "index dist",
-                                              "long prox",  "long mid",   "long dist",  "ring prox",  "ring mid",
+const char* const phalanx_names[n_phalanx] = {"thumb prox", "thumb dist",  "index prox", "index mid",  "index dist",
+                                              "long prox",  "long mid",    "long dist",  "ring prox",  "ring mid",
                                               "ring dist",  "little prox", "little mid", "little dist"};
 const char* const joint_names[grip::hand_dof_count] = {
-    "thumb CMC flex", "thumb CMC abd", "thumb MCP",  "thumb IP",   "index abd",  "index MCP",  "index PIP",
-    "index DIP",      "long abd",      "long MCP",   "long PIP",   "long DIP",   "ring abd",   "ring MCP",
+    "thumb CMC flex", "thumb CMC abd", "thumb MCP",  "thumb IP",   "index abd",  "index MCP", "index PIP",
+    "index DIP",      "long abd",      "long MCP",   "long PIP",   "long DIP",   "ring abd",  "ring MCP",
     "ring PIP",       "ring DIP",      "little abd", "little MCP", "little PIP", "little DIP"};
 
 // What the run reports of its device: frames in which it clipped, and for the joint devices
@@ -64,7 +64,7 @@ struct Sample {
   int contacts, sliding, clamped;
   S magnitude[n_phalanx];  // |feedback force| (N)
   S command[n_phalanx];    // along the actuation direction, clamped (N)
-  S lift;                              // vertical force of the fingers on the object (N)
+  S lift;                  // vertical force of the fingers on the object (N)
 };
 
 void write_csv(const std::string& path, const std::vector<Sample>& samples) {
@@ -111,14 +111,21 @@ void write_svg(const std::string& path, const std::vector<Sample>& samples) {
   auto X = [&](double t) { return left + pw * t / duration; };
   auto Y1 = [&](double v) { return top1 + h1 * (1 - v / fmax); };
   auto Y2 = [&](double v) { return top2 + h2 * (1 - (v - lmin) / (lmax - lmin)); };
-  std::fprintf(f, "<svg xmlns='http://www.w3.org/2000/svg' width='%.0f' height='%.0f' font-family='sans-serif' font-size='12'>\n", W, H);
+  std::fprintf(
+      f,
+      "<svg xmlns='http://www.w3.org/2000/svg' width='%.0f' height='%.0f' font-family='sans-serif' font-size='12'>\n",
+      W, H);
   std::fprintf(f, "<rect width='100%%' height='100%%' fill='white'/>\n");
-  std::fprintf(f, "<text x='%.0f' y='22' font-size='16'>grip haptic loop: feedback force on each phalanx, 1 kHz scripted session (0.4 kg cylinder)</text>\n", left);
+  std::fprintf(f,
+               "<text x='%.0f' y='22' font-size='16'>grip haptic loop: feedback force on each phalanx, 1 kHz scripted "
+               "session (0.4 kg cylinder)</text>\n",
+               left);
   for (int i = 0; i < phase_count; ++i) {  // phase bands
     const double x0 = X(phases[i].begin), x1 = X(phases[i].end);
     std::fprintf(f, "<rect x='%.1f' y='%.0f' width='%.1f' height='%.0f' fill='%s'/>\n", x0, top1, x1 - x0,
                  top2 + h2 - top1, i % 2 ? "#f4f4f4" : "#ffffff");
-    std::fprintf(f, "<text x='%.1f' y='%.0f' text-anchor='middle' fill='#555'>%s</text>\n", 0.5 * (x0 + x1), top1 + 14, phases[i].name);
+    std::fprintf(f, "<text x='%.1f' y='%.0f' text-anchor='middle' fill='#555'>%s</text>\n", 0.5 * (x0 + x1), top1 + 14,
+                 phases[i].name);
   }
   for (int j = 0; j <= 5; ++j) {  // axes, grid
     const double v = fmax * j / 5, y = Y1(v);
@@ -136,10 +143,17 @@ void write_svg(const std::string& path, const std::vector<Sample>& samples) {
     std::fprintf(f, "<text x='%.1f' y='%.0f' text-anchor='middle'>%.1f</text>\n", X(t), top2 + h2 + 16, t);
   }
   std::fprintf(f, "<text x='%.0f' y='%.0f' text-anchor='middle'>time (s)</text>\n", left + pw / 2, top2 + h2 + 34);
-  std::fprintf(f, "<text x='18' y='%.0f' transform='rotate(-90 18 %.0f)' text-anchor='middle'>|feedback force| per phalanx (N)</text>\n", top1 + h1 / 2, top1 + h1 / 2);
-  std::fprintf(f, "<text x='18' y='%.0f' transform='rotate(-90 18 %.0f)' text-anchor='middle'>fingers' lift (N)</text>\n", top2 + h2 / 2, top2 + h2 / 2);
-  std::fprintf(f, "<rect x='%.0f' y='%.0f' width='%.0f' height='%.0f' fill='none' stroke='black'/>\n", left, top1, pw, h1);
-  std::fprintf(f, "<rect x='%.0f' y='%.0f' width='%.0f' height='%.0f' fill='none' stroke='black'/>\n", left, top2, pw, h2);
+  std::fprintf(f,
+               "<text x='18' y='%.0f' transform='rotate(-90 18 %.0f)' text-anchor='middle'>|feedback force| per "
+               "phalanx (N)</text>\n",
+               top1 + h1 / 2, top1 + h1 / 2);
+  std::fprintf(f,
+               "<text x='18' y='%.0f' transform='rotate(-90 18 %.0f)' text-anchor='middle'>fingers' lift (N)</text>\n",
+               top2 + h2 / 2, top2 + h2 / 2);
+  std::fprintf(f, "<rect x='%.0f' y='%.0f' width='%.0f' height='%.0f' fill='none' stroke='black'/>\n", left, top1, pw,
+               h1);
+  std::fprintf(f, "<rect x='%.0f' y='%.0f' width='%.0f' height='%.0f' fill='none' stroke='black'/>\n", left, top2, pw,
+               h2);
   const char* colour[5] = {"#d62728", "#1f77b4", "#2ca02c", "#ff7f0e", "#9467bd"};
   const char* dash[3] = {"", "stroke-dasharray='2,2'", "stroke-dasharray='6,3'"};
   const int stride = 4;  // one point every 4 ms
@@ -155,10 +169,12 @@ void write_svg(const std::string& path, const std::vector<Sample>& samples) {
     std::fprintf(f, "<text x='%.0f' y='%.0f'>%s</text>\n", left + pw + 46, ly + 4, phalanx_names[k]);
   }
   std::fprintf(f, "<polyline fill='none' stroke='black' stroke-width='1.2' points='");
-  for (std::size_t i = 0; i < samples.size(); i += stride) std::fprintf(f, "%.1f,%.1f ", X(samples[i].t), Y2(samples[i].lift));
+  for (std::size_t i = 0; i < samples.size(); i += stride)
+    std::fprintf(f, "%.1f,%.1f ", X(samples[i].t), Y2(samples[i].lift));
   std::fprintf(f, "'/>\n");
   const double yw = Y2(mass * 9.81);
-  std::fprintf(f, "<line x1='%.0f' x2='%.0f' y1='%.1f' y2='%.1f' stroke='#888' stroke-dasharray='4,4'/>\n", left, left + pw, yw, yw);
+  std::fprintf(f, "<line x1='%.0f' x2='%.0f' y1='%.1f' y2='%.1f' stroke='#888' stroke-dasharray='4,4'/>\n", left,
+               left + pw, yw, yw);
   std::fprintf(f, "<text x='%.0f' y='%.1f' fill='#555'>m g = %.2f N</text>\n", left + pw + 6, yw + 4, mass * 9.81);
   std::fprintf(f, "</svg>\n");
   std::fclose(f);
@@ -224,15 +240,19 @@ int run(const std::string& dir, const char* device_name, bool joint_device) {
     was_held = frame.held;
     if (frame.clamped > 0) ++clamped_frames;
     if (pipeline.device_command().clipped > 0) ++device.clipped_frames;
-    if constexpr (std::is_same<Device, grip::JointTorques<S>>::value || std::is_same<Device, grip::JointBrakes<S>>::value)
+    if constexpr (std::is_same<Device, grip::JointTorques<S>>::value ||
+                  std::is_same<Device, grip::JointBrakes<S>>::value)
       record_torques(pipeline.device_command().torque, phases[s.phase].name == std::string("hold"), device);
     samples.push_back(s);
   }
 
-  std::printf("grip haptic loop: %d frames at %.0f Hz (%.1f s), cylinder %.2f kg, r %.0f mm; closed grasp touches %d phalanges\n",
-              frames, rate, duration, mass, radius * 1e3, script.touching);
+  std::printf(
+      "grip haptic loop: %d frames at %.0f Hz (%.1f s), cylinder %.2f kg, r %.0f mm; closed grasp touches %d "
+      "phalanges\n",
+      frames, rate, duration, mass, radius * 1e3, script.touching);
   std::printf("solver: %s\ndevice: %s\n", solver_name, device_name);
-  std::printf("\n%-9s %6s %6s %14s %14s %10s\n", "phase", "from", "to", "mean sum|F| N", "peak sum|F| N", "lift N(end)");
+  std::printf("\n%-9s %6s %6s %14s %14s %10s\n", "phase", "from", "to", "mean sum|F| N", "peak sum|F| N",
+              "lift N(end)");
   for (int i = 0; i < phase_count; ++i) {
     const auto& ps = phase_stats[static_cast<std::size_t>(i)];
     const int last = std::min(frames - 1, static_cast<int>(phases[i].end * rate) - 1);
@@ -243,7 +263,9 @@ int run(const std::string& dir, const char* device_name, bool joint_device) {
   for (int k = 0; k < n_phalanx; ++k) std::printf("%-12s %8.2f %8.2f\n", phalanx_names[k], peak[k], sum[k] / frames);
   std::vector<double> sorted = micros;
   std::sort(sorted.begin(), sorted.end());
-  const auto pct = [&](double q) { return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))]; };
+  const auto pct = [&](double q) {
+    return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))];
+  };
   std::printf("\nslips: %d events (held -> slipping with fingers on it), %d frames not held while touched\n",
               slip_events, slip_frames);
   std::printf("clamped to the device limit: %d frames; failed frames: %d\n", clamped_frames, failed);
@@ -255,8 +277,8 @@ int run(const std::string& dir, const char* device_name, bool joint_device) {
                   device.hold_frames > 0 ? device.hold_sum[static_cast<std::size_t>(j)] / device.hold_frames : 0.0,
                   device.peak[static_cast<std::size_t>(j)]);
   }
-  std::printf("frame time (wall clock, this build): median %.2f us, p99 %.2f us, worst %.2f us\n", pct(0.5),
-              pct(0.99), sorted.back());
+  std::printf("frame time (wall clock, this build): median %.2f us, p99 %.2f us, worst %.2f us\n", pct(0.5), pct(0.99),
+              sorted.back());
   std::printf("object at the end: (%.3f, %.3f, %.3f) m\n", samples.back().position.x(), samples.back().position.y(),
               samples.back().position.z());
   write_csv(dir + "haptic_loop.csv", samples);
@@ -269,8 +291,10 @@ int main(int argc, char** argv) {
   std::string dir, device = "actuators";
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a.rfind("--device=", 0) == 0) device = a.substr(9);
-    else dir = a + "/";
+    if (a.rfind("--device=", 0) == 0)
+      device = a.substr(9);
+    else
+      dir = a + "/";
   }
   if (device == "actuators") return run<grip::PhalanxActuators<S>>(dir, "one actuator per phalanx", false);
   if (device == "vector") return run<grip::VectorForces<S>>(dir, "a 3-D force per phalanx, saturated by norm", false);

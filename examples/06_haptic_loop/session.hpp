@@ -16,10 +16,10 @@ using S = double;
 using Isometry = Eigen::Transform<S, 3, Eigen::Isometry>;
 using V3 = grip::Vector3<S>;
 
-constexpr S rate = 1000;      // frames per second
-constexpr S duration = 6.5;   // s
-constexpr S mass = 0.4;       // kg: a full 0.4 l bottle
-constexpr S radius = 0.035;   // m
+constexpr S rate = 1000;     // frames per second
+constexpr S duration = 6.5;  // s
+constexpr S mass = 0.4;      // kg: a full 0.4 l bottle
+constexpr S radius = 0.035;  // m
 constexpr S half_length = 0.06;
 
 struct Phase {
@@ -27,9 +27,8 @@ struct Phase {
   S begin, end;
 };
 // The script's phases (s).
-constexpr Phase phases[] = {{"close", 0.0, 0.7},        {"lift", 0.7, 1.5},  {"hold", 1.5, 2.2},
-                            {"shake", 2.2, 3.4},        {"to edge", 3.4, 4.3}, {"impact", 4.3, 4.9},
-                            {"back", 4.9, 5.6},         {"let go", 5.6, 6.5}};
+constexpr Phase phases[] = {{"close", 0.0, 0.7},   {"lift", 0.7, 1.5},   {"hold", 1.5, 2.2}, {"shake", 2.2, 3.4},
+                            {"to edge", 3.4, 4.3}, {"impact", 4.3, 4.9}, {"back", 4.9, 5.6}, {"let go", 5.6, 6.5}};
 constexpr int phase_count = 8;
 
 inline int phase_at(S t) {
@@ -52,10 +51,10 @@ inline V3 start_position() { return V3(-0.15, 0, radius); }
 // Where the grasped object's centre should be at time t (the script moves the hand so).
 inline V3 object_path(S t) {
   V3 p = start_position();
-  p.z() += 0.15 * ramp(t, 0.7, 1.5);                                  // lift 15 cm
-  const S shake = ramp(t, 2.2, 2.45) * (1 - ramp(t, 3.15, 3.4));      // 4 Hz, 1.5 cm
+  p.z() += 0.15 * ramp(t, 0.7, 1.5);                              // lift 15 cm
+  const S shake = ramp(t, 2.2, 2.45) * (1 - ramp(t, 3.15, 3.4));  // 4 Hz, 1.5 cm
   p.z() += 0.015 * shake * std::sin(S(2 * EIGEN_PI) * 4 * (t - 2.2));
-  p.x() += 0.25 * ramp(t, 3.4, 3.85) - 0.25 * ramp(t, 5.15, 5.6);    // past the edge and back
+  p.x() += 0.25 * ramp(t, 3.4, 3.85) - 0.25 * ramp(t, 5.15, 5.6);     // past the edge and back
   p.z() += -0.205 * ramp(t, 3.85, 4.3) + 0.205 * ramp(t, 4.9, 5.15);  // down beside the table
   p.x() += -0.068 * ramp(t, 4.3, 4.55) + 0.068 * ramp(t, 4.65, 4.9);  // into the edge, 3 mm deep
   return p;

@@ -19,8 +19,7 @@ extern "C" int grip_constrained_step(const GripContactIn* contacts, const float*
   if (load_grasp(grasp, contacts) != grip::Status::Ok) return static_cast<int>(grip::Status::InvalidInput);
   const grip::Wrench<float> w = load_wrench(w_ext);
   const grip::Wrench<float> warm = load_wrench(multipliers);
-  const grip::ConstrainedSolution<EmbeddedGrasp> sol =
-      grip::solve_constrained(grasp, w, kSettings, warm);
+  const grip::ConstrainedSolution<EmbeddedGrasp> sol = grip::solve_constrained(grasp, w, kSettings, warm);
   monitor_and_store(grasp, sol.forces, sol.residual, out);
   for (int k = 0; k < 6; ++k) multipliers[k] = sol.multipliers(k);
   return static_cast<int>(sol.status);

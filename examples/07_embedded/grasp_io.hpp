@@ -17,10 +17,10 @@ struct GripContactIn {
 
 /// What one controller step produces.
 struct GripStepOut {
-  float force[kGripFingers][3];   ///< N, the force each finger applies on the object
+  float force[kGripFingers][3];      ///< N, the force each finger applies on the object
   unsigned char mode[kGripFingers];  ///< grip::ContactMode per finger
-  unsigned char stable;           ///< 1 when every contact sticks
-  float residual;                 ///< |G f + w_ext| (N, N m)
+  unsigned char stable;              ///< 1 when every contact sticks
+  float residual;                    ///< |G f + w_ext| (N, N m)
 };
 
 /// The contacts into `grasp` (out of line, like monitor_and_store: its temporaries stay off the
@@ -53,8 +53,8 @@ __attribute__((noinline)) void monitor_and_store(const GraspT& grasp, const Forc
   const grip::GraspState<GraspT> state = grip::monitor_grasp(grasp, f);
   for (int i = 0; i < kGripFingers; ++i) {
     for (int k = 0; k < 3; ++k) out->force[i][k] = f(3 * i + k);
-    out->mode[i] = static_cast<unsigned char>(state.status == grip::Status::Ok ? state.mode(i)
-                                                                              : grip::ContactMode::Separating);
+    out->mode[i] =
+        static_cast<unsigned char>(state.status == grip::Status::Ok ? state.mode(i) : grip::ContactMode::Separating);
   }
   out->stable = state.stable ? 1 : 0;
   out->residual = residual;

@@ -43,18 +43,25 @@ void write_svg(const std::string& path, const Pipeline& p) {
   const char* colour[5] = {"#d62728", "#1f77b4", "#2ca02c", "#ff7f0e", "#9467bd"};
   auto X = [&](int v, const V3& q) { return cx[v] + scale * (q(axis[v]) - c(axis[v])); };
   auto Y = [&](const V3& q) { return cy - scale * (q.z() - c.z()); };
-  std::fprintf(f, "<svg xmlns='http://www.w3.org/2000/svg' width='%.0f' height='%.0f' font-family='sans-serif' font-size='13'>\n", W, H);
+  std::fprintf(
+      f,
+      "<svg xmlns='http://www.w3.org/2000/svg' width='%.0f' height='%.0f' font-family='sans-serif' font-size='13'>\n",
+      W, H);
   std::fprintf(f, "<rect width='100%%' height='100%%' fill='white'/>\n");
-  std::fprintf(f, "<text x='20' y='24' font-size='16'>grip: a hand grasping a 6 cm cube (the paper's Fig. 3), contacts and normals</text>\n");
+  std::fprintf(f,
+               "<text x='20' y='24' font-size='16'>grip: a hand grasping a 6 cm cube (the paper's Fig. 3), contacts "
+               "and normals</text>\n");
   for (int v = 0; v < 2; ++v) {
     std::fprintf(f, "<text x='%.0f' y='60' text-anchor='middle'>%s</text>\n", cx[v],
                  v == 0 ? "front (x right, z up)" : "side (y right, z up)");
     const double s = scale * half;
-    std::fprintf(f, "<rect x='%.1f' y='%.1f' width='%.1f' height='%.1f' fill='#eef' stroke='#446'/>\n", cx[v] - s, cy - s,
-                 2 * s, 2 * s);
+    std::fprintf(f, "<rect x='%.1f' y='%.1f' width='%.1f' height='%.1f' fill='#eef' stroke='#446'/>\n", cx[v] - s,
+                 cy - s, 2 * s, 2 * s);
     for (int k = 0; k < grip::hand_phalanx_count; ++k) {
       const grip::PhalanxCapsule<S>& cap = p.posture().phalanges[static_cast<std::size_t>(k)];
-      std::fprintf(f, "<line x1='%.1f' y1='%.1f' x2='%.1f' y2='%.1f' stroke='#bbb' stroke-opacity='0.6' stroke-width='%.1f' stroke-linecap='round'/>\n",
+      std::fprintf(f,
+                   "<line x1='%.1f' y1='%.1f' x2='%.1f' y2='%.1f' stroke='#bbb' stroke-opacity='0.6' "
+                   "stroke-width='%.1f' stroke-linecap='round'/>\n",
                    X(v, cap.base), Y(cap.base), X(v, cap.tip), Y(cap.tip), 2 * scale * cap.radius);
     }
     for (int i = 0; i < p.hand_contacts().count; ++i) {
@@ -74,8 +81,8 @@ void write_svg(const std::string& path, const Pipeline& p) {
 }
 
 void print_feel(const char* title, const grip::HapticFrame<S>& frame) {
-  std::printf("%s: %s, %d contacts, %d sliding; what each phalanx feels (N):\n", title, frame.held ? "held" : "NOT held",
-              frame.contacts, frame.sliding);
+  std::printf("%s: %s, %d contacts, %d sliding; what each phalanx feels (N):\n", title,
+              frame.held ? "held" : "NOT held", frame.contacts, frame.sliding);
   for (int k = 0; k < grip::hand_phalanx_count; ++k) {
     const grip::PhalanxFeedback<S>& fb = frame.phalanges[static_cast<std::size_t>(k)];
     if (fb.in_contact)

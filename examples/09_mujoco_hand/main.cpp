@@ -52,7 +52,7 @@ using haptic_session::ramp;
 V3 start_position() { return V3(-0.15, 0, 0.03); }
 V3 object_path(double t) {
   V3 p = start_position();
-  p.z() += 0.15 * (ramp(t, 0.7, 1.5) - ramp(t, 3.4, 4.2));       // lift 15 cm, set down
+  p.z() += 0.15 * (ramp(t, 0.7, 1.5) - ramp(t, 3.4, 4.2));             // lift 15 cm, set down
   const double shake = ramp(t, 2.2, 2.45) * (1 - ramp(t, 3.15, 3.4));  // 4 Hz, 1.5 cm
   p.z() += 0.015 * shake * std::sin(2 * 3.141592653589793 * 4 * (t - 2.2));
   return p;
@@ -94,39 +94,50 @@ void write_svg(const std::string& path, const std::vector<Sample>& samples) {
   const double W = 900, H = 520, left = 60, right = 20, top = 30, panel = 200, gap = 50;
   const double t_end = samples.empty() ? 1 : samples.back().t;
   const char* colours[5] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e"};
-  std::fprintf(f, "<svg xmlns='http://www.w3.org/2000/svg' width='%.0f' height='%.0f' font-family='sans-serif' "
-                  "font-size='12'>\n<rect width='100%%' height='100%%' fill='white'/>\n", W, H);
+  std::fprintf(f,
+               "<svg xmlns='http://www.w3.org/2000/svg' width='%.0f' height='%.0f' font-family='sans-serif' "
+               "font-size='12'>\n<rect width='100%%' height='100%%' fill='white'/>\n",
+               W, H);
   const auto x_of = [&](double t) { return left + (W - left - right) * t / t_end; };
   // Panel 1: each finger's felt force, grip (solid) and MuJoCo (dotted).
   double fmax = 1;
   for (const Sample& s : samples)
-    for (int k = 0; k < 5; ++k) fmax = std::max({fmax, s.grip[static_cast<std::size_t>(k)], s.mujoco[static_cast<std::size_t>(k)]});
+    for (int k = 0; k < 5; ++k)
+      fmax = std::max({fmax, s.grip[static_cast<std::size_t>(k)], s.mujoco[static_cast<std::size_t>(k)]});
   const auto y1 = [&](double v) { return top + panel * (1 - v / fmax); };
-  std::fprintf(f, "<text x='%.0f' y='18'>force each finger feels (N): grip (solid), MuJoCo's contact forces (dotted); max %.1f N</text>\n", left, fmax);
+  std::fprintf(f,
+               "<text x='%.0f' y='18'>force each finger feels (N): grip (solid), MuJoCo's contact forces (dotted); max "
+               "%.1f N</text>\n",
+               left, fmax);
   for (int k = 0; k < 5; ++k)
     for (int which = 0; which < 2; ++which) {
       std::fprintf(f, "<polyline fill='none' stroke='%s' stroke-width='1.2'%s points='", colours[k],
                    which ? " stroke-dasharray='2,2'" : "");
       for (std::size_t i = 0; i < samples.size(); i += 10) {
         const Sample& s = samples[i];
-        std::fprintf(f, "%.1f,%.1f ", x_of(s.t), y1(which ? s.mujoco[static_cast<std::size_t>(k)] : s.grip[static_cast<std::size_t>(k)]));
+        std::fprintf(f, "%.1f,%.1f ", x_of(s.t),
+                     y1(which ? s.mujoco[static_cast<std::size_t>(k)] : s.grip[static_cast<std::size_t>(k)]));
       }
       std::fprintf(f, "'/>\n");
     }
   for (int k = 0; k < 5; ++k)
-    std::fprintf(f, "<text x='%.0f' y='%.0f' fill='%s'>%s</text>\n", W - right - 60, top + 15 + 15 * k, colours[k], finger_names[k]);
+    std::fprintf(f, "<text x='%.0f' y='%.0f' fill='%s'>%s</text>\n", W - right - 60, top + 15 + 15 * k, colours[k],
+                 finger_names[k]);
   // Panel 2: the vertical force the whole hand feels against -m g.
   const double top2 = top + panel + gap;
   // From -2 m g to +m g: while the box is on the table the hand also feels the table's push
   // through it, clipped here to the panel.
   const double mg = box_mass * 9.81, zmin = -2 * mg, zmax = mg;
   const auto y2 = [&](double v) { return top2 + panel * (zmax - std::clamp(v, zmin, zmax)) / (zmax - zmin); };
-  std::fprintf(f, "<text x='%.0f' y='%.0f'>vertical force the hand feels (N): grip (black), MuJoCo (grey dotted), -m g (red)</text>\n", left, top2 - 8);
+  std::fprintf(f,
+               "<text x='%.0f' y='%.0f'>vertical force the hand feels (N): grip (black), MuJoCo (grey dotted), -m g "
+               "(red)</text>\n",
+               left, top2 - 8);
   for (const double v : {zmin, -mg, 0.0, zmax})
     std::fprintf(f, "<text x='%.0f' y='%.1f' text-anchor='end' font-size='10'>%.2f</text>\n", left - 4, y2(v) + 3, v);
   std::fprintf(f, "<line x1='%.0f' x2='%.0f' y1='%.1f' y2='%.1f' stroke='#ddd'/>\n", left, W - right, y2(0), y2(0));
-  std::fprintf(f, "<line x1='%.0f' x2='%.0f' y1='%.1f' y2='%.1f' stroke='red' stroke-dasharray='4,3'/>\n", left, W - right,
-               y2(-box_mass * 9.81), y2(-box_mass * 9.81));
+  std::fprintf(f, "<line x1='%.0f' x2='%.0f' y1='%.1f' y2='%.1f' stroke='red' stroke-dasharray='4,3'/>\n", left,
+               W - right, y2(-box_mass * 9.81), y2(-box_mass * 9.81));
   for (int which = 0; which < 2; ++which) {
     std::fprintf(f, "<polyline fill='none' stroke='%s' stroke-width='1.2'%s points='", which ? "#888" : "black",
                  which ? " stroke-dasharray='2,2'" : "");
@@ -135,8 +146,10 @@ void write_svg(const std::string& path, const std::vector<Sample>& samples) {
     std::fprintf(f, "'/>\n");
   }
   for (const Phase& ph : phases) {
-    std::fprintf(f, "<line x1='%.1f' x2='%.1f' y1='%.0f' y2='%.0f' stroke='#ccc'/>\n", x_of(ph.begin), x_of(ph.begin), top, top2 + panel);
-    std::fprintf(f, "<text x='%.1f' y='%.0f' font-size='10'>%s</text>\n", x_of(ph.begin) + 2, top2 + panel + 14, ph.name);
+    std::fprintf(f, "<line x1='%.1f' x2='%.1f' y1='%.0f' y2='%.0f' stroke='#ccc'/>\n", x_of(ph.begin), x_of(ph.begin),
+                 top, top2 + panel);
+    std::fprintf(f, "<text x='%.1f' y='%.0f' font-size='10'>%s</text>\n", x_of(ph.begin) + 2, top2 + panel + 14,
+                 ph.name);
   }
   std::fprintf(f, "<text x='%.0f' y='%.0f'>time (s), 0 to %.1f</text>\n</svg>\n", W / 2 - 40, H - 8, t_end);
   std::fclose(f);
@@ -159,7 +172,8 @@ int main(int argc, char** argv) {
     return w;
   };
   const std::string xml = scene_xml(dims, wrist_at(0));
-  const std::filesystem::path path = std::filesystem::temp_directory_path() / ("grip_mujoco_hand_" + std::to_string(::getpid()) + ".xml");
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / ("grip_mujoco_hand_" + std::to_string(::getpid()) + ".xml");
   {
     std::ofstream out(path);
     out << xml;
@@ -201,7 +215,7 @@ int main(int argc, char** argv) {
   samples.reserve(static_cast<std::size_t>(steps));
   grip::FeltForces<double> felt;
   int failed = 0, held_frames = 0, hold_window = 0, slipping = 0, solved = 0;
-  double worst_sum = 0;  // largest |grip's felt sum - MuJoCo's| over the solved steps (N)
+  double worst_sum = 0;        // largest |grip's felt sum - MuJoCo's| over the solved steps (N)
   double worst_imbalance = 0;  // largest |m a - the forces MuJoCo applies| on the box (N)
   double worst_beyond = 0;     // largest |grip's felt sum - MuJoCo's| beyond that imbalance (N)
   std::vector<double> m_qacc(static_cast<std::size_t>(m->nv));
@@ -218,7 +232,8 @@ int main(int argc, char** argv) {
     s.phase = phase_at(t);
     s.box_z = d->xipos[3 * box + 2];
     const grip::Status up = adapter.update(m, d);
-    const grip::Status st = adapter.solve([](const auto& g, const auto& x) { return grip::solve_constrained(g, x); }, felt);
+    const grip::Status st =
+        adapter.solve([](const auto& g, const auto& x) { return grip::solve_constrained(g, x); }, felt);
     s.ok = st == grip::Status::Ok;
     s.contacts = adapter.grasp().size();
     // Failed: MuJoCo's state could not be read. A grasp that cannot hold inside the friction
@@ -229,7 +244,8 @@ int main(int argc, char** argv) {
     std::array<Eigen::Vector3d, 5> g{}, mj{};
     for (auto& v : g) v.setZero();
     for (auto& v : mj) v.setZero();
-    for (int k = 0; k < grip::hand_body_count; ++k) g[static_cast<std::size_t>(grip::phalanx_finger(k))] += felt.force[static_cast<std::size_t>(k)];
+    for (int k = 0; k < grip::hand_body_count; ++k)
+      g[static_cast<std::size_t>(grip::phalanx_finger(k))] += felt.force[static_cast<std::size_t>(k)];
     for (int n = 0; n < adapter.grasp().size(); ++n) {
       const grip::Wrench<double> on_box = grip::mujoco::contact_wrench_on(m, d, adapter.mujoco_contact(n), box, com);
       mj[static_cast<std::size_t>(grip::phalanx_finger(adapter.grip_body(n)))] -= on_box.head<3>();
@@ -248,8 +264,8 @@ int main(int argc, char** argv) {
       Eigen::Vector3d imbalance;
       for (int k = 0; k < 3; ++k) {
         const int j = box_dof + k;
-        imbalance(k) = m_qacc[static_cast<std::size_t>(j)] + d->qfrc_bias[j] - d->qfrc_passive[j] -
-                       d->qfrc_applied[j] - d->qfrc_actuator[j] - d->qfrc_constraint[j];
+        imbalance(k) = m_qacc[static_cast<std::size_t>(j)] + d->qfrc_bias[j] - d->qfrc_passive[j] - d->qfrc_applied[j] -
+                       d->qfrc_actuator[j] - d->qfrc_constraint[j];
       }
       worst_sum = std::max(worst_sum, (gs - ms).norm());
       worst_imbalance = std::max(worst_imbalance, imbalance.norm());

@@ -93,7 +93,8 @@ Batch batch(const py::handle& positions, const py::handle& normals, const py::ha
   b.first = first;
   auto get = [](const py::handle& h, const char* name, int ndim) {
     Array x = numbers(h, name);
-    if (!x || x.ndim() != ndim) invalid(std::string(name) + " must be an array of " + std::to_string(ndim) + " dimensions");
+    if (!x || x.ndim() != ndim)
+      invalid(std::string(name) + " must be an array of " + std::to_string(ndim) + " dimensions");
     return x;
   };
   b.p = get(positions, "positions", 3);
@@ -212,7 +213,8 @@ py::dict solve_batch(const py::handle& positions, const py::handle& normals, con
     invalid("method must be 'range_space', 'kkt' or 'constrained', not '" + method + "'");
   const Array wa = numbers(w_ext, "w_ext");
   if (!wa || wa.ndim() != 2 || wa.shape(0) != b.k || wa.shape(1) != 6)
-    invalid("w_ext must have shape (k, 6) = (" + std::to_string(b.k) + ", 6), not " + (wa ? shape_of(wa) : std::string("?")));
+    invalid("w_ext must have shape (k, 6) = (" + std::to_string(b.k) + ", 6), not " +
+            (wa ? shape_of(wa) : std::string("?")));
   for (py::ssize_t j = 0; j < b.k; ++j)
     for (int q = 0; q < 6; ++q)
       if (!std::isfinite(wa.at(j, q)) || std::abs(wa.at(j, q)) > grip::ScalarTraits<double>::max_magnitude)
@@ -221,8 +223,8 @@ py::dict solve_batch(const py::handle& positions, const py::handle& normals, con
   const py::ssize_t k = b.k;
   int dim = 0;
   dispatch(model, [&](auto tag) { dim = decltype(tag)::type::dim; });
-  py::array_t<double> forces({k, b.n, py::ssize_t(dim)}), multipliers({k, py::ssize_t(6)}), certificate({k, py::ssize_t(6)}),
-      residual(k);
+  py::array_t<double> forces({k, b.n, py::ssize_t(dim)}), multipliers({k, py::ssize_t(6)}),
+      certificate({k, py::ssize_t(6)}), residual(k);
   py::array_t<int> status(k), iterations(k);
   double *pf = forces.mutable_data(), *pl = multipliers.mutable_data(), *pc = certificate.mutable_data(),
          *pr = residual.mutable_data();
@@ -274,8 +276,7 @@ double time_range_space(const PyGrasp& g, const py::handle& w_ext, int repeats) 
   py::gil_scoped_release release;
   double sink = 0;
   const auto t0 = std::chrono::steady_clock::now();
-  for (int r = 0; r < repeats; ++r)
-    g.visit([&](const auto& x) { sink += grip::solve_range_space(x, w).residual; });
+  for (int r = 0; r < repeats; ++r) g.visit([&](const auto& x) { sink += grip::solve_range_space(x, w).residual; });
   const auto t1 = std::chrono::steady_clock::now();
   volatile double keep = sink;
   (void)keep;
@@ -292,13 +293,14 @@ void bind_analysis(py::module_& m) {
       .def_readonly("volume", &grip::GraspQuality<double>::volume, "pi^3/6 prod sigma_k")
       .def_readonly("isotropy", &grip::GraspQuality<double>::isotropy, "sigma_min / sigma_max")
       .def_readonly("status", &grip::GraspQuality<double>::status);
-  m.def("grasp_quality",
-        [](const PyGrasp& g, Real torque_scale) {
-          const double rho = positive(torque_scale.get("torque_scale"), "torque_scale");
-          return g.visit([rho](const auto& x) { return grip::grasp_quality(x, rho); });
-        },
-        py::arg("grasp"), py::arg("torque_scale") = 1.0,
-        "The singular values of G with moments divided by torque_scale (m), their product volume and isotropy.");
+  m.def(
+      "grasp_quality",
+      [](const PyGrasp& g, Real torque_scale) {
+        const double rho = positive(torque_scale.get("torque_scale"), "torque_scale");
+        return g.visit([rho](const auto& x) { return grip::grasp_quality(x, rho); });
+      },
+      py::arg("grasp"), py::arg("torque_scale") = 1.0,
+      "The singular values of G with moments divided by torque_scale (m), their product volume and isotropy.");
 
   py::class_<EpsilonPy>(m, "Epsilon", "The Ferrari-Canny measure with linearised cones.")
       .def_readonly("epsilon", &EpsilonPy::epsilon, "radius of the largest ball in the wrench set (N per N of budget)")
@@ -308,41 +310,43 @@ void bind_analysis(py::module_& m) {
       .def_readonly("vertices", &EpsilonPy::vertices)
       .def_readonly("facets", &EpsilonPy::facets)
       .def_readonly("status", &EpsilonPy::status);
-  m.def("epsilon",
-        [](const PyGrasp& g, const std::string& norm, Real torque_scale, Integer sides) {
-          const grip::EpsilonNorm nm = epsilon_norm(norm);
-          const double rho = positive(torque_scale.get("torque_scale"), "torque_scale");
-          EpsilonPy out;
-          with_sides(sides.get("sides"), [&](auto kk) {
-            py::gil_scoped_release release;
-            g.visit([&](const auto& x) {
-              const auto e = grip::ferrari_canny_epsilon<decltype(kk)::value>(x, nm, rho, workspace());
-              out = EpsilonPy{e.epsilon, e.upper, e.direction, e.closure, e.vertices, e.facets, e.status};
-            });
+  m.def(
+      "epsilon",
+      [](const PyGrasp& g, const std::string& norm, Real torque_scale, Integer sides) {
+        const grip::EpsilonNorm nm = epsilon_norm(norm);
+        const double rho = positive(torque_scale.get("torque_scale"), "torque_scale");
+        EpsilonPy out;
+        with_sides(sides.get("sides"), [&](auto kk) {
+          py::gil_scoped_release release;
+          g.visit([&](const auto& x) {
+            const auto e = grip::ferrari_canny_epsilon<decltype(kk)::value>(x, nm, rho, workspace());
+            out = EpsilonPy{e.epsilon, e.upper, e.direction, e.closure, e.vertices, e.facets, e.status};
           });
-          return out;
-        },
-        py::arg("grasp"), py::arg("norm") = "L1", py::arg("torque_scale") = 1.0, py::arg("sides") = 8,
-        "Ferrari-Canny epsilon: 'L1' (normal forces summing to 1) or 'Linf' (each at most 1), the friction cones "
-        "linearised with `sides` (4, 8 or 16) sides, moments divided by torque_scale (m).");
+        });
+        return out;
+      },
+      py::arg("grasp"), py::arg("norm") = "L1", py::arg("torque_scale") = 1.0, py::arg("sides") = 8,
+      "Ferrari-Canny epsilon: 'L1' (normal forces summing to 1) or 'Linf' (each at most 1), the friction cones "
+      "linearised with `sides` (4, 8 or 16) sides, moments divided by torque_scale (m).");
 
-  m.def("decompose_forces",
-        [](const PyGrasp& g, const py::handle& forces) {
-          const Array f = numbers(forces, "forces");
-          if (!f || f.ndim() != 2 || f.shape(0) != g.size() || f.shape(1) != g.dim())
-            invalid("forces must have shape (" + std::to_string(g.size()) + ", " + std::to_string(g.dim()) + ")");
-          Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(f.data(), f.size());
-          if (!x.allFinite()) invalid("forces must be finite");
-          return g.visit([&](const auto& gr) {
-            using GT = std::decay_t<decltype(gr)>;
-            const typename GT::ForceVector xv = x;
-            const auto d = grip::decompose_forces(gr, xv);
-            return py::make_tuple(per_contact_rows(d.external, g.dim()), per_contact_rows(d.internal, g.dim()), d.status);
-          });
-        },
-        py::arg("grasp"), py::arg("forces"),
-        "(external, internal, status): forces = external + internal, G internal = 0, external the W-orthogonal "
-        "part that balances G forces.");
+  m.def(
+      "decompose_forces",
+      [](const PyGrasp& g, const py::handle& forces) {
+        const Array f = numbers(forces, "forces");
+        if (!f || f.ndim() != 2 || f.shape(0) != g.size() || f.shape(1) != g.dim())
+          invalid("forces must have shape (" + std::to_string(g.size()) + ", " + std::to_string(g.dim()) + ")");
+        Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(f.data(), f.size());
+        if (!x.allFinite()) invalid("forces must be finite");
+        return g.visit([&](const auto& gr) {
+          using GT = std::decay_t<decltype(gr)>;
+          const typename GT::ForceVector xv = x;
+          const auto d = grip::decompose_forces(gr, xv);
+          return py::make_tuple(per_contact_rows(d.external, g.dim()), per_contact_rows(d.internal, g.dim()), d.status);
+        });
+      },
+      py::arg("grasp"), py::arg("forces"),
+      "(external, internal, status): forces = external + internal, G internal = 0, external the W-orthogonal "
+      "part that balances G forces.");
 
   m.def("_evaluate_batch", &evaluate_batch);
   m.def("_solve_batch", &solve_batch);

@@ -166,7 +166,8 @@ inline std::vector<double> normal_force_bounds(const py::handle& obj, py::ssize_
 inline grip::Wrench<double> wrench(const py::handle& obj, const char* name) {
   Array a = numbers(obj, name);
   if (!a || a.ndim() != 1 || a.shape(0) != 6)
-    invalid(std::string(name) + " must have shape (6,) (force; moment), not " + (a ? shape_of(a) : std::string("a non-array")));
+    invalid(std::string(name) + " must have shape (6,) (force; moment), not " +
+            (a ? shape_of(a) : std::string("a non-array")));
   grip::Wrench<double> w;
   for (int k = 0; k < 6; ++k) {
     w(k) = a.at(k);
@@ -194,7 +195,8 @@ grip::Contact<double> contact(const double* p, const double* a, double mu, doubl
   if (!(mu >= 0)) invalid("friction" + label() + " must be >= 0, not " + std::to_string(mu));
   if (!(mut >= 0)) invalid("torsional_friction" + label() + " must be >= 0, not " + std::to_string(mut));
   if (!(s >= 0)) invalid("squeeze" + label() + " must be >= 0, not " + std::to_string(s));
-  if (!(w >= grip::ScalarTraits<double>::min_weight)) invalid("weights" + label() + " must be >= 1e-12, not " + std::to_string(w));
+  if (!(w >= grip::ScalarTraits<double>::min_weight))
+    invalid("weights" + label() + " must be >= 1e-12, not " + std::to_string(w));
   if (!valid_normal_force_bound(fmax)) invalid(normal_force_bound_error("max_normal_force" + label(), fmax));
   grip::Contact<double> c;
   c.position = grip::Vector3<double>(p[0], p[1], p[2]);
@@ -219,7 +221,8 @@ inline std::vector<grip::Contact<double>> contacts(const py::handle& positions, 
   const Array p = rows3(positions, "positions"), a = rows3(normals, "normals");
   const py::ssize_t n = p.shape(0);
   if (a.shape(0) != n)
-    invalid("normals must have as many rows as positions (" + std::to_string(n) + "), not " + std::to_string(a.shape(0)));
+    invalid("normals must have as many rows as positions (" + std::to_string(n) + "), not " +
+            std::to_string(a.shape(0)));
   if (n < 1 || n > max_contacts)
     invalid("a grasp has 1 to " + std::to_string(max_contacts) + " contacts, not " + std::to_string(n));
   const auto mu = per_contact(friction, n, "friction", 0.0, ">= 0");
@@ -230,7 +233,8 @@ inline std::vector<grip::Contact<double>> contacts(const py::handle& positions, 
   std::vector<grip::Contact<double>> out;
   for (py::ssize_t i = 0; i < n; ++i) {
     const auto k = static_cast<std::size_t>(i);
-    out.push_back(contact(p.data(i, 0), a.data(i, 0), mu[k], mut[k], s[k], w[k], fmax[k], [i] { return "[" + std::to_string(i) + "]"; }));
+    out.push_back(contact(p.data(i, 0), a.data(i, 0), mu[k], mut[k], s[k], w[k], fmax[k],
+                          [i] { return "[" + std::to_string(i) + "]"; }));
   }
   return out;
 }
@@ -280,10 +284,14 @@ Eigen::Matrix<double, Size, 1> joint_vector(const py::handle& obj, const char* n
 }
 
 /// The whole hand's 20 joints (rad), finite.
-inline grip::HandJoints<double> joints(const py::handle& obj) { return joint_vector<grip::hand_dof_count>(obj, "joints"); }
+inline grip::HandJoints<double> joints(const py::handle& obj) {
+  return joint_vector<grip::hand_dof_count>(obj, "joints");
+}
 
 /// The 14 joint angles (rad), finite.
-inline grip::JointAngles<double> angles(const py::handle& obj) { return joint_vector<grip::hand_joint_count>(obj, "angles"); }
+inline grip::JointAngles<double> angles(const py::handle& obj) {
+  return joint_vector<grip::hand_joint_count>(obj, "angles");
+}
 
 }  // namespace grip_python
 

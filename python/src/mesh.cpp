@@ -18,7 +18,6 @@
 namespace grip_python {
 namespace {
 
-
 PyMesh load(const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
   long size = -1;
@@ -49,8 +48,8 @@ PyMesh from_arrays(const py::handle& vertices, const py::handle& triangles) {
   const Array t = numbers(triangles, "triangles");
   if (!t || t.ndim() != 2 || t.shape(1) != 3) invalid("triangles must be integers of shape (t, 3)");
   if (v.shape(0) > mesh_vertices || t.shape(0) > mesh_triangles)
-    invalid("a mesh holds at most " + std::to_string(mesh_vertices) + " vertices and " + std::to_string(mesh_triangles) +
-            " triangles");
+    invalid("a mesh holds at most " + std::to_string(mesh_vertices) + " vertices and " +
+            std::to_string(mesh_triangles) + " triangles");
   PyMesh m;
   std::vector<int> index(static_cast<std::size_t>(v.shape(0)));
   for (py::ssize_t i = 0; i < v.shape(0); ++i) {
@@ -82,22 +81,27 @@ void bind_mesh(py::module_& m) {
                      "distance (negative inside). Offline storage from the heap: up to max_mesh_vertices and "
                      "max_mesh_triangles.")
       .def_static("load", &load, py::arg("path"), "reads an .obj or .stl (binary or ASCII) file")
-      .def_static("from_bytes", &from_bytes, py::arg("data"), py::arg("format"), "OBJ or STL content: format 'obj' or 'stl'")
+      .def_static("from_bytes", &from_bytes, py::arg("data"), py::arg("format"),
+                  "OBJ or STL content: format 'obj' or 'stl'")
       .def_static("from_arrays", &from_arrays, py::arg("vertices"), py::arg("triangles"),
                   "vertices (v, 3) (m) and triangles (t, 3) (indices, counter-clockwise seen from outside)")
       .def_property_readonly("vertices",
                              [](const PyMesh& x) {
                                RowMatrix v(x.mesh->vertex_count(), 3);
-                               for (int i = 0; i < x.mesh->vertex_count(); ++i) v.row(i) = x.mesh->vertex(i).transpose();
+                               for (int i = 0; i < x.mesh->vertex_count(); ++i)
+                                 v.row(i) = x.mesh->vertex(i).transpose();
                                return v;
                              })
       .def_property_readonly("triangle_count", [](const PyMesh& x) { return x.mesh->triangle_count(); })
-      .def_property_readonly("volume", [](const PyMesh& x) { return x.mesh->volume(); }, "enclosed volume (m^3)")
+      .def_property_readonly(
+          "volume", [](const PyMesh& x) { return x.mesh->volume(); }, "enclosed volume (m^3)")
       .def_property_readonly("components", [](const PyMesh& x) { return x.mesh->report().components; })
-      .def_property_readonly("flipped", [](const PyMesh& x) { return x.mesh->report().flipped; },
-                             "the file's triangles faced inwards and were turned")
-      .def("distance", [](const PyMesh& x, const py::handle& p) { return distances(*x.shape, p); }, py::arg("points"),
-           "(distance (m,), outward normal (m, 3)) at points (m, 3): negative inside");
+      .def_property_readonly(
+          "flipped", [](const PyMesh& x) { return x.mesh->report().flipped; },
+          "the file's triangles faced inwards and were turned")
+      .def(
+          "distance", [](const PyMesh& x, const py::handle& p) { return distances(*x.shape, p); }, py::arg("points"),
+          "(distance (m,), outward normal (m, 3)) at points (m, 3): negative inside");
 
   py::class_<PyOctree>(m, "SphericalOctree",
                        "The paper's spherical octree of a Shape or a Mesh, to max_depth (0 .. 15): the broad phase "
@@ -114,13 +118,14 @@ void bind_mesh(py::module_& m) {
              else
                invalid("field must be a grip.Shape or a grip.Mesh");
              if (st != grip::Status::Ok)
-               invalid("the octree cannot be built: max_depth must be 0 .. 15 and the cells fit in 65 536 (this one "
-                       "needs " + std::to_string(o.tree->required_capacity()) + ")");
+               invalid(
+                   "the octree cannot be built: max_depth must be 0 .. 15 and the cells fit in 65 536 (this one "
+                   "needs " +
+                   std::to_string(o.tree->required_capacity()) + ")");
              return o;
            }),
            py::arg("field"), py::arg("max_depth"))
       .def_property_readonly("cells", [](const PyOctree& o) { return o.tree->required_capacity(); });
-
 }
 
 }  // namespace grip_python

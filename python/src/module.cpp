@@ -152,36 +152,48 @@ PYBIND11_MODULE(_grip, m) {
       .def_property_readonly("size", &PyGrasp::size, "number of contacts n")
       .def_property_readonly("dim", &PyGrasp::dim, "unknowns per contact (3, 4 or 1)")
       .def_property_readonly("model", [](const PyGrasp& g) { return static_cast<Model>(g.g.index()); })
-      .def_property_readonly("positions", [](const PyGrasp& g) { return vectors(g, false); }, "(n, 3), m")
-      .def_property_readonly("normals", [](const PyGrasp& g) { return vectors(g, true); }, "(n, 3), unit, into the object")
+      .def_property_readonly(
+          "positions", [](const PyGrasp& g) { return vectors(g, false); }, "(n, 3), m")
+      .def_property_readonly(
+          "normals", [](const PyGrasp& g) { return vectors(g, true); }, "(n, 3), unit, into the object")
       .def_property_readonly("friction", [](const PyGrasp& g) { return field(g, &grip::Contact<double>::friction); })
       .def_property_readonly("torsional_friction",
                              [](const PyGrasp& g) { return field(g, &grip::Contact<double>::torsional_friction); })
       .def_property_readonly("squeeze", [](const PyGrasp& g) { return field(g, &grip::Contact<double>::squeeze); })
       .def_property_readonly("weights", [](const PyGrasp& g) { return field(g, &grip::Contact<double>::weight); })
-      .def_property_readonly("max_normal_force",
-                             [](const PyGrasp& g) { return field(g, &grip::Contact<double>::max_normal_force); },
-                             "(n,) the bound on each contact's normal force f_n (N); inf where there is none")
-      .def("grasp_matrix", [](const PyGrasp& g) { return g.visit([](const auto& x) { return Eigen::MatrixXd(x.grasp_matrix()); }); },
-           "G (6, n * dim): G x is the wrench (force in N; moment in N m about the centre of mass) that the contact "
-           "unknowns x apply on the object")
-      .def("target", [](const PyGrasp& g) { return g.visit([&](const auto& x) { return per_contact_rows(x.target(), g.dim()); }); },
-           "t (n, dim): the forces the objective pulls each contact towards (hard finger: s_i a_i, N)")
-      .def("kkt_matrix", [](const PyGrasp& g) { return g.visit([](const auto& x) { return Eigen::MatrixXd(x.kkt_matrix()); }); },
-           "the paper's H of eq. 9, (6 + n * dim) square: [[W, -G^T], [G, 0]] in grip's ordering (docs/conventions.md)")
-      .def("kkt_rhs",
-           [](const PyGrasp& g, const py::handle& w) {
-             const auto we = wrench(w, "w_ext");
-             return g.visit([&](const auto& x) { return Eigen::VectorXd(x.kkt_rhs(we)); });
-           },
-           py::arg("w_ext"), "the paper's b of eq. 9 for the external wrench w_ext (6,)")
+      .def_property_readonly(
+          "max_normal_force", [](const PyGrasp& g) { return field(g, &grip::Contact<double>::max_normal_force); },
+          "(n,) the bound on each contact's normal force f_n (N); inf where there is none")
+      .def(
+          "grasp_matrix",
+          [](const PyGrasp& g) { return g.visit([](const auto& x) { return Eigen::MatrixXd(x.grasp_matrix()); }); },
+          "G (6, n * dim): G x is the wrench (force in N; moment in N m about the centre of mass) that the contact "
+          "unknowns x apply on the object")
+      .def(
+          "target",
+          [](const PyGrasp& g) {
+            return g.visit([&](const auto& x) { return per_contact_rows(x.target(), g.dim()); });
+          },
+          "t (n, dim): the forces the objective pulls each contact towards (hard finger: s_i a_i, N)")
+      .def(
+          "kkt_matrix",
+          [](const PyGrasp& g) { return g.visit([](const auto& x) { return Eigen::MatrixXd(x.kkt_matrix()); }); },
+          "the paper's H of eq. 9, (6 + n * dim) square: [[W, -G^T], [G, 0]] in grip's ordering (docs/conventions.md)")
+      .def(
+          "kkt_rhs",
+          [](const PyGrasp& g, const py::handle& w) {
+            const auto we = wrench(w, "w_ext");
+            return g.visit([&](const auto& x) { return Eigen::VectorXd(x.kkt_rhs(we)); });
+          },
+          py::arg("w_ext"), "the paper's b of eq. 9 for the external wrench w_ext (6,)")
       .def("__repr__", [](const PyGrasp& g) {
         static const char* names[] = {"HardFinger", "SoftFinger", "FrictionlessPoint"};
         return "<grip.Grasp of " + std::to_string(g.size()) + " contacts, " + names[g.g.index()] + ">";
       });
 
   py::class_<SolutionPy>(m, "Solution", "Contact forces that balance w_ext (G x + w_ext = 0).")
-      .def_readonly("forces", &SolutionPy::forces, "(n, dim): the unknowns per contact (hard finger: f_i in N, ON the object; the hand feels -f_i)")
+      .def_readonly("forces", &SolutionPy::forces,
+                    "(n, dim): the unknowns per contact (hard finger: f_i in N, ON the object; the hand feels -f_i)")
       .def_readonly("multipliers", &SolutionPy::multipliers, "(6,): lambda of the equilibrium rows")
       .def_readonly("status", &SolutionPy::status)
       .def_readonly("residual", &SolutionPy::residual, "|G x + w_ext| (N and N m)")
@@ -189,7 +201,8 @@ PYBIND11_MODULE(_grip, m) {
       .def("__repr__", [](const SolutionPy& s) {
         return "<grip.Solution " + std::string(grip::to_string(s.status)) + ", residual " + number(s.residual) + ">";
       });
-  py::class_<ConstrainedPy, SolutionPy>(m, "ConstrainedSolution", "The optimum inside the friction cones, or a certificate that none exists.")
+  py::class_<ConstrainedPy, SolutionPy>(m, "ConstrainedSolution",
+                                        "The optimum inside the friction cones, or a certificate that none exists.")
       .def_readonly("certificate", &ConstrainedPy::certificate,
                     "(6,) when Infeasible: y with y . w_ext > 0 and G_i^T y in every dual cone (with bounds: "
                     "G_i^T y + tau_i a_i, tau_i >= 0, sum tau_i c_i < y . w_ext); zero otherwise")
@@ -211,20 +224,22 @@ PYBIND11_MODULE(_grip, m) {
                     "(-1e15 when no internal force has normal forces summing to 1; an upper bound at IterationLimit)")
       .def_readonly("unresisted", &ForceClosurePy::unresisted,
                     "(6,) a unit wrench that cannot be resisted (zero in closure and at IterationLimit)")
-      .def_readonly("internal_force", &ForceClosurePy::internal_force, "(n, dim) an internal force achieving the margin")
+      .def_readonly("internal_force", &ForceClosurePy::internal_force,
+                    "(n, dim) an internal force achieving the margin")
       .def_readonly("residual", &ForceClosurePy::residual, "|G internal_force|")
       .def_readonly("rank", &ForceClosurePy::rank)
       .def_readonly("iterations", &ForceClosurePy::iterations)
       .def_readonly("status", &ForceClosurePy::status)
       .def("__repr__", [](const ForceClosurePy& f) {
-        return std::string("<grip.ForceClosure ") + (f.closure ? "closure" : "no closure") + ", margin " + number(f.margin) + ">";
+        return std::string("<grip.ForceClosure ") + (f.closure ? "closure" : "no closure") + ", margin " +
+               number(f.margin) + ">";
       });
 
   using CS = grip::ConstrainedSettings<double>;
   py::class_<CS> constrained_settings(m, "ConstrainedSettings",
-                                     "Tolerances and bounds of solve_constrained (docs/solve.md). Reals finite, > 0 "
-                                     "and < 1; max_iterations >= 1, newton_passes >= 0; otherwise the solve answers "
-                                     "InvalidInput.");
+                                      "Tolerances and bounds of solve_constrained (docs/solve.md). Reals finite, > 0 "
+                                      "and < 1; max_iterations >= 1, newton_passes >= 0; otherwise the solve answers "
+                                      "InvalidInput.");
   constrained_settings.def(py::init<>());
   settable(constrained_settings, "tolerance", &CS::tolerance,
            "Ok when |G x + w_ext|_L <= tolerance (|w_ext|_L + |x|) and |lambda.(G x + w_ext)| <= tolerance F2");
@@ -258,52 +273,54 @@ PYBIND11_MODULE(_grip, m) {
         "the paper's optimum, by the range-space method. Singular when G has rank < 6.");
   m.def("solve_kkt", direct_solver([](const auto& x, const grip::Wrench<double>& w) { return grip::solve_kkt(x, w); }),
         py::arg("grasp"), py::arg("w_ext"), "As solve_range_space, by the paper's KKT system of eq. 9 (H c = b).");
-  m.def("solve_constrained",
-        [](const PyGrasp& g, const py::handle& w, const CS* settings, const py::handle& warm) {
-          const auto we = wrench(w, "w_ext");
-          const CS s = settings ? *settings : CS{};
-          const bool warm_given = !warm.is_none();
-          const grip::Wrench<double> lw = warm_given ? wrench(warm, "warm_start") : grip::Wrench<double>::Zero();
-          py::gil_scoped_release release;
-          ConstrainedPy out;
-          g.visit([&](const auto& x) {
-            const auto r = warm_given ? grip::solve_constrained(x, we, s, lw) : grip::solve_constrained(x, we, s);
-            fill(out, r, g.dim());
-            out.certificate = r.certificate;
-            out.objective = r.objective;
-            out.dual_objective = r.dual_objective;
-            out.fast_path = r.fast_path;
-            out.refined = r.refined;
-            out.passes = r.passes;
-          });
-          return out;
-        },
-        py::arg("grasp"), py::arg("w_ext"), py::arg("settings") = nullptr, py::arg("warm_start") = py::none(),
-        "The forces nearest the targets inside the exact friction cones (and below each contact's "
-        "max_normal_force) with G x + w_ext = 0; Infeasible with a certificate when the grasp cannot hold. "
-        "warm_start: the previous solution's multipliers (6,).");
+  m.def(
+      "solve_constrained",
+      [](const PyGrasp& g, const py::handle& w, const CS* settings, const py::handle& warm) {
+        const auto we = wrench(w, "w_ext");
+        const CS s = settings ? *settings : CS{};
+        const bool warm_given = !warm.is_none();
+        const grip::Wrench<double> lw = warm_given ? wrench(warm, "warm_start") : grip::Wrench<double>::Zero();
+        py::gil_scoped_release release;
+        ConstrainedPy out;
+        g.visit([&](const auto& x) {
+          const auto r = warm_given ? grip::solve_constrained(x, we, s, lw) : grip::solve_constrained(x, we, s);
+          fill(out, r, g.dim());
+          out.certificate = r.certificate;
+          out.objective = r.objective;
+          out.dual_objective = r.dual_objective;
+          out.fast_path = r.fast_path;
+          out.refined = r.refined;
+          out.passes = r.passes;
+        });
+        return out;
+      },
+      py::arg("grasp"), py::arg("w_ext"), py::arg("settings") = nullptr, py::arg("warm_start") = py::none(),
+      "The forces nearest the targets inside the exact friction cones (and below each contact's "
+      "max_normal_force) with G x + w_ext = 0; Infeasible with a certificate when the grasp cannot hold. "
+      "warm_start: the previous solution's multipliers (6,).");
   m.def("_time_constrained", &time_constrained, py::arg("grasp"), py::arg("w_ext"), py::arg("repeats"));
-  m.def("force_closure",
-        [](const PyGrasp& g, const AS* settings) {
-          const AS s = settings ? *settings : AS{};
-          py::gil_scoped_release release;
-          ForceClosurePy out;
-          g.visit([&](const auto& x) {
-            const auto r = grip::force_closure(x, s);
-            out.closure = r.closure;
-            out.margin = r.margin;
-            out.unresisted = r.unresisted;
-            out.internal_force = per_contact_rows(r.internal_force, g.dim());
-            out.residual = r.residual;
-            out.rank = r.rank;
-            out.iterations = r.iterations;
-            out.status = r.status;
-          });
-          return out;
-        },
-        py::arg("grasp"), py::arg("settings") = nullptr,
-        "Whether forces inside the cones can balance every wrench, with the margin and, when not, a wrench "
-        "direction that cannot be resisted.");
+  m.def(
+      "force_closure",
+      [](const PyGrasp& g, const AS* settings) {
+        const AS s = settings ? *settings : AS{};
+        py::gil_scoped_release release;
+        ForceClosurePy out;
+        g.visit([&](const auto& x) {
+          const auto r = grip::force_closure(x, s);
+          out.closure = r.closure;
+          out.margin = r.margin;
+          out.unresisted = r.unresisted;
+          out.internal_force = per_contact_rows(r.internal_force, g.dim());
+          out.residual = r.residual;
+          out.rank = r.rank;
+          out.iterations = r.iterations;
+          out.status = r.status;
+        });
+        return out;
+      },
+      py::arg("grasp"), py::arg("settings") = nullptr,
+      "Whether forces inside the cones can balance every wrench, with the margin and, when not, a wrench "
+      "direction that cannot be resisted.");
 
   bind_analysis(m);
   bind_monitor(m);

@@ -13,9 +13,9 @@ namespace grip_python {
 namespace {
 
 struct MonitorPy {
-  Eigen::VectorXi mode;              ///< (n,) ContactMode values
+  Eigen::VectorXi mode;  ///< (n,) ContactMode values
   Eigen::VectorXd margin, relative_margin, normal_force, moment;
-  RowMatrix tangential_force;        ///< (n, 3)
+  RowMatrix tangential_force;                       ///< (n, 3)
   Eigen::Matrix<bool, Eigen::Dynamic, 1> at_bound;  ///< (n,)
   bool stable{false};
   int sticking{0}, sliding{0}, separating{0}, at_bound_count{0};
@@ -79,7 +79,8 @@ void bind_monitor(py::module_& m) {
       .value("Separating", grip::ContactMode::Separating, "f_n <= 0: the finger would have to pull");
   py::class_<MonitorPy>(m, "MonitorReport", "The monitor's report on every contact of a grasp.")
       .def_readonly("mode", &MonitorPy::mode, "(n,) ContactMode values (int(grip.ContactMode.Sliding), ...)")
-      .def_readonly("margin", &MonitorPy::margin, "(n,) the cone's margin (N): >= 0 inside (hard finger: mu f_n - |f_t|)")
+      .def_readonly("margin", &MonitorPy::margin,
+                    "(n,) the cone's margin (N): >= 0 inside (hard finger: mu f_n - |f_t|)")
       .def_readonly("relative_margin", &MonitorPy::relative_margin, "(n,) <= 1 (hard finger: 1 - |f_t| / (mu f_n))")
       .def_readonly("normal_force", &MonitorPy::normal_force, "(n,) f_n = f . a (N)")
       .def_readonly("tangential_force", &MonitorPy::tangential_force, "(n, 3) f - f_n a (N)")
@@ -95,7 +96,8 @@ void bind_monitor(py::module_& m) {
       .def_readonly("min_margin", &MonitorPy::min_margin)
       .def_readonly("status", &MonitorPy::status);
   m.def("monitor", &monitor, py::arg("grasp"), py::arg("forces"),
-        py::arg("relative_tolerance") = grip::ScalarTraits<double>::default_tolerance, py::arg("absolute_tolerance") = 0.0,
+        py::arg("relative_tolerance") = grip::ScalarTraits<double>::default_tolerance,
+        py::arg("absolute_tolerance") = 0.0,
         "Classifies every contact under `forces` (n, dim): Separating if f_n <= 0, else Sliding if the cone's margin "
         "is below -(absolute_tolerance + relative_tolerance f_n), else Sticking; with margins and the force's parts.");
 }

@@ -32,7 +32,7 @@ std::array<double, phalanges> per_phalanx(const py::handle& obj, const char* nam
 
 struct FramePy {
   RowMatrix force, actuation_direction;  ///< (14, 3)
-  Eigen::VectorXd actuated, command;      ///< (14,)
+  Eigen::VectorXd actuated, command;     ///< (14,)
   std::vector<bool> in_contact, clamped, sliding;
   grip::Wrench<double> unbalanced{grip::Wrench<double>::Zero()};
   grip::Status status{grip::Status::InvalidInput}, solve_status{grip::Status::InvalidInput};
@@ -45,11 +45,12 @@ struct FramePy {
 
 class PyHapticLoop {
  public:
-  PyHapticLoop(Real radius_arg, Real half_length_arg, Real mass_arg, const py::handle& position, const py::handle& rotation,
-               const std::vector<std::pair<py::object, py::object>>& boxes, const grip::HandDimensions<double>& hand,
-               Real friction_arg, const py::handle& stiffness, const py::handle& device_limit,
-               const grip::ContributionTable<double>& contribution, Real dt_arg, Integer max_iterations_arg,
-               bool bound_by_device, Real obstacle_stiffness_arg, Real obstacle_damping_arg) {
+  PyHapticLoop(Real radius_arg, Real half_length_arg, Real mass_arg, const py::handle& position,
+               const py::handle& rotation, const std::vector<std::pair<py::object, py::object>>& boxes,
+               const grip::HandDimensions<double>& hand, Real friction_arg, const py::handle& stiffness,
+               const py::handle& device_limit, const grip::ContributionTable<double>& contribution, Real dt_arg,
+               Integer max_iterations_arg, bool bound_by_device, Real obstacle_stiffness_arg,
+               Real obstacle_damping_arg) {
     const double radius = radius_arg.get("radius"), half_length = half_length_arg.get("half_length"),
                  mass = mass_arg.get("mass"), friction = friction_arg.get("friction"), dt = dt_arg.get("dt"),
                  obstacle_stiffness = obstacle_stiffness_arg.get("obstacle_stiffness"),
@@ -89,7 +90,8 @@ class PyHapticLoop {
     Eigen::Matrix3d m;
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) m(i, j) = r.at(i, j);
-    if (!m.allFinite() || !((m.transpose() * m - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-9) || m.determinant() < 0)
+    if (!m.allFinite() || !((m.transpose() * m - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-9) ||
+        m.determinant() < 0)
       invalid("rotation must be a rotation matrix (orthonormal to 1e-9, determinant 1)");
     object_.orientation = Eigen::Quaterniond(m);
     if (grip::validate(object_) != grip::Status::Ok) invalid("the object is invalid");
@@ -147,7 +149,8 @@ class PyHapticLoop {
   py::tuple close_hand(const py::handle& wrist, Real depth_arg) const {
     const double depth = depth_arg.get("depth");
     if (!(depth >= 0) || !std::isfinite(depth)) invalid("depth must be finite and >= 0");
-    const auto c = grip::close_hand_in_scene<double>(scene_, loop_->settings().hand, pose(wrist, "wrist"), loop_->object(), depth);
+    const auto c =
+        grip::close_hand_in_scene<double>(scene_, loop_->settings().hand, pose(wrist, "wrist"), loop_->object(), depth);
     return py::make_tuple(Eigen::VectorXd(c.angles), c.touching, c.status);
   }
 
@@ -180,7 +183,8 @@ void bind_pipeline(py::module_& m) {
       .def_readonly("iterations", &FramePy::iterations)
       .def_readonly("held", &FramePy::held, "the grasp is stable: the object moves with the hand")
       .def_readonly("min_margin", &FramePy::min_margin)
-      .def_readonly("object_position", &FramePy::object_position, "(3,) the object's centre of mass after the frame (m)")
+      .def_readonly("object_position", &FramePy::object_position,
+                    "(3,) the object's centre of mass after the frame (m)")
       .def_readonly("object_rotation", &FramePy::object_rotation, "(3, 3) body to world after the frame");
   py::class_<PyHapticLoop>(m, "HapticLoop",
                            "grip's per-frame haptic pipeline over a solid cylinder (its axis the body's z) with box "
@@ -206,7 +210,8 @@ void bind_pipeline(py::module_& m) {
            py::arg("bound_by_device") = grip::HapticSettings<double>{}.bound_by_device,
            py::arg("obstacle_stiffness") = 2e4, py::arg("obstacle_damping") = 50.0)
       .def("step", &PyHapticLoop::step, py::arg("wrist"), py::arg("angles"),
-           py::arg("linear_velocity") = std::vector<double>{0, 0, 0}, py::arg("angular_velocity") = std::vector<double>{0, 0, 0},
+           py::arg("linear_velocity") = std::vector<double>{0, 0, 0},
+           py::arg("angular_velocity") = std::vector<double>{0, 0, 0},
            py::arg("linear_acceleration") = std::vector<double>{0, 0, 0},
            py::arg("angular_acceleration") = std::vector<double>{0, 0, 0},
            "One frame: the wrist's pose (4, 4) and motion (world, m/s, m/s^2, rad/s, rad/s^2) and the 14 joint "

@@ -29,7 +29,7 @@ struct ConicReference {
   bool margin_feasible{true};
   double margin_lo{0}, margin_hi{0};  // cvxopt's bracket of the optimal margin
   double budget{0};
-  double scale_lo{0}, scale_hi{0};    // ... of the largest resistible scale along d
+  double scale_lo{0}, scale_hi{0};  // ... of the largest resistible scale along d
   Wrench<double> d{Wrench<double>::Zero()};
   std::vector<Contact<double>> contacts;
 };
@@ -132,16 +132,16 @@ void check_model(const std::vector<ConicReference>& data, char tag, int expected
     const ResistibleWrench<GraspT> w = max_resistible_wrench(g, d, S(ref.budget), settings);
     REQUIRE(w.status == Status::Ok);
     worst_iter = std::max(worst_iter, w.iterations);
-    const double es = outside(double(w.scale), std::max(0.0, ref.scale_lo), std::max(0.0, ref.scale_hi)) /
-                      (1 + ref.budget);
+    const double es =
+        outside(double(w.scale), std::max(0.0, ref.scale_lo), std::max(0.0, ref.scale_hi)) / (1 + ref.budget);
     worst_scale = std::max(worst_scale, es);
     CHECK(es <= bound);
   }
   CHECK(count == expected);
   CHECK(count > 0);
-  MESSAGE(std::string(1, tag), ": ", count, " instances, worst margin error ", worst_margin, ", worst scale error ", worst_scale,
-          " (bound ", bound, "), most iterations ", worst_iter, ", rank-deficient in ", std::string(S_name<S>()), ": ",
-          rank_deficient);
+  MESSAGE(std::string(1, tag), ": ", count, " instances, worst margin error ", worst_margin, ", worst scale error ",
+          worst_scale, " (bound ", bound, "), most iterations ", worst_iter, ", rank-deficient in ",
+          std::string(S_name<S>()), ": ", rank_deficient);
 }
 
 }  // namespace

@@ -65,8 +65,10 @@ double brute_force_epsilon(const std::vector<Eigen::Matrix<double, 6, 1>>& pts) 
         lo = std::min(lo, n.dot(p) - b);
         hi = std::max(hi, n.dot(p) - b);
       }
-      if (hi <= 1e-12) best = std::min(best, b);        // all on the negative side: normal outward
-      else if (lo >= -1e-12) best = std::min(best, -b);  // flipped
+      if (hi <= 1e-12)
+        best = std::min(best, b);  // all on the negative side: normal outward
+      else if (lo >= -1e-12)
+        best = std::min(best, -b);  // flipped
     }
     std::size_t k = 6;
     while (k > 0 && idx[k - 1] == m - 7 + k) --k;
@@ -214,8 +216,8 @@ TEST_CASE_TEMPLATE("epsilon L1 equals a brute-force facet enumeration, L-inf bra
   CHECK(closures > 0);
 }
 
-TEST_CASE_TEMPLATE("epsilon L-infinity of 20 contacts: Ok in the default workspace, below every support value",
-                   S, double, float) {
+TEST_CASE_TEMPLATE("epsilon L-infinity of 20 contacts: Ok in the default workspace, below every support value", S,
+                   double, float) {
   // The largest grasps the analysis is sized for. Their Minkowski sums need up to about 50 000
   // facets and 550 vertices near the origin (measured on 64 such grasps), which the default
   // workspace holds: the answer is exact, not a bound.
@@ -245,7 +247,8 @@ TEST_CASE_TEMPLATE("epsilon L-infinity of 20 contacts: Ok in the default workspa
     grip_test::Normal n01(0.0, 1.0);
     for (int t = 0; t < 212; ++t) {
       Eigen::Matrix<double, 6, 1> u = Eigen::Matrix<double, 6, 1>::Zero();
-      if (t < 12) u(t / 2) = t % 2 ? -1.0 : 1.0;
+      if (t < 12)
+        u(t / 2) = t % 2 ? -1.0 : 1.0;
       else
         for (int k = 0; k < 6; ++k) u(k) = n01(rng);
       u.normalize();
@@ -285,7 +288,8 @@ TEST_CASE_TEMPLATE("epsilon: bad input", S, double, float) {
   std::mt19937 rng(2);
   g = grip_test::random_grasp<Grasp<3, HardFinger, S>>(rng, 3);
   CHECK(ferrari_canny_epsilon<4>(g, EpsilonNorm::L1, S(0)).status == Status::InvalidInput);
-  CHECK(ferrari_canny_epsilon<4>(g, EpsilonNorm::L1, std::numeric_limits<S>::infinity()).status == Status::InvalidInput);
+  CHECK(ferrari_canny_epsilon<4>(g, EpsilonNorm::L1, std::numeric_limits<S>::infinity()).status ==
+        Status::InvalidInput);
 }
 
 template struct grip::Epsilon<float>;

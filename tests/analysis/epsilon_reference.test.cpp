@@ -92,7 +92,8 @@ double reference_epsilon(const Primitives& pr, bool linf, double stop) {
   };
   for (int t = 0; t < 400 && pts.size() < 7; ++t) {
     Vec6 u = Vec6::Zero();
-    if (t < 12) u(t / 2) = t % 2 ? -1.0 : 1.0;
+    if (t < 12)
+      u(t / 2) = t % 2 ? -1.0 : 1.0;
     else
       for (int k = 0; k < 6; ++k) u(k) = n01(rng);
     Vec6 p;
@@ -105,7 +106,8 @@ double reference_epsilon(const Primitives& pr, bool linf, double stop) {
   auto make = [&](const std::array<int, 6>& v, Facet& f) {
     Eigen::Matrix<double, 6, 5> e;
     for (int k = 1; k < 6; ++k)
-      e.col(k - 1) = pts[static_cast<std::size_t>(v[static_cast<std::size_t>(k)])] - pts[static_cast<std::size_t>(v[0])];
+      e.col(k - 1) =
+          pts[static_cast<std::size_t>(v[static_cast<std::size_t>(k)])] - pts[static_cast<std::size_t>(v[0])];
     Eigen::HouseholderQR<Eigen::Matrix<double, 6, 5>> qr(e);
     f.v = v;
     f.n = qr.householderQ() * Vec6::Unit(5);
@@ -121,8 +123,8 @@ double reference_epsilon(const Primitives& pr, bool linf, double stop) {
     make(v, facets.back());
   }
   for (int step = 0; step < 4000; ++step) {
-    const auto best = std::min_element(facets.begin(), facets.end(),
-                                       [](const Facet& a, const Facet& b) { return a.b < b.b; });
+    const auto best =
+        std::min_element(facets.begin(), facets.end(), [](const Facet& a, const Facet& b) { return a.b < b.b; });
     Vec6 p;
     const double h = support(pr, linf, best->n, p);
     if (h - best->b <= tol) return std::max(best->b, 0.0);
@@ -209,8 +211,8 @@ void compare_random(std::mt19937& rng, int n, int& closures) {
   }
 }
 
-TEST_CASE_TEMPLATE("epsilon on random grasps equals an independent search, L1 and L-infinity, hard and soft", S,
-                   double, float) {
+TEST_CASE_TEMPLATE("epsilon on random grasps equals an independent search, L1 and L-infinity, hard and soft", S, double,
+                   float) {
   std::mt19937 rng(59);
   int closures = 0;  // of 40 searches
   for (int n = 3; n <= 12; ++n) {

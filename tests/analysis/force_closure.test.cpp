@@ -159,7 +159,8 @@ TEST_CASE_TEMPLATE("not in closure: frictionless antipodal, mu = 0 on a sphere, 
   const Vector3<S> line = (two.contact(1).position - two.contact(0).position).normalized();
   // |u| = 1 and |line| = 1 each to 2 roundings, their product and the dot's 3: k = 8 of 1.
   // Observed 0 in both types.
-  CHECK(std::abs(double(std::abs(ft.unresisted.template tail<3>().dot(line))) - 1.0) <= grip_test::roundoff<S>(8, 1, 1));
+  CHECK(std::abs(double(std::abs(ft.unresisted.template tail<3>().dot(line))) - 1.0) <=
+        grip_test::roundoff<S>(8, 1, 1));
 }
 
 TEST_CASE_TEMPLATE("two soft fingers: closure iff the line lies in both cones (Nguyen)", S, double, float) {
@@ -267,7 +268,8 @@ TEST_CASE_TEMPLATE("largest resistible wrench along a direction, by hand", S, do
   dx(0) = S(1);
   // As above with B = 4, s* = 4: stop * (4 + 4) + 4 u of s*. Observed 3.4e-7 (double) and
   // 3.4e-5 (float), against 8e-6 and 8e-4.
-  CHECK(std::abs(double(max_resistible_wrench(p, dx, S(4)).scale) - 4.0) <= stop * (4 + 4) + grip_test::roundoff<S>(4, 1, 4));
+  CHECK(std::abs(double(max_resistible_wrench(p, dx, S(4)).scale) - 4.0) <=
+        stop * (4 + 4) + grip_test::roundoff<S>(4, 1, 4));
   // ... and nothing along y.
   Wrench<S> dy = Wrench<S>::Zero();
   dy(1) = S(1);
@@ -315,7 +317,7 @@ TEST_CASE_TEMPLATE("IterationLimit: an iteration bound that bites still bounds t
   const auto cut = force_closure(h, few);
   CHECK(cut.status == Status::IterationLimit);
   CHECK(cut.iterations <= few.max_iterations);
-  CHECK_FALSE(cut.closure);                                              // undecided is not closure
+  CHECK_FALSE(cut.closure);  // undecided is not closure
   // An upper bound: the cut's margin is the bound its multipliers give (>= the optimum), the
   // converged one a witnessed lower bound (<= the optimum), so only their roundings to S part
   // them: k = 4 of
@@ -333,8 +335,8 @@ TEST_CASE_TEMPLATE("IterationLimit: an iteration bound that bites still bounds t
   // An upper bound (from the multipliers' direction), the converged scale within
   // stop * (B + s*) of the optimum (as above). Observed 0.024 above the converged scale in both
   // types.
-  CHECK(double(wcut.scale) >= double(wfull.scale) - stop * (10 + double(wfull.scale)) -
-                                  grip_test::roundoff<S>(4, 1, double(wfull.scale)));
+  CHECK(double(wcut.scale) >=
+        double(wfull.scale) - stop * (10 + double(wfull.scale)) - grip_test::roundoff<S>(4, 1, double(wfull.scale)));
   CHECK(wcut.forces.allFinite());
   CHECK(inside_cones(h, wcut.forces, 0.0, cone_roundoff(h, wcut.forces, 0.0)));  // observed inside by 0.017
 }

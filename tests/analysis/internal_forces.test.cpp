@@ -104,7 +104,9 @@ TEST_CASE_TEMPLATE("squeeze split: symmetric squeeze is all kept, a one-sided on
   // Three hard fingers at 120 degrees on a circle, equal squeeze s along the inward normals:
   // sum s a_i = 0 and r_i x a_i = 0, so t is internal: kept = t, lost = 0, fraction 1.
   Grasp<3, HardFinger, S> g;
-  for (int i = 0; i < 3; ++i) REQUIRE(g.set(i, grip_test::sphere_contact<S>(1.5707963267948966, 2.0943951023931953 * i, 0.05, 0.5, 2.0)) == Status::Ok);
+  for (int i = 0; i < 3; ++i)
+    REQUIRE(g.set(i, grip_test::sphere_contact<S>(1.5707963267948966, 2.0943951023931953 * i, 0.05, 0.5, 2.0)) ==
+            Status::Ok);
   const auto sp = squeeze_split(g);
   REQUIRE(sp.status == Status::Ok);
   CHECK(sp.lost.norm() <= grip_test::tight<S>());

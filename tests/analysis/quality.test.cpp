@@ -49,7 +49,8 @@ TEST_CASE_TEMPLATE("singular values agree with an SVD of the explicit G (all mod
     G.bottomRows(3) /= double(S(0.1));
     Eigen::JacobiSVD<Eigen::MatrixXd> svd(G);
     for (int k = 0; k < 6; ++k)
-      CHECK(q.singular_values(k) == doctest::Approx(double(svd.singularValues()(k))).epsilon(double(grip_test::tight<S>()) * 10));
+      CHECK(q.singular_values(k) ==
+            doctest::Approx(double(svd.singularValues()(k))).epsilon(double(grip_test::tight<S>()) * 10));
   };
   for (int rep = 0; rep < 10; ++rep) {
     check(grip_test::random_grasp<Grasp<4, HardFinger, S>>(rng, 4));

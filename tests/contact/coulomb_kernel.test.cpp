@@ -49,12 +49,12 @@ Vector3<double> mixed_force(std::mt19937& rng, const Vector3<double>& a, double 
   const Vector3<double> t = grip_test::random_tangent(rng, a);
   const double fn = 0.1 + 5.0 * u01(rng);
   switch (kind) {
-    case 0: return grip_test::random_force(rng, a, -2.0, 5.0, 5.0);  // anything
-    case 1: return fn * a + 0.5 * mu * fn * t;                       // well inside
-    case 2: return fn * a + (1.5 * mu * fn + 0.1) * t;               // well outside
-    case 3: return fn * a;                                           // on the axis (mu = 0 too)
-    case 4: return Vector3<double>::Zero();                          // separating: zero force
-    case 5: return -fn * a + 0.3 * t;                                // pulling
+    case 0: return grip_test::random_force(rng, a, -2.0, 5.0, 5.0);         // anything
+    case 1: return fn * a + 0.5 * mu * fn * t;                              // well inside
+    case 2: return fn * a + (1.5 * mu * fn + 0.1) * t;                      // well outside
+    case 3: return fn * a;                                                  // on the axis (mu = 0 too)
+    case 4: return Vector3<double>::Zero();                                 // separating: zero force
+    case 5: return -fn * a + 0.3 * t;                                       // pulling
     default: return 1e6 * grip_test::random_force(rng, a, -1.0, 1.0, 1.0);  // large
   }
 }
@@ -74,9 +74,9 @@ void check_pass(std::mt19937& rng, int n, int trials, typename G::ScalarType abs
     }
     typename G::ForceVector x(g.unknowns());
     for (int i = 0; i < n; ++i)
-      x.template segment<3>(3 * i) = mixed_force(rng, g.contact(i).normal.template cast<double>(),
-                                                 double(g.contact(i).friction), (trial + i) % 7)
-                                         .template cast<S>();
+      x.template segment<3>(3 * i) =
+          mixed_force(rng, g.contact(i).normal.template cast<double>(), double(g.contact(i).friction), (trial + i) % 7)
+              .template cast<S>();
     std::array<ContactMode, G::capacity> fast{}, portable{};
     grip_test::NoHeapScope scope;
     const detail::CoulombCounts cf = detail::classify_coulomb<fixed>(g.cone_table().data(), G::padded_capacity,
@@ -220,8 +220,8 @@ TEST_CASE("Coulomb kernel: values past the last contact are never read as forces
     }
     std::array<ContactMode, 24> m{};
     m.fill(ContactMode::Sliding);
-    const detail::CoulombCounts c = detail::classify_coulomb<0>(g.cone_table().data(), G::padded_capacity,
-                                                                buffer.data(), n, 0.0, 1e-9, m.data());
+    const detail::CoulombCounts c =
+        detail::classify_coulomb<0>(g.cone_table().data(), G::padded_capacity, buffer.data(), n, 0.0, 1e-9, m.data());
     CHECK(c.invalid == 0);
     for (int i = n; i < 24; ++i) CHECK(m[static_cast<std::size_t>(i)] == ContactMode::Sliding);  // untouched
   }
@@ -240,7 +240,8 @@ void check_all_inside(std::mt19937& rng, int n) {
   typename G::ForceVector x(g.unknowns());
   for (int i = 0; i < n; ++i)
     x.template segment<3>(3 * i) =
-        mixed_force(rng, g.contact(i).normal.template cast<double>(), double(g.contact(i).friction), 1).template cast<S>();
+        mixed_force(rng, g.contact(i).normal.template cast<double>(), double(g.contact(i).friction), 1)
+            .template cast<S>();
   const auto rule = [&](const typename G::ForceVector& f) {
     bool all = true;
     for (int i = 0; i < n; ++i) {

@@ -59,8 +59,7 @@ void check_short_normal(std::mt19937& rng, int n) {
 TEST_CASE_TEMPLATE("Coulomb kernel: a component beyond max_magnitude along a normal not quite unit is invalid", S,
                    double, float) {
   std::mt19937 rng(404);
-  for (int n : {1, 3, 4, 5, 7, 8, 9, 12, 13, 16, 17, 19})
-    check_short_normal<Grasp<Dynamic, HardFinger, S, 19>>(rng, n);
+  for (int n : {1, 3, 4, 5, 7, 8, 9, 12, 13, 16, 17, 19}) check_short_normal<Grasp<Dynamic, HardFinger, S, 19>>(rng, n);
   check_short_normal<Grasp<8, HardFinger, S>>(rng, 8);
   check_short_normal<Grasp<20, HardFinger, S>>(rng, 20);
 }

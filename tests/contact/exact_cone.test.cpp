@@ -96,7 +96,8 @@ void check_measure(std::mt19937& rng, const Cone& cone, const MarginTerms& mt) {
     // difference about 4 more of its terms G = (cf + ct) F + cq |m| (12). Twice each: k = 6,
     // 10, 16 and 24.
     constexpr int nf = Cone::dim == 1 ? 1 : 3;  // the force's coordinates
-    const double F = double(x.template head<nf>().norm()), q = Cone::dim == 4 ? double(std::abs(x(Cone::dim - 1))) : 0.0;
+    const double F = double(x.template head<nf>().norm()),
+                 q = Cone::dim == 4 ? double(std::abs(x(Cone::dim - 1))) : 0.0;
     const double G = (mt.cf + mt.ct) * F + mt.cq * q;
     const double tol_n = grip_test::roundoff<S>(6, 1, F), tol_t = grip_test::roundoff<S>(10, 1, F);
     const double tol_tn = grip_test::roundoff<S>(16, 1, F), tol_m = grip_test::roundoff<S>(24, 1, G);

@@ -33,8 +33,8 @@ template <int K, class S, PyramidFit F>
 Vector3<double> edge(const PyramidCone<K, S, F>& p, int j) {
   const double th = (2 * j + p.half_step()) * pi / K;
   const double big_r = F == PyramidFit::Inscribed ? double(p.mu()) : double(p.mu()) / std::cos(pi / K);
-  return p.normal().template cast<double>() +
-         big_r * (std::cos(th) * p.basis().t1.template cast<double>() + std::sin(th) * p.basis().t2.template cast<double>());
+  return p.normal().template cast<double>() + big_r * (std::cos(th) * p.basis().t1.template cast<double>() +
+                                                       std::sin(th) * p.basis().t2.template cast<double>());
 }
 
 template <int K, class S>

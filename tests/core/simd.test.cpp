@@ -1,9 +1,8 @@
 // The SIMD packs of core/simd.hpp (what solve/coulomb_pass.hpp computes with), lane by lane
-// against plain scalar arithmetic (and mul_add, neg_mul_add against std::fma): the pack this translation unit compiles (CMake builds this
-// file again with -march=native and with AVX2), and the scalar pack for float. Arithmetic and
-// the square root must match bit for bit (IEEE operations, correctly rounded), comparisons
-// must be false for NaN (ordered), select must pick per lane, and the lane sums must equal the
-// scalar sums up to the order of the additions.
+// against plain scalar arithmetic (and mul_add, neg_mul_add against std::fma): the pack this translation unit compiles
+// (CMake builds this file again with -march=native and with AVX2), and the scalar pack for float. Arithmetic and the
+// square root must match bit for bit (IEEE operations, correctly rounded), comparisons must be false for NaN (ordered),
+// select must pick per lane, and the lane sums must equal the scalar sums up to the order of the additions.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -29,9 +28,16 @@ void check_pack() {
   constexpr int w = P::width;
   std::mt19937 rng(81);
   grip_test::Normal n01(0.0, 1.0);
-  const S specials[] = {S(0), -S(0), S(1), -S(1), std::numeric_limits<S>::infinity(), -std::numeric_limits<S>::infinity(),
-                        std::numeric_limits<S>::quiet_NaN(), std::numeric_limits<S>::denorm_min(),
-                        std::numeric_limits<S>::max(), S(1e-30f)};
+  const S specials[] = {S(0),
+                        -S(0),
+                        S(1),
+                        -S(1),
+                        std::numeric_limits<S>::infinity(),
+                        -std::numeric_limits<S>::infinity(),
+                        std::numeric_limits<S>::quiet_NaN(),
+                        std::numeric_limits<S>::denorm_min(),
+                        std::numeric_limits<S>::max(),
+                        S(1e-30f)};
   for (int rep = 0; rep < 400; ++rep) {
     S a[w], b[w], out[w];
     for (int j = 0; j < w; ++j) {

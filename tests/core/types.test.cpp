@@ -46,7 +46,6 @@ TEST_CASE_TEMPLATE("stable_norm: 3-4-5 at every scale, where a sum of squares un
   CHECK(std::isinf(detail::stable_norm(Vector3<S>(S(1), L::infinity(), S(0)))));
 }
 
-
 TEST_CASE("times_or_dynamic and plus_or_dynamic: products and sums of sizes, Dynamic kept") {
   volatile int three = 3, dynamic = Dynamic;  // evaluated at run time as well as in constexpr uses
   CHECK(times_or_dynamic(three, 4) == 12);

@@ -31,7 +31,11 @@ TEST_CASE_TEMPLATE("a falling object follows x0 + v0 t + g t^2 / 2 at every step
   b.position << S(0.1), S(-0.2), S(1.5);
   b.linear_velocity << S(0.3), S(0), S(1);
   const Vector3<S> g(S(0), S(0), S(-9.81));
-  const Wrench<S> w = [&] { Wrench<S> x; x << b.mass * g, Vector3<S>::Zero(); return x; }();
+  const Wrench<S> w = [&] {
+    Wrench<S> x;
+    x << b.mass * g, Vector3<S>::Zero();
+    return x;
+  }();
   const S dt = S(1e-3);
   // Round-off (support/tolerance.hpp), accumulated step by step, condition 1. Velocity: the two
   // half kicks round v_j twice (2 u sum |v_j|); a = (m g) / m and half a carry 3 u g, and dt's
@@ -82,7 +86,11 @@ TEST_CASE_TEMPLATE("energy does not grow in free flight over 10 s (fall and tumb
   b.orientation = Eigen::Quaternion<S>(S(0.9), S(0.1), S(-0.3), S(0.2)).normalized();
   b.angular_velocity = b.orientation * Vector3<S>(S(0.05), S(20), S(0.05));
   const Vector3<S> g(S(0), S(0), S(-9.81));
-  const Wrench<S> w = [&] { Wrench<S> x; x << b.mass * g, Vector3<S>::Zero(); return x; }();
+  const Wrench<S> w = [&] {
+    Wrench<S> x;
+    x << b.mass * g, Vector3<S>::Zero();
+    return x;
+  }();
   auto energy = [&](const RigidBody<S>& x) { return x.kinetic_energy() - x.mass * g.dot(x.position); };
   const S e0 = energy(b), rot0 = b.kinetic_energy() - S(0.5) * b.mass * b.linear_velocity.squaredNorm();
   const Vector3<S> l0 = b.angular_momentum();
@@ -117,7 +125,8 @@ TEST_CASE_TEMPLATE("energy does not grow in free flight over 10 s (fall and tumb
   // of the energy terms (scale) against rot0.
   const double n = 10000, k_l = 64 * n;
   CHECK(double(worst_e) <= 1e-5 + grip_test::roundoff<S>(4 * n, 1, 1));
-  CHECK(double(worst_rot) <= 1e-3 + grip_test::roundoff<S>(2 * k_l, 1, 1) + grip_test::roundoff<S>(4, double(scale / rot0), 1));
+  CHECK(double(worst_rot) <=
+        1e-3 + grip_test::roundoff<S>(2 * k_l, 1, 1) + grip_test::roundoff<S>(4, double(scale / rot0), 1));
   // Torque-free: the world angular momentum is conserved to round-off: k_L per step, relative.
   CHECK(double(worst_l) <= grip_test::roundoff<S>(k_l, 1, 1));
   // Renormalised every step: |q| = 1 to the norm's and the division's roundings (k = 4 of 1).
@@ -176,7 +185,8 @@ TEST_CASE_TEMPLATE("momenta: m v, and the step changes m v by F dt", S, double, 
   b.mass = S(2);
   b.linear_velocity << S(0.5), S(-1), S(3);
   // By hand: m v, one rounding of |m v| (support/tolerance.hpp; here exact in binary).
-  CHECK(double((b.linear_momentum() - Vector3<S>(S(1), S(-2), S(6))).norm()) <= grip_test::roundoff<S>(1, 1, std::sqrt(41.0)));
+  CHECK(double((b.linear_momentum() - Vector3<S>(S(1), S(-2), S(6))).norm()) <=
+        grip_test::roundoff<S>(1, 1, std::sqrt(41.0)));
   Wrench<S> w = Wrench<S>::Zero();
   w.template head<3>() << S(4), S(0), S(-2);
   const Vector3<S> before = b.linear_momentum();

@@ -49,7 +49,8 @@ void check_mesh(const grip::TriangleMesh<S, max_vertices, max_triangles>& mesh, 
       const int u = tri[static_cast<std::size_t>(e)], v = tri[static_cast<std::size_t>((e + 1) % 3)];
       int back = 0;
       for (int k = 0; k < 3; ++k)
-        back += mesh.triangle(nb)[static_cast<std::size_t>(k)] == v && mesh.triangle(nb)[static_cast<std::size_t>((k + 1) % 3)] == u;
+        back += mesh.triangle(nb)[static_cast<std::size_t>(k)] == v &&
+                mesh.triangle(nb)[static_cast<std::size_t>((k + 1) % 3)] == u;
       if (back != 1) fail("Ok but an edge's neighbour does not run back along it");
       if (!mesh.vertex_normal(u).allFinite() || !(std::abs(mesh.vertex_normal(u).norm() - S(1)) < S(1e-3)))
         fail("bad vertex pseudo-normal");
@@ -64,7 +65,12 @@ void query(const grip::TriangleMesh<S, max_vertices, max_triangles>& mesh) {
   grip::Vector3<S> lo = grip::Vector3<S>::Zero(), hi = lo;
   if (!shape.bounding_box(lo, hi)) fail("no bounding box");
   const grip::Vector3<S> c = (lo + hi) / S(2), e = hi - lo;
-  const grip::Vector3<S> points[] = {lo, hi, c, c + S(3) * e, lo - e, c + grip::Vector3<S>(e.x(), S(0), S(0)) / S(3),
+  const grip::Vector3<S> points[] = {lo,
+                                     hi,
+                                     c,
+                                     c + S(3) * e,
+                                     lo - e,
+                                     c + grip::Vector3<S>(e.x(), S(0), S(0)) / S(3),
                                      mesh.vertex(mesh.triangle(0)[0])};
   const auto view = grip::winding_signed(shape);
   for (const grip::Vector3<S>& p : points) {

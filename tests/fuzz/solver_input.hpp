@@ -55,7 +55,8 @@ const char* run(Bytes& b) {
   for (int i = 0; i < n; ++i) {
     grip::Contact<S> c;
     const S angle = S(2.4f) * S(i);
-    for (int k = 0; k < 3; ++k) c.position(k) = field<S>(b, S(0.03f) * (k == 0 ? std::cos(angle) : k == 1 ? std::sin(angle) : S(0)));
+    for (int k = 0; k < 3; ++k)
+      c.position(k) = field<S>(b, S(0.03f) * (k == 0 ? std::cos(angle) : k == 1 ? std::sin(angle) : S(0)));
     for (int k = 0; k < 3; ++k) c.normal(k) = field<S>(b, k == 0 ? -std::cos(angle) : k == 1 ? -std::sin(angle) : S(0));
     if (b.get<std::uint8_t>() < 200 && c.normal.allFinite() && c.normal.norm() > S(0)) c.normal.normalize();
     c.friction = field<S>(b, S(0.5f));

@@ -93,7 +93,8 @@ TEST_CASE_TEMPLATE("a sphere pressed into a sphere: depth, normal, point within 
       // half-diagonal seen from the centre; geometry, not round-off); acos near 1 turns the
       // dot product's rounding (4 roundings of 1 and the normal's 8) into an angle sqrt(2 d).
       const double acos_ro = std::sqrt(2 * (grip_test::roundoff<S>(4, 1, 1) + normal_round_off<S>()));
-      CHECK(std::acos(std::min(1.0, -out[0].normal.template cast<double>().dot(u))) <= std::sqrt(3.0) * h / R + acos_ro);
+      CHECK(std::acos(std::min(1.0, -out[0].normal.template cast<double>().dot(u))) <=
+            std::sqrt(3.0) * h / R + acos_ro);
       // The point: that angle over the distance dist - R, and the depth's tolerance. Not
       // round-off: 1e-4 (m) is this check's own allowance, documented nowhere, left as it was.
       CHECK((out[0].point.template cast<double>() - R * u).norm() <= std::sqrt(3.0) * h * (dist - R) / R + tol + 1e-4);
@@ -289,8 +290,7 @@ TEST_CASE_TEMPLATE("in_solid_leaf: a point is in a solid leaf's cube exactly whe
     inside += expect ? 1 : 0;
     ++trials;
   };
-  for (int t = 0; t < 2000; ++t)
-    check(Vector3<S>(S(across(rng)), S(across(rng)), S(along(rng))));
+  for (int t = 0; t < 2000; ++t) check(Vector3<S>(S(across(rng)), S(across(rng)), S(along(rng))));
   for (int o = 0; o < oct.tree().size(); ++o) {  // the corners of every cell
     const SphereNode<S>& nd = oct.tree().node(o);
     const S hc = oct.cell_half_edge(nd.level);

@@ -119,8 +119,9 @@ double check_phalanx(const Field& field, const Exact& exact, const OffSurface& o
 // within a few millimetres of touching, sometimes deep, sometimes within 0.5 mm.
 void aim(std::mt19937& rng, const V3& f, const V3& nf, double r, V3& a, V3& b) {
   const double kind = grip_test::u01(rng);
-  const double g = kind < 0.7 ? uniform(rng, -0.005, 0.003) : kind < 0.85 ? uniform(rng, -0.025, -0.005)
-                                                                           : uniform(rng, -0.0005, 0.0005);
+  const double g = kind < 0.7    ? uniform(rng, -0.005, 0.003)
+                   : kind < 0.85 ? uniform(rng, -0.025, -0.005)
+                                 : uniform(rng, -0.0005, 0.0005);
   const V3 x0 = f + (r + g) * nf;
   const V3 u = grip_test::unit_vector(rng);
   const double L = uniform(rng, 0.012, 0.045), lambda = grip_test::u01(rng);
@@ -415,8 +416,7 @@ int compare_broad_phase(const Field& field, int depth, std::mt19937& rng, int tr
 }
 }  // namespace
 
-TEST_CASE_TEMPLATE("the octree's broad phase drops nothing: the contacts of every sample evaluated", S, double,
-                   float) {
+TEST_CASE_TEMPLATE("the octree's broad phase drops nothing: the contacts of every sample evaluated", S, double, float) {
   std::mt19937 rng(16);
   const int trials = grip_test::scaled(40, 5);  // per shape; at least 30 contacts per 40 trials
   const int least = grip_test::scaled_bound(30, trials, 40);
@@ -624,15 +624,16 @@ TEST_CASE("a phalanx buried in a box mesh: samples deeper than the band get thei
   const grip_test::ExactBox& exact = exact_box;
   const double r = 0.008;
   const std::array<std::array<V3, 2>, 4> axes{{
-      {V3(-0.01, 0.0, 0.005), V3(0.01, 0.0, 0.005)},   // buried: every sample 25 mm deep
-      {V3(0.0, 0.0, -0.01), V3(0.0, 0.0, 0.05)},       // from 20 mm deep out through the top face
-      {V3(0.0, 0.01, 0.05), V3(0.0, -0.01, -0.01)},    // from outside in, ending 20 mm deep
-      {V3(-0.045, 0.0, 0.0), V3(0.045, 0.0, 0.0)},     // along the middle, 30 mm deep at most
+      {V3(-0.01, 0.0, 0.005), V3(0.01, 0.0, 0.005)},  // buried: every sample 25 mm deep
+      {V3(0.0, 0.0, -0.01), V3(0.0, 0.0, 0.05)},      // from 20 mm deep out through the top face
+      {V3(0.0, 0.01, 0.05), V3(0.0, -0.01, -0.01)},   // from outside in, ending 20 mm deep
+      {V3(-0.045, 0.0, 0.0), V3(0.045, 0.0, 0.0)},    // along the middle, 30 mm deep at most
   }};
   Tally tally;
   for (const auto& ab : axes) {
-    check_phalanx<S>(shape, exact, [&](const V3& p) { return std::abs(exact(p)); }, Iso<S>::Identity(), ab[0], ab[1],
-                     r, true, tally);
+    check_phalanx<S>(
+        shape, exact, [&](const V3& p) { return std::abs(exact(p)); }, Iso<S>::Identity(), ab[0], ab[1], r, true,
+        tally);
     HandCollisionModel<S> hand;
     REQUIRE(hand.set_posture(single<S>(5, ab[0], ab[1], S(r))) == Status::Ok);
     HandContacts<S> with, without;
@@ -719,7 +720,8 @@ struct ExactPrism {
     bool inside = true;
     for (int i = 0; i < sides; ++i) {
       const double a0 = 2 * grip_test::pi * i / sides, a1 = 2 * grip_test::pi * (i + 1) / sides;
-      const Eigen::Vector2d v0(radius * std::cos(a0), radius * std::sin(a0)), v1(radius * std::cos(a1), radius * std::sin(a1));
+      const Eigen::Vector2d v0(radius * std::cos(a0), radius * std::sin(a0)),
+          v1(radius * std::cos(a1), radius * std::sin(a1));
       const Eigen::Vector2d e = v1 - v0, w = p.head<2>() - v0;
       const double t = std::clamp(w.dot(e) / e.squaredNorm(), 0.0, 1.0);
       d2 = std::min(d2, (w - t * e).squaredNorm());
@@ -784,7 +786,8 @@ int pierce_and_check(const MeshShape<S, MeshT::max_vertices, MeshT::max_triangle
       CHECK(phi > 1e-4);  // every sample outside
       deepest_sample = std::max(deepest_sample, r - phi);
     }
-    const double gap = check_phalanx<S>(shape, exact, surface_of(exact), random_pose<S>(rng), a, b, r, true, tally, 100);
+    const double gap =
+        check_phalanx<S>(shape, exact, surface_of(exact), random_pose<S>(rng), a, b, r, true, tally, 100);
     if (r - gap > deepest_sample + 1e-4) ++beyond_samples;
   }
   return beyond_samples;
@@ -856,8 +859,7 @@ TEST_CASE_TEMPLATE("contact normals on curved surfaces: within sqrt(2 tol / R) o
   const int trials = grip_test::scaled(300, 40);
   int checked = 0;
   double worst = 0;  // the largest turn over its bound
-  const auto check_normal = [&](const auto& shape, const V3& n_star, double R, const V3& a,
-                                const V3& b, double r) {
+  const auto check_normal = [&](const auto& shape, const V3& n_star, double R, const V3& a, const V3& b, double r) {
     const Iso<S> pose = random_pose<S>(rng);
     const Iso<double> pose_d = pose.template cast<double>();
     HandCollisionModel<S> hand;

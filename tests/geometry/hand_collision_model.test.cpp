@@ -93,8 +93,10 @@ TEST_CASE("power grasps of a cylinder and a sphere: the palm touches, as collisi
     // The cylinder: every phalanx wraps it (each digit closes joint by joint until the
     // phalanges beyond touch), with the four metacarpals and the thenar, 19 contacts, as the
     // paper's 20-contact grasps; the ball, narrower than the hand, leaves some phalanges off.
-    if (sc == &cylinder) CHECK(contacts.count == 19);
-    else CHECK(contacts.count >= 12);
+    if (sc == &cylinder)
+      CHECK(contacts.count == 19);
+    else
+      CHECK(contacts.count >= 12);
   }
 }
 

@@ -48,7 +48,8 @@ MeshReport stl(const std::string& bytes, Mesh& m) {
 
 // The unit-ish cube written by hand, corners at 0 and 1/32 (exact in binary and in text).
 const double k = 0.03125;
-const V3 cube_v[8] = {V3(0, 0, 0), V3(k, 0, 0), V3(0, k, 0), V3(k, k, 0), V3(0, 0, k), V3(k, 0, k), V3(0, k, k), V3(k, k, k)};
+const V3 cube_v[8] = {V3(0, 0, 0), V3(k, 0, 0), V3(0, k, 0), V3(k, k, 0),
+                      V3(0, 0, k), V3(k, 0, k), V3(0, k, k), V3(k, k, k)};
 const int cube_t[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
                            {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
 
@@ -97,9 +98,11 @@ std::vector<std::vector<double>> triangle_set(const Mesh& m) {
       const auto& p = m.vertex(m.triangle(t)[static_cast<std::size_t>(j)]);
       corners.push_back({double(p.x()), double(p.y()), double(p.z())});
     }
-    const std::size_t first = static_cast<std::size_t>(std::min_element(corners.begin(), corners.end()) - corners.begin());
+    const std::size_t first =
+        static_cast<std::size_t>(std::min_element(corners.begin(), corners.end()) - corners.begin());
     std::vector<double> row;
-    for (std::size_t j = 0; j < 3; ++j) row.insert(row.end(), corners[(first + j) % 3].begin(), corners[(first + j) % 3].end());
+    for (std::size_t j = 0; j < 3; ++j)
+      row.insert(row.end(), corners[(first + j) % 3].begin(), corners[(first + j) % 3].end());
     out.push_back(row);
   }
   std::sort(out.begin(), out.end());
@@ -107,7 +110,8 @@ std::vector<std::vector<double>> triangle_set(const Mesh& m) {
 }
 }  // namespace
 
-TEST_CASE_TEMPLATE("OBJ: every face form, negative indices, polygons, CRLF, comments, ignored statements", S, double, float) {
+TEST_CASE_TEMPLATE("OBJ: every face form, negative indices, polygons, CRLF, comments, ignored statements", S, double,
+                   float) {
   IoMesh<S>& m = io_mesh<S>();
   // The same cube as quads in four face forms, with vertices of 3 and 4 numbers, comments,
   // blank lines, CRLF line ends, ignored statements, and negative indices in the last face.
@@ -115,14 +119,15 @@ TEST_CASE_TEMPLATE("OBJ: every face form, negative indices, polygons, CRLF, comm
       "\xEF\xBB\xBF# a cube\r\n"
       "mtllib cube.mtl\r\no cube\r\n"
       "v 0 0 0\r\nv 0.03125 0 0 1.0\r\nv 0 0.03125 0\r\nv 0.03125 0.03125 0\r\n"
-      "v 0 0 3.125e-2\r\nv 3125e-5 0 0.03125\r\nv 0 +0.03125 .03125   # trailing comment\r\nv 0.03125 0.03125 0.03125\r\n"
+      "v 0 0 3.125e-2\r\nv 3125e-5 0 0.03125\r\nv 0 +0.03125 .03125   # trailing comment\r\nv 0.03125 0.03125 "
+      "0.03125\r\n"
       "\r\n   \t\r\nvt 0 0\r\nvn 0 0 1\r\ng side\r\ns 1\r\nusemtl red\r\n"
-      "f 1 3 4 2\r\n"                  // -z: i
-      "f 5/1 6/1 8/1 7/1\r\n"          // +z: i/j
-      "f 1//1 2//1 6//1 5//1\r\n"      // -y: i//k
-      "f 3/1/1 7/1/1 8/1/1 4/1/1\n"     // +y: i/j/k
-      "f 1 5 7 3\n"                     // -x
-      "f -7 -5 -1 -3";                   // +x: 2 4 8 6 counted from the end; no final newline
+      "f 1 3 4 2\r\n"                // -z: i
+      "f 5/1 6/1 8/1 7/1\r\n"        // +z: i/j
+      "f 1//1 2//1 6//1 5//1\r\n"    // -y: i//k
+      "f 3/1/1 7/1/1 8/1/1 4/1/1\n"  // +y: i/j/k
+      "f 1 5 7 3\n"                  // -x
+      "f -7 -5 -1 -3";               // +x: 2 4 8 6 counted from the end; no final newline
   const MeshReport r = obj<S>(text, m);
   REQUIRE(r.ok());
   CHECK(r.vertices == 8);
@@ -320,7 +325,8 @@ TEST_CASE("mesh readers: every prefix of valid files gives a status, and no over
     const MeshReport r = stl<double>(stl_ascii.substr(0, n), m);
     CHECK(r.ok() == (n >= stl_ascii.rfind("endsolid") + 8));
   }
-  for (std::size_t n = 0; n <= stl_binary.size(); ++n) CHECK(stl<double>(stl_binary.substr(0, n), m).ok() == (n == stl_binary.size()));
+  for (std::size_t n = 0; n <= stl_binary.size(); ++n)
+    CHECK(stl<double>(stl_binary.substr(0, n), m).ok() == (n == stl_binary.size()));
   // The shipped blob, prefixes at a stride (each read is O(n)).
   const std::string blob = read_data_file("blob.obj");
   REQUIRE(blob.size() > 100000);
@@ -368,10 +374,11 @@ TEST_CASE("number parser: grammar, exact values, limits, no locale") {
     const char* text;
     double value;
   };
-  const Case exact[] = {{"0", 0.0},         {"-0", -0.0},       {"1", 1.0},        {"+2.", 2.0},          {"-.5", -0.5},
-                        {"0.03125", 0.03125}, {"3125e-5", 0.03125}, {"1e+2", 100.0},   {"1E2", 100.0},        {"12.5e-1", 1.25},
-                        {"0.1", 0.1},       {"123456789012345", 123456789012345.0}, {"1e22", 1e22},   {"1e-22", 1e-22},
-                        {"1e-400", 0.0}};
+  const Case exact[] = {{"0", 0.0},           {"-0", -0.0},     {"1", 1.0},
+                        {"+2.", 2.0},         {"-.5", -0.5},    {"0.03125", 0.03125},
+                        {"3125e-5", 0.03125}, {"1e+2", 100.0},  {"1E2", 100.0},
+                        {"12.5e-1", 1.25},    {"0.1", 0.1},     {"123456789012345", 123456789012345.0},
+                        {"1e22", 1e22},       {"1e-22", 1e-22}, {"1e-400", 0.0}};
   for (const Case& c : exact) {
     CAPTURE(c.text);
     REQUIRE(parse(c.text, v) == NumberParse::Ok);
@@ -379,9 +386,13 @@ TEST_CASE("number parser: grammar, exact values, limits, no locale") {
     CHECK(std::signbit(v) == std::signbit(c.value));
   }
   // Beyond the fast path: within a few units in the last place.
-  const Case near[] = {{"1.7e308", 1.7e308}, {"2.2250738585072014e-308", 2.2250738585072014e-308},
-                       {"0.000000000000000000000000000001", 1e-30}, {"123456789012345678901234567890", 1.2345678901234568e29},
-                       {"4.9406564584124654e-324", 4.9406564584124654e-324}, {"1e-320", 1e-320}, {"6.02214076e23", 6.02214076e23}};
+  const Case near[] = {{"1.7e308", 1.7e308},
+                       {"2.2250738585072014e-308", 2.2250738585072014e-308},
+                       {"0.000000000000000000000000000001", 1e-30},
+                       {"123456789012345678901234567890", 1.2345678901234568e29},
+                       {"4.9406564584124654e-324", 4.9406564584124654e-324},
+                       {"1e-320", 1e-320},
+                       {"6.02214076e23", 6.02214076e23}};
   for (const Case& c : near) {
     CAPTURE(c.text);
     REQUIRE(parse(c.text, v) == NumberParse::Ok);

@@ -25,7 +25,6 @@
 template class grip::MeshShape<double, 16, 32>;
 template class grip::MeshShape<float, 16, 32>;
 
-
 namespace mesh_shape_test {
 
 using namespace grip;
@@ -36,7 +35,6 @@ using grip_mesh_test::uniform;
 using grip_mesh_test::unit_vector;
 using grip_mesh_test::V3;
 using grip_test::pi;
-
 
 namespace {
 constexpr int max_v = 4096, max_t = 8192;
@@ -64,7 +62,7 @@ Vector3<S> surface_point(const Mesh<S>& m, std::mt19937& g, int& t) {
   double a = u01(g), b = u01(g);
   if (a + b > 1) a = 1 - a, b = 1 - b;
   const int mode = static_cast<int>(g() % 3);
-  if (mode == 1) b = 1e-7 * u01(g);                   // near edge ab
+  if (mode == 1) b = 1e-7 * u01(g);                     // near edge ab
   if (mode == 2) a = 1e-7 * u01(g), b = 1e-7 * u01(g);  // near vertex a
   const std::array<int, 3>& tri = m.triangle(t);
   const Vector3<double> p0 = m.vertex(tri[0]).template cast<double>(), p1 = m.vertex(tri[1]).template cast<double>(),
@@ -103,7 +101,8 @@ double extent(const std::vector<std::array<double, 9>>& tris) {
 }
 }  // namespace
 
-TEST_CASE_TEMPLATE("a square pyramid (6 triangles: a padded block): hierarchy, far field and distance", S, double, float) {
+TEST_CASE_TEMPLATE("a square pyramid (6 triangles: a padded block): hierarchy, far field and distance", S, double,
+                   float) {
   // Base [-a, a]^2 at z = 0, apex (0, 0, h). Its triangle count is not a multiple of 4, so the
   // last block of the SIMD distance pass is padded.
   const double a = 0.02, h = 0.03;
@@ -260,7 +259,8 @@ TEST_CASE_TEMPLATE("an icosphere's signed distance is the sphere's within the te
   CHECK(m.volume() >= S(4.0 / 3 * pi * std::pow(R - sag, 3)));
 }
 
-TEST_CASE_TEMPLATE("the hierarchy's distance equals a loop over all triangles, its sign the winding number's", S, double, float) {
+TEST_CASE_TEMPLATE("the hierarchy's distance equals a loop over all triangles, its sign the winding number's", S,
+                   double, float) {
   Mesh<S>& m = mesh_a<S>();
   Field<S>& f = field_a<S>();
   // A star-shaped blob with concave dents (320 triangles: the brute force is O(T) per point).
@@ -285,7 +285,8 @@ TEST_CASE_TEMPLATE("the hierarchy's distance equals a loop over all triangles, i
     // norm in S against the brute force in double, a few roundings of M = |p| + the mesh's
     // size: k = 4. Observed at most 1.25 u M (double) and 0.71 u M (float).
     const double M = double(p.norm()) + size;
-    CHECK(std::abs(std::abs(double(d)) - brute_distance(tris, p.template cast<double>())) <= grip_test::roundoff<S>(4, 1, M));
+    CHECK(std::abs(std::abs(double(d)) - brute_distance(tris, p.template cast<double>())) <=
+          grip_test::roundoff<S>(4, 1, M));
   }
   // The sign against the exact winding number, at points within 1e-6 of the surface, near its
   // edges and vertices, and at random points (fewer in float: a count of samples).
@@ -358,8 +359,8 @@ TEST_CASE_TEMPLATE("a lane's closest point is closest_point_on_triangle's, to ro
   CHECK(f == TriangleFeature::EdgeBC);
 }
 
-TEST_CASE_TEMPLATE("the narrow phase's queries: bounded distance with any hint, segment to a hinted triangle", S, double,
-                   float) {
+TEST_CASE_TEMPLATE("the narrow phase's queries: bounded distance with any hint, segment to a hinted triangle", S,
+                   double, float) {
   Mesh<S>& m = mesh_a<S>();
   Field<S>& f = field_a<S>();
   REQUIRE(load(grip_mesh_test::sphere_soup(2, 0, V3::Zero(), true), m).ok());
@@ -375,7 +376,7 @@ TEST_CASE_TEMPLATE("the narrow phase's queries: bounded distance with any hint, 
     const double exact = brute_distance(tris, p.template cast<double>());
     const double limit = uniform(g, 0, 0.02);
     if (std::abs(limit - exact) < 1e-6) continue;  // too near the limit to say which side
-    if (i % 3 == 0) hint = -1;  // no hint, a stale one, or (every 7th) one naming no triangle
+    if (i % 3 == 0) hint = -1;                     // no hint, a stale one, or (every 7th) one naming no triangle
     if (i % 7 == 0) hint = 1 << 20;
     S phi = S(7);
     Vector3<S> n = Vector3<S>::Zero(), n_full;
@@ -411,7 +412,8 @@ TEST_CASE_TEMPLATE("the narrow phase's queries: bounded distance with any hint, 
         std::numeric_limits<S>::infinity());
 }
 
-TEST_CASE_TEMPLATE("the fast winding number stays within its error bound, and the winding view agrees", S, double, float) {
+TEST_CASE_TEMPLATE("the fast winding number stays within its error bound, and the winding view agrees", S, double,
+                   float) {
   Mesh<S>& m = mesh_a<S>();
   Field<S>& f = field_a<S>();
   REQUIRE(load(grip_mesh_test::sphere_soup(3, 0, V3::Zero(), true), m).ok());
@@ -425,8 +427,10 @@ TEST_CASE_TEMPLATE("the fast winding number stays within its error bound, and th
   for (int i = 0; i < (std::is_same<S, double>::value ? 60 : 30); ++i) {  // a count of samples
     Vector3<S> p;
     int t = 0;
-    if (i % 2 == 0) p = V3(uniform(g, -0.1, 0.1), uniform(g, -0.1, 0.1), uniform(g, -0.1, 0.1)).cast<S>();
-    else p = surface_point(m, g, t) + (unit_vector(g) * uniform(g, 1e-4, 0.01)).cast<S>();
+    if (i % 2 == 0)
+      p = V3(uniform(g, -0.1, 0.1), uniform(g, -0.1, 0.1), uniform(g, -0.1, 0.1)).cast<S>();
+    else
+      p = surface_point(m, g, t) + (unit_vector(g) * uniform(g, 1e-4, 0.01)).cast<S>();
     S bound = S(0);
     const S fast = f.winding_number(p, bound);
     const S exact = f.winding_number_exact(p);
@@ -466,7 +470,8 @@ TEST_CASE_TEMPLATE("the fast winding number stays within its error bound, and th
   CHECK(exact_view.distance(Vector3<S>::Zero()) < S(0));
 }
 
-TEST_CASE_TEMPLATE("mesh distance: no heap per query, and bad points and unbuilt shapes give finite answers", S, double, float) {
+TEST_CASE_TEMPLATE("mesh distance: no heap per query, and bad points and unbuilt shapes give finite answers", S, double,
+                   float) {
   Mesh<S>& m = mesh_a<S>();
   Field<S>& f = field_a<S>();
   REQUIRE(load(grip_mesh_test::sphere_soup(3, 0, V3::Zero(), true), m).ok());
@@ -553,13 +558,14 @@ TEST_CASE_TEMPLATE("the shipped meshes: counts, closed, volumes against independ
       const int n = 2000;
       for (int i = 0; i < n; ++i) {
         const double s0 = (a0 + (a1 - a0) * i / n) * pi / 180, s1 = (a0 + (a1 - a0) * (i + 1) / n) * pi / 180;
-        segment(cr + radius * std::cos(s0), cz + radius * std::sin(s0), cr + radius * std::cos(s1), cz + radius * std::sin(s1));
+        segment(cr + radius * std::cos(s0), cz + radius * std::sin(s0), cr + radius * std::cos(s1),
+                cz + radius * std::sin(s1));
       }
     };
-    segment(0, 0, 36, 0);   // outer bottom
-    arc(36, 4, 4, -90, 0);  // outer bottom edge
-    segment(40, 4, 40, 58);  // outer wall
-    arc(38, 58, 2, 0, 180);  // rim
+    segment(0, 0, 36, 0);     // outer bottom
+    arc(36, 4, 4, -90, 0);    // outer bottom edge
+    segment(40, 4, 40, 58);   // outer wall
+    arc(38, 58, 2, 0, 180);   // rim
     segment(36, 58, 36, 11);  // inner wall
     arc(31, 11, 5, 0, -90);   // inner bottom edge
     segment(31, 6, 0, 6);     // inner bottom; back down the axis (r = 0) adds nothing

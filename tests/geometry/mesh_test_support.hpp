@@ -39,7 +39,8 @@ struct Soup {
 /// The axis-aligned box of half sizes h around c, as 8 vertices and 12 outward triangles.
 inline Soup box_soup(const V3& h, const V3& c = V3::Zero()) {
   Soup s;
-  for (int i = 0; i < 8; ++i) s.v.push_back(c + V3((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z()));
+  for (int i = 0; i < 8; ++i)
+    s.v.push_back(c + V3((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z()));
   // Faces -z, +z, -y, +y, -x, +x as two triangles each (checked outward by the volume test).
   s.t = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
          {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
@@ -50,11 +51,12 @@ inline Soup box_soup(const V3& h, const V3& c = V3::Zero()) {
 inline Soup icosphere(int levels) {
   const double g = (1 + std::sqrt(5.0)) / 2;
   Soup s;
-  const double raw[12][3] = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
-                             {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
+  const double raw[12][3] = {{-1, g, 0},  {1, g, 0},  {-1, -g, 0}, {1, -g, 0}, {0, -1, g},  {0, 1, g},
+                             {0, -1, -g}, {0, 1, -g}, {g, 0, -1},  {g, 0, 1},  {-g, 0, -1}, {-g, 0, 1}};
   for (const auto& r : raw) s.v.push_back(V3(r[0], r[1], r[2]).normalized());
-  s.t = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-         {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8}, {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+  s.t = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+         {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+         {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
   for (int l = 0; l < levels; ++l) {
     std::map<std::pair<int, int>, int> mid;
     auto midpoint = [&](int a, int b) {
@@ -97,8 +99,10 @@ inline void append(Soup& a, const Soup& b, bool reversed = false) {
   const int off = static_cast<int>(a.v.size());
   for (const V3& p : b.v) a.v.push_back(p);
   for (const auto& t : b.t) {
-    if (reversed) a.t.push_back({t[0] + off, t[2] + off, t[1] + off});
-    else a.t.push_back({t[0] + off, t[1] + off, t[2] + off});
+    if (reversed)
+      a.t.push_back({t[0] + off, t[2] + off, t[1] + off});
+    else
+      a.t.push_back({t[0] + off, t[1] + off, t[2] + off});
   }
 }
 
@@ -110,7 +114,8 @@ grip::MeshReport load(const Soup& s, Mesh& mesh) {
   std::vector<int> idx;
   for (const V3& p : s.v) idx.push_back(mesh.add_vertex(p.cast<S>()));
   for (const auto& t : s.t)
-    mesh.add_triangle(idx[static_cast<std::size_t>(t[0])], idx[static_cast<std::size_t>(t[1])], idx[static_cast<std::size_t>(t[2])]);
+    mesh.add_triangle(idx[static_cast<std::size_t>(t[0])], idx[static_cast<std::size_t>(t[1])],
+                      idx[static_cast<std::size_t>(t[2])]);
   return mesh.finalize();
 }
 

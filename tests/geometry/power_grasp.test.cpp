@@ -84,15 +84,16 @@ TEST_CASE_TEMPLATE("power grasp of a 35 mm cylinder: contacts on every phalanx, 
     const Vector3<double> b = (to_object * cap_k.tip).template cast<double>();
     const Shape<double> exact(make_cylinder<double>(R, 0.07));
     double phi_min = 1;
-    for (int t = 0; t <= 400; ++t) phi_min = std::min(phi_min, exact.distance(Vector3<double>(a + (b - a) * (t / 400.0))));
+    for (int t = 0; t <= 400; ++t)
+      phi_min = std::min(phi_min, exact.distance(Vector3<double>(a + (b - a) * (t / 400.0))));
     const double r = double(cap_k.radius), L = (b - a).norm();
     // Then round-off (support/tolerance.hpp), on M, the largest world coordinate of the
     // phalanx plus the pose's shift: the reference's to_object takes about 6 roundings of M;
     // the library's depth the leaf's centre and normal (4), the plane distance (4) and r minus
     // it (1): k = 16, condition 1 (a distance is 1-Lipschitz).
     const double M = double(std::max(cap_k.base.norm(), cap_k.tip.norm()) + sc.pose.translation().norm());
-    const double tol = 3 * h * h * (R + r) / (2 * R * R) + L * L / (49 * 8 * (R + r)) + L * L / (400 * 400 * 8 * (R + r)) +
-                       grip_test::roundoff<S>(16, 1, M);
+    const double tol = 3 * h * h * (R + r) / (2 * R * R) + L * L / (49 * 8 * (R + r)) +
+                       L * L / (400 * 400 * 8 * (R + r)) + grip_test::roundoff<S>(16, 1, M);
     CHECK(std::abs(double(c.depth) - (r - phi_min)) <= tol);
     // The point is on the surface, the normal points at the axis (inwards). Not round-off: the
     // paper mode's point lies on a leaf's tangent plane, off the curved surface by up to a few
@@ -128,8 +129,8 @@ TEST_CASE_TEMPLATE("bridge: contacts to a bounded Grasp with s = d K dr, and it 
   REQUIRE(grasp.size() == 14);
   // Table 1 typed from the paper (index..little; proximal, middle, distal); the thumb row is
   // grip's choice for the cylindrical power grip (docs/hand.md), proximal 0.15, distal 0.25.
-  const double d[5][3] = {{0.15, 0, 0.25}, {0.115, 0.021, 0.159}, {0.126, 0.023, 0.176}, {0.088, 0.016, 0.122},
-                          {0.060, 0.011, 0.083}};
+  const double d[5][3] = {
+      {0.15, 0, 0.25}, {0.115, 0.021, 0.159}, {0.126, 0.023, 0.176}, {0.088, 0.016, 0.122}, {0.060, 0.011, 0.083}};
   for (int i = 0; i < contacts.count; ++i) {
     const HandContact<S>& hc = contacts[i];
     const int f = static_cast<int>(hc.finger), p = static_cast<int>(hc.phalanx);

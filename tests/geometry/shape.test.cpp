@@ -84,7 +84,8 @@ TEST_CASE_TEMPLATE("primitive distances and outward normals at derived points", 
 TEST_CASE_TEMPLATE("SDFs are 1-Lipschitz with unit gradients, the gradient matches finite differences", S, double,
                    float) {
   Matrix3<S> R = Eigen::AngleAxis<S>(S(0.4), Vector3<S>(S(1), S(1), S(0)).normalized()).toRotationMatrix();
-  const ShapePrimitive<S> prims[4] = {make_sphere<S>(S(0.03)), make_box<S>(Vector3<S>(S(0.03), S(0.02), S(0.01)), Vector3<S>::Zero(), R),
+  const ShapePrimitive<S> prims[4] = {make_sphere<S>(S(0.03)),
+                                      make_box<S>(Vector3<S>(S(0.03), S(0.02), S(0.01)), Vector3<S>::Zero(), R),
                                       make_cylinder<S>(S(0.02), S(0.03), Vector3<S>::Zero(), R),
                                       make_capsule<S>(S(0.015), S(0.02), Vector3<S>::Zero(), R)};
   std::mt19937 rng(7);

@@ -86,8 +86,7 @@ TEST_CASE_TEMPLATE("octree: contains every primitive and union, and keeps nothin
     int inside = 0, far = 0;
     std::vector<int> hit;  // the distinct solid leaves found at points of the shape
     for (int t = 0; t < 1500; ++t) {
-      const Vector3<S> p = lo + grip_test::draw3(rng, u).cast<S>().cwiseProduct(hi - lo) * S(1.2) -
-                           S(0.1) * (hi - lo);
+      const Vector3<S> p = lo + grip_test::draw3(rng, u).cast<S>().cwiseProduct(hi - lo) * S(1.2) - S(0.1) * (hi - lo);
       const S d = shape.distance(p);
       if (d <= S(0)) {  // a point of the shape lies in a kept leaf cell
         ++inside;

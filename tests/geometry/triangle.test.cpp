@@ -186,7 +186,8 @@ TEST_CASE_TEMPLATE("segment and triangle: the closed form against a search along
     V3 v[3];
     for (V3& x : v) x = V3(uniform(g, -1, 1), uniform(g, -1, 1), uniform(g, -1, 1));
     if ((v[1] - v[0]).cross(v[2] - v[0]).norm() < 0.05) continue;
-    V3 p0(uniform(g, -2, 2), uniform(g, -2, 2), uniform(g, -2, 2)), p1(uniform(g, -2, 2), uniform(g, -2, 2), uniform(g, -2, 2));
+    V3 p0(uniform(g, -2, 2), uniform(g, -2, 2), uniform(g, -2, 2)),
+        p1(uniform(g, -2, 2), uniform(g, -2, 2), uniform(g, -2, 2));
     const int kind = trial % 5;
     if (kind == 3) {  // parallel to the plane, above the face
       const V3 n = (v[1] - v[0]).cross(v[2] - v[0]).normalized(), in = (v[0] + v[1] + v[2]) / 3;
@@ -206,8 +207,10 @@ TEST_CASE_TEMPLATE("segment and triangle: the closed form against a search along
     double lo = 0, hi = 1;
     for (int it = 0; it < 200; ++it) {
       const double m1 = lo + (hi - lo) / 3, m2 = hi - (hi - lo) / 3;
-      if (point_d2(m1) < point_d2(m2)) hi = m2;
-      else lo = m1;
+      if (point_d2(m1) < point_d2(m2))
+        hi = m2;
+      else
+        lo = m1;
     }
     const double search = std::min({point_d2(0), point_d2(1), point_d2(0.5 * (lo + hi))});
     S u = S(-1);
@@ -222,9 +225,12 @@ TEST_CASE_TEMPLATE("segment and triangle: the closed form against a search along
     REQUIRE(u <= S(1));
     CHECK(std::abs(point_d2(double(u)) - double(d2)) <= tol);  // u attains it
     if (kind == 4) CHECK(d2 == S(0));
-    if (d2 == S(0)) ++crossing;
-    else if (u == S(0) || u == S(1)) ++ends;
-    else ++inner;
+    if (d2 == S(0))
+      ++crossing;
+    else if (u == S(0) || u == S(1))
+      ++ends;
+    else
+      ++inner;
   }
   CHECK(ends > 20);  // an end nearest, an edge nearest, and crossings all occur
   CHECK(inner > 20);
@@ -284,7 +290,8 @@ TEST_CASE_TEMPLATE("solid angles: octant pi/2, and a closed mesh sums to 4 pi in
     return s;
   }();
   for (const auto& t : tet.t) {
-    const S w = triangle_solid_angle(o, cv<S>(tet.v[static_cast<std::size_t>(t[0])]), cv<S>(tet.v[static_cast<std::size_t>(t[1])]),
+    const S w = triangle_solid_angle(o, cv<S>(tet.v[static_cast<std::size_t>(t[0])]),
+                                     cv<S>(tet.v[static_cast<std::size_t>(t[1])]),
                                      cv<S>(tet.v[static_cast<std::size_t>(t[2])]));
     CHECK(std::abs(w - S(pi)) <= tol);
   }
@@ -296,7 +303,8 @@ TEST_CASE_TEMPLATE("solid angles: octant pi/2, and a closed mesh sums to 4 pi in
     const V3 p = dir * (k % 2 == 0 ? uniform(g, 0, 0.9) : uniform(g, 1.1, 3));
     S sum = S(0);
     for (const auto& t : sph.t)
-      sum += triangle_solid_angle(cv<S>(p), cv<S>(sph.v[static_cast<std::size_t>(t[0])]), cv<S>(sph.v[static_cast<std::size_t>(t[1])]),
+      sum += triangle_solid_angle(cv<S>(p), cv<S>(sph.v[static_cast<std::size_t>(t[0])]),
+                                  cv<S>(sph.v[static_cast<std::size_t>(t[1])]),
                                   cv<S>(sph.v[static_cast<std::size_t>(t[2])]));
     // The rounded vertices still close the mesh, so the exact sum stays 4 pi or 0. Each of the
     // n terms is within a few u of its value (num's and den's errors are u |x||y||z|, den about

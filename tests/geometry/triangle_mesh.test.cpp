@@ -16,7 +16,6 @@
 template class grip::TriangleMesh<double, 16, 32>;
 template class grip::TriangleMesh<float, 16, 32>;
 
-
 namespace triangle_mesh_test {
 
 using namespace grip;
@@ -25,7 +24,6 @@ using grip_mesh_test::box_soup;
 using grip_mesh_test::load;
 using grip_mesh_test::Soup;
 using grip_mesh_test::V3;
-
 
 namespace {
 template <class S>
@@ -133,7 +131,8 @@ TEST_CASE_TEMPLATE("mesh of a box: normals, pseudo-normals, neighbours and volum
       const int u = tri[static_cast<std::size_t>(e)], v = tri[static_cast<std::size_t>((e + 1) % 3)];
       int found = 0;
       for (int k = 0; k < 3; ++k)
-        found += m.triangle(nb)[static_cast<std::size_t>(k)] == v && m.triangle(nb)[static_cast<std::size_t>((k + 1) % 3)] == u;
+        found += m.triangle(nb)[static_cast<std::size_t>(k)] == v &&
+                 m.triangle(nb)[static_cast<std::size_t>((k + 1) % 3)] == u;
       CHECK(found == 1);
       // Edge pseudo-normal: the normalised sum of the two faces' normals.
       CHECK((m.edge_normal(t, e) - (n + m.face_normal(nb)).normalized()).norm() <= tol);

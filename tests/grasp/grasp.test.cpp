@@ -50,10 +50,10 @@ TEST_CASE_TEMPLATE("G and H match the paper's eq. 3 and eq. 9 block by block", S
 
   const auto H = g.kkt_matrix();
   REQUIRE(H.rows() == 12);
-  CHECK(H.template block<6, 6>(0, 0) == G);                           // [G | 0]
+  CHECK(H.template block<6, 6>(0, 0) == G);  // [G | 0]
   CHECK(H.template block<6, 6>(0, 6) == Matrix6<S>::Zero());
-  CHECK(H.template block<6, 6>(6, 0) == Matrix6<S>::Identity());      // [I_3n | ...]
-  CHECK(H.template block<3, 3>(6, 6) == -Matrix3<S>::Identity());     // row block i: [-I3  R_i]
+  CHECK(H.template block<6, 6>(6, 0) == Matrix6<S>::Identity());   // [I_3n | ...]
+  CHECK(H.template block<3, 3>(6, 6) == -Matrix3<S>::Identity());  // row block i: [-I3  R_i]
   CHECK(H.template block<3, 3>(6, 9) == paper_r(c1.position));
   CHECK(H.template block<3, 3>(9, 6) == -Matrix3<S>::Identity());
   CHECK(H.template block<3, 3>(9, 9) == paper_r(c2.position));
@@ -76,9 +76,12 @@ TEST_CASE_TEMPLATE("G and H match the paper's eq. 3 and eq. 9 block by block", S
   const Vector3<S> lf = l.template head<3>(), lm = l.template tail<3>();
   // Both sides: the cross product (2 products and a difference) and the sum, 4 roundings of
   // |l_f| + |l_m| |r| each: k = 8.
-  const double l1 = double(lf.norm() + lm.norm() * c1.position.norm()), l2 = double(lf.norm() + lm.norm() * c2.position.norm());
-  CHECK(double((HardFinger::wrench_transpose(c1, l) - (lf + lm.cross(c1.position))).norm()) <= grip_test::roundoff<S>(8, 1, l1));
-  CHECK(double((HardFinger::wrench_transpose(c2, l) - (lf + lm.cross(c2.position))).norm()) <= grip_test::roundoff<S>(8, 1, l2));
+  const double l1 = double(lf.norm() + lm.norm() * c1.position.norm()),
+               l2 = double(lf.norm() + lm.norm() * c2.position.norm());
+  CHECK(double((HardFinger::wrench_transpose(c1, l) - (lf + lm.cross(c1.position))).norm()) <=
+        grip_test::roundoff<S>(8, 1, l1));
+  CHECK(double((HardFinger::wrench_transpose(c2, l) - (lf + lm.cross(c2.position))).norm()) <=
+        grip_test::roundoff<S>(8, 1, l2));
 
   Wrench<S> w_ext;
   w_ext << S(1), S(2), S(3), S(4), S(5), S(6);

@@ -120,14 +120,14 @@ Eigen::Matrix<double, 23, 22> documented_glove22_layout() {
   set(HandJoint::IndexMcp, 4, 1);
   set(HandJoint::IndexPip, 5, 1);
   set(HandJoint::IndexDip, 6, 1);
-  set(HandJoint::IndexAbduction, 7, 1);     // index-long spread
+  set(HandJoint::IndexAbduction, 7, 1);  // index-long spread
   set(HandJoint::LongMcp, 8, 1);
   set(HandJoint::LongPip, 9, 1);
   set(HandJoint::LongDip, 10, 1);
   set(HandJoint::RingMcp, 11, 1);
   set(HandJoint::RingPip, 12, 1);
   set(HandJoint::RingDip, 13, 1);
-  set(HandJoint::RingAbduction, 14, -1);    // long-ring spread
+  set(HandJoint::RingAbduction, 14, -1);  // long-ring spread
   set(HandJoint::LittleAbduction, 14, -1);
   set(HandJoint::LittleMcp, 15, 1);
   set(HandJoint::LittlePip, 16, 1);
@@ -203,7 +203,8 @@ TEST_CASE_TEMPLATE("22-sensor glove: each raw channel moves the joint its docume
   typename Glove22<S>::Readings raw;
   for (int i = 0; i < 22; ++i) {
     angles(i) = channel_angle(i);
-    raw(i) = S(double(glove.calibration.offset[std::size_t(i)]) + angles(i) / double(glove.calibration.gain[std::size_t(i)]));
+    raw(i) = S(double(glove.calibration.offset[std::size_t(i)]) +
+               angles(i) / double(glove.calibration.gain[std::size_t(i)]));
   }
   HandJoints<S> q;
   GloveExtras<S> extras;

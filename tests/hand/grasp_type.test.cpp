@@ -47,8 +47,8 @@ TEST_CASE("grasp types: shares >= 0, the four fingers sum to 1, the thumb has no
 
 TEST_CASE("cylindrical power: the paper's Table 1 for the fingers, grip's thumb and palm") {
   // Table 1, typed from the paper: index, long, ring, little; proximal, middle, distal.
-  const double table1[4][3] = {{0.115, 0.021, 0.159}, {0.126, 0.023, 0.176}, {0.088, 0.016, 0.122},
-                               {0.060, 0.011, 0.083}};
+  const double table1[4][3] = {
+      {0.115, 0.021, 0.159}, {0.126, 0.023, 0.176}, {0.088, 0.016, 0.122}, {0.060, 0.011, 0.083}};
   const auto t = contribution_table<double>(GraspType::CylindricalPower);
   for (int f = 1; f < 5; ++f)
     for (int p = 0; p < 3; ++p) CHECK(t.share[f][p] == doctest::Approx(table1[f - 1][p]).epsilon(1e-12));

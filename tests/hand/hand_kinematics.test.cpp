@@ -40,12 +40,12 @@ template struct grip::HandDimensions<float>;
 
 TEST_CASE("phalanx and joint order: index <-> (finger, phalanx) round trip") {
   // The layout documented in hand_model.hpp, written out.
-  const Finger f[14] = {Finger::Thumb, Finger::Thumb, Finger::Index, Finger::Index, Finger::Index,
-                        Finger::Long,  Finger::Long,  Finger::Long,  Finger::Ring,  Finger::Ring,
+  const Finger f[14] = {Finger::Thumb, Finger::Thumb,  Finger::Index,  Finger::Index, Finger::Index,
+                        Finger::Long,  Finger::Long,   Finger::Long,   Finger::Ring,  Finger::Ring,
                         Finger::Ring,  Finger::Little, Finger::Little, Finger::Little};
-  const Phalanx p[14] = {Phalanx::Proximal, Phalanx::Distal, Phalanx::Proximal, Phalanx::Middle, Phalanx::Distal,
-                         Phalanx::Proximal, Phalanx::Middle, Phalanx::Distal,   Phalanx::Proximal, Phalanx::Middle,
-                         Phalanx::Distal,   Phalanx::Proximal, Phalanx::Middle, Phalanx::Distal};
+  const Phalanx p[14] = {Phalanx::Proximal, Phalanx::Distal,   Phalanx::Proximal, Phalanx::Middle,   Phalanx::Distal,
+                         Phalanx::Proximal, Phalanx::Middle,   Phalanx::Distal,   Phalanx::Proximal, Phalanx::Middle,
+                         Phalanx::Distal,   Phalanx::Proximal, Phalanx::Middle,   Phalanx::Distal};
   for (int k = 0; k < 14; ++k) {
     CHECK(phalanx_finger(k) == f[k]);
     CHECK(phalanx_kind(k) == p[k]);
@@ -61,18 +61,24 @@ TEST_CASE_TEMPLATE("standard dimensions are Buchholz's fractions of hand length"
   CHECK(d.hand_length == L);
   REQUIRE(validate(d) == Status::Ok);
   // Buchholz et al. 1992 coefficients, typed from the paper's table (not from the code).
-  CHECK(std::abs(double(d.length[static_cast<std::size_t>(phalanx_index(Finger::Long, Phalanx::Proximal))]) - 0.277 * 0.19) <= dim_tol<S>(0.277 * 0.19));
-  CHECK(std::abs(double(d.length[static_cast<std::size_t>(phalanx_index(Finger::Index, Phalanx::Middle))]) - 0.143 * 0.19) <= dim_tol<S>(0.143 * 0.19));
-  CHECK(std::abs(double(d.length[static_cast<std::size_t>(phalanx_index(Finger::Little, Phalanx::Distal))]) - 0.093 * 0.19) <= dim_tol<S>(0.093 * 0.19));
-  CHECK(std::abs(double(d.length[static_cast<std::size_t>(phalanx_index(Finger::Thumb, Phalanx::Distal))]) - 0.158 * 0.19) <= dim_tol<S>(0.158 * 0.19));
-  CHECK(std::abs(double(d.base[2].x()) - 0.373 * 0.19) <= dim_tol<S>(0.373 * 0.19));  // long MCP at its metacarpal length
+  CHECK(std::abs(double(d.length[static_cast<std::size_t>(phalanx_index(Finger::Long, Phalanx::Proximal))]) -
+                 0.277 * 0.19) <= dim_tol<S>(0.277 * 0.19));
+  CHECK(std::abs(double(d.length[static_cast<std::size_t>(phalanx_index(Finger::Index, Phalanx::Middle))]) -
+                 0.143 * 0.19) <= dim_tol<S>(0.143 * 0.19));
+  CHECK(std::abs(double(d.length[static_cast<std::size_t>(phalanx_index(Finger::Little, Phalanx::Distal))]) -
+                 0.093 * 0.19) <= dim_tol<S>(0.093 * 0.19));
+  CHECK(std::abs(double(d.length[static_cast<std::size_t>(phalanx_index(Finger::Thumb, Phalanx::Distal))]) -
+                 0.158 * 0.19) <= dim_tol<S>(0.158 * 0.19));
+  CHECK(std::abs(double(d.base[2].x()) - 0.373 * 0.19) <=
+        dim_tol<S>(0.373 * 0.19));  // long MCP at its metacarpal length
   // Scaling: twice the hand, twice every length, radius and joint position.
   const HandDimensions<S> d2 = HandDimensions<S>::standard(S(2) * L);
   // Doubling is exact in binary, so c (2 L) and 2 (c L) round the same product: at most the
   // two evaluations' own roundings apart (k = 2 each, of the value; the thumb's base, a sum of
   // such terms, k = 8 of its norm).
   for (int k = 0; k < 14; ++k) {
-    const double l2 = double(S(2) * d.length[static_cast<std::size_t>(k)]), r2 = double(S(2) * d.radius[static_cast<std::size_t>(k)]);
+    const double l2 = double(S(2) * d.length[static_cast<std::size_t>(k)]),
+                 r2 = double(S(2) * d.radius[static_cast<std::size_t>(k)]);
     CHECK(std::abs(double(d2.length[static_cast<std::size_t>(k)]) - l2) <= grip_test::roundoff<S>(2, 1, l2));
     CHECK(std::abs(double(d2.radius[static_cast<std::size_t>(k)]) - r2) <= grip_test::roundoff<S>(2, 1, r2));
   }
@@ -97,7 +103,8 @@ TEST_CASE_TEMPLATE("zero angles give the documented rest pose", S, double, float
   for (int f = 1; f < 5; ++f) {
     double x = mc[f] * 0.19;
     for (int p = 0; p < 3; ++p) {
-      const PhalanxCapsule<S>& c = h.phalanges[static_cast<std::size_t>(phalanx_index(static_cast<Finger>(f), static_cast<Phalanx>(p)))];
+      const PhalanxCapsule<S>& c =
+          h.phalanges[static_cast<std::size_t>(phalanx_index(static_cast<Finger>(f), static_cast<Phalanx>(p)))];
       CHECK(c.finger == static_cast<Finger>(f));
       CHECK(c.phalanx == static_cast<Phalanx>(p));
       // Forward kinematics' points at zero angles: AngleAxis(0) is the identity exactly, and so
@@ -137,12 +144,16 @@ TEST_CASE_TEMPLATE("flexion: a right-angle MCP turns the finger palmar, the wris
   const Vector3<S> prox = h.phalanges[static_cast<std::size_t>(k)].tip - h.phalanges[static_cast<std::size_t>(k)].base;
   // A difference of two FK points (2 fk_tol), and the angle's own rounding to S (pi/2 within
   // u pi/2; the PIP's sum pi within u pi) times the length, below u L: k = 2 x 24 + 1.
-  CHECK(double((prox - d.length[static_cast<std::size_t>(k)] * Vector3<S>(0, 0, -1)).norm()) <= grip_test::roundoff<S>(49, 1, 0.19));
-  const Vector3<S> mid = h.phalanges[static_cast<std::size_t>(k + 1)].tip - h.phalanges[static_cast<std::size_t>(k + 1)].base;
-  CHECK(double((mid - d.length[static_cast<std::size_t>(k + 1)] * Vector3<S>(-1, 0, 0)).norm()) <= grip_test::roundoff<S>(49, 1, 0.19));
+  CHECK(double((prox - d.length[static_cast<std::size_t>(k)] * Vector3<S>(0, 0, -1)).norm()) <=
+        grip_test::roundoff<S>(49, 1, 0.19));
+  const Vector3<S> mid =
+      h.phalanges[static_cast<std::size_t>(k + 1)].tip - h.phalanges[static_cast<std::size_t>(k + 1)].base;
+  CHECK(double((mid - d.length[static_cast<std::size_t>(k + 1)] * Vector3<S>(-1, 0, 0)).norm()) <=
+        grip_test::roundoff<S>(49, 1, 0.19));
   // Chained: the next base is R p + t of the same p as this tip: equal, at most one
   // evaluation's last roundings apart (k = 2 of L).
-  CHECK(double((h.phalanges[static_cast<std::size_t>(k + 1)].base - h.phalanges[static_cast<std::size_t>(k)].tip).norm()) <= grip_test::roundoff<S>(2, 1, 0.19));
+  CHECK(double((h.phalanges[static_cast<std::size_t>(k + 1)].base - h.phalanges[static_cast<std::size_t>(k)].tip)
+                   .norm()) <= grip_test::roundoff<S>(2, 1, 0.19));
 
   // A wrist pose T: every point is T applied to the identity-pose point.
   Iso<S> T = Iso<S>::Identity();
@@ -154,8 +165,10 @@ TEST_CASE_TEMPLATE("flexion: a right-angle MCP turns the finger palmar, the wris
   // roundings each of |p| + |t| (k = 12), on M = L + |t| (support/tolerance.hpp).
   const double M = 0.19 + double(T.translation().norm());
   for (int i = 0; i < 14; ++i) {
-    CHECK(double((g.phalanges[static_cast<std::size_t>(i)].base - T * h.phalanges[static_cast<std::size_t>(i)].base).norm()) <= grip_test::roundoff<S>(12, 1, M));
-    CHECK(double((g.phalanges[static_cast<std::size_t>(i)].tip - T * h.phalanges[static_cast<std::size_t>(i)].tip).norm()) <= grip_test::roundoff<S>(12, 1, M));
+    CHECK(double((g.phalanges[static_cast<std::size_t>(i)].base - T * h.phalanges[static_cast<std::size_t>(i)].base)
+                     .norm()) <= grip_test::roundoff<S>(12, 1, M));
+    CHECK(double((g.phalanges[static_cast<std::size_t>(i)].tip - T * h.phalanges[static_cast<std::size_t>(i)].tip)
+                     .norm()) <= grip_test::roundoff<S>(12, 1, M));
   }
 }
 
@@ -211,19 +224,21 @@ TEST_CASE_TEMPLATE("20 joints at zero: the open hand, every phalanx in or above 
   // The joint frames: each phalanx's base is its own joint's point; the paper hand's CMC and
   // abductions are fixed (zero axes), the whole hand's are unit.
   for (int k = 0; k < 14; ++k)
-    CHECK(double((open.joints[detail::idx(phalanx_joint(k))].point - open.phalanges[detail::idx(k)].base).norm()) <= tol);
+    CHECK(double((open.joints[detail::idx(phalanx_joint(k))].point - open.phalanges[detail::idx(k)].base).norm()) <=
+          tol);
   for (int i : {0, 1, 4, 8, 12, 16}) {
     CHECK(paper.joints[detail::idx(i)].axis.norm() == S(0));
     CHECK(std::abs(double(open.joints[detail::idx(i)].axis.norm()) - 1) <= tol);
   }
   // The CMC axes are not perpendicular: 80 degrees apart.
-  CHECK(std::abs(double(open.joints[0].axis.dot(open.joints[1].axis)) - std::cos(80.0 * 3.141592653589793 / 180.0)) <= 1e3 * tol);
+  CHECK(std::abs(double(open.joints[0].axis.dot(open.joints[1].axis)) - std::cos(80.0 * 3.141592653589793 / 180.0)) <=
+        1e3 * tol);
 }
 
 TEST_CASE_TEMPLATE("20 joints: abduction turns a finger about the palm normal, the thumb opposes", S, double, float) {
   const HandDimensions<S> d = HandDimensions<S>::standard();
   HandJoints<S> q = HandJoints<S>::Zero();
-  q(5) = S(0.4);   // index MCP, PIP, DIP flexed
+  q(5) = S(0.4);  // index MCP, PIP, DIP flexed
   q(6) = S(0.5);
   q(7) = S(0.3);
   HandPosture<S> bent, spread;

@@ -35,9 +35,25 @@ template <class S>
 S hostile_value(std::mt19937& rng) {
   using L = std::numeric_limits<S>;
   const S big = ScalarTraits<S>::max_magnitude;
-  const S values[] = {L::quiet_NaN(), L::infinity(), -L::infinity(), L::denorm_min(), -L::denorm_min(),
-                      L::min() / S(4), S(0), -S(0), S(1e-30f), -S(1e-30f), S(1e12f), -S(1e12f), big, -big,
-                      std::nextafter(big, L::infinity()), L::max(), L::lowest(), S(-1), S(-1e-6f)};
+  const S values[] = {L::quiet_NaN(),
+                      L::infinity(),
+                      -L::infinity(),
+                      L::denorm_min(),
+                      -L::denorm_min(),
+                      L::min() / S(4),
+                      S(0),
+                      -S(0),
+                      S(1e-30f),
+                      -S(1e-30f),
+                      S(1e12f),
+                      -S(1e12f),
+                      big,
+                      -big,
+                      std::nextafter(big, L::infinity()),
+                      L::max(),
+                      L::lowest(),
+                      S(-1),
+                      S(-1e-6f)};
   return values[grip_test::UniformInt(0, int(sizeof(values) / sizeof(S)) - 1)(rng)];
 }
 
@@ -51,11 +67,11 @@ Contact<S> mutate(std::mt19937& rng, Contact<S> c, double p) {
   if (u(rng) < p) c.normal(grip_test::UniformInt(0, 2)(rng)) = hostile_value<S>(rng);
   if (u(rng) < p) {
     switch (grip_test::UniformInt(0, 4)(rng)) {
-      case 0: c.normal.setZero(); break;                          // zero normal
-      case 1: c.normal *= S(2); break;                            // non-unit
-      case 2: c.normal *= S(1) + S(8) * tol; break;                // just non-unit
-      case 3: c.normal *= S(1) + tol / S(4); break;                // unit within tolerance
-      default: c.normal = -c.normal; break;                       // pulling: still unit
+      case 0: c.normal.setZero(); break;             // zero normal
+      case 1: c.normal *= S(2); break;               // non-unit
+      case 2: c.normal *= S(1) + S(8) * tol; break;  // just non-unit
+      case 3: c.normal *= S(1) + tol / S(4); break;  // unit within tolerance
+      default: c.normal = -c.normal; break;          // pulling: still unit
     }
   }
   if (u(rng) < p) c.friction = u(rng) < 0.5 ? S(0) : hostile_value<S>(rng);  // mu = 0 is valid
@@ -94,22 +110,25 @@ const char* trial(std::mt19937& rng, int cat, long& heap) {
   const int full_rank_n = std::is_same<M, FrictionlessPoint>::value ? 6 : 3;
   Expect e;
   Contact<S> cs[GraspT::capacity];
-  const Vector3<S> axis_dirs[] = {Vector3<S>(S(1), S(0), S(0)), Vector3<S>(S(0), S(1), S(0)), Vector3<S>(S(1), S(1), S(0)),
-                                  Vector3<S>(S(1), S(-1), S(1))};
+  const Vector3<S> axis_dirs[] = {Vector3<S>(S(1), S(0), S(0)), Vector3<S>(S(0), S(1), S(0)),
+                                  Vector3<S>(S(1), S(1), S(0)), Vector3<S>(S(1), S(-1), S(1))};
   const Vector3<S> dir = axis_dirs[grip_test::UniformInt(0, 3)(rng)];
-  const Vector3<S> offset(S(grip_test::UniformInt(-4, 4)(rng)) / S(64),
-                          S(grip_test::UniformInt(-4, 4)(rng)) / S(64), S(0));
+  const Vector3<S> offset(S(grip_test::UniformInt(-4, 4)(rng)) / S(64), S(grip_test::UniformInt(-4, 4)(rng)) / S(64),
+                          S(0));
   for (int i = 0; i < n; ++i) {
     Contact<S> c = grip_test::random_contact<S>(rng);
     switch (cat) {
-      case 0: break;                                     // clean
-      case 1: c = mutate(rng, c, 0.08); break;           // hostile fields
-      case 2:                                            // exactly collinear (dyadic points)
+      case 0: break;                            // clean
+      case 1: c = mutate(rng, c, 0.08); break;  // hostile fields
+      case 2:                                   // exactly collinear (dyadic points)
         c.position = offset + S(grip_test::UniformInt(-8, 8)(rng)) / S(128) * dir;
         c.normal = unit<S>(rng);
         break;
-      case 3: c = cs[0]; if (i == 0) c = grip_test::random_contact<S>(rng); break;  // duplicated
-      case 4: {                                          // tiny or huge but valid scales
+      case 3:
+        c = cs[0];
+        if (i == 0) c = grip_test::random_contact<S>(rng);
+        break;   // duplicated
+      case 4: {  // tiny or huge but valid scales
         // Huge but valid: three orders below the largest accepted coordinate
         // (ScalarTraits<S>::max_magnitude: 1e12 in double, 1e6 in float). Not a tolerance.
         const double s = u(rng) < 0.5 ? 1e-6 : 1e-3 * double(ScalarTraits<S>::max_magnitude);
@@ -118,7 +137,7 @@ const char* trial(std::mt19937& rng, int cat, long& heap) {
         c.weight = u(rng) < 0.5 ? ScalarTraits<S>::min_weight : c.weight;
         break;
       }
-      default: c = mutate(rng, c, 0.02); break;          // mostly valid, hostile wrench below
+      default: c = mutate(rng, c, 0.02); break;  // mostly valid, hostile wrench below
     }
     cs[i] = c;
   }

@@ -18,7 +18,7 @@ namespace grip_hostile {
 
 /// What the generator knows about a grasp it built.
 struct Expect {
-  bool contacts_valid = true;   ///< every contact offered passed contact_valid() (else grasp incomplete)
+  bool contacts_valid = true;     ///< every contact offered passed contact_valid() (else grasp incomplete)
   bool must_be_singular = false;  ///< rank < 6 by construction, exactly representable
   bool well_conditioned = false;  ///< moderate magnitudes, spread contacts: Ok and accurate expected
 };
@@ -26,8 +26,8 @@ struct Expect {
 /// Independent restatement of Contact's invariants (contact.hpp), in long double.
 template <class S>
 bool value_ok(S x) {
-  return std::isfinite(x) && std::fabs(static_cast<long double>(x)) <=
-                                 static_cast<long double>(grip::ScalarTraits<S>::max_magnitude);
+  return std::isfinite(x) &&
+         std::fabs(static_cast<long double>(x)) <= static_cast<long double>(grip::ScalarTraits<S>::max_magnitude);
 }
 template <class S>
 bool contact_valid(const grip::Contact<S>& c) {
@@ -61,8 +61,8 @@ bool finite(const Eigen::MatrixBase<Derived>& v) {
 /// (norms scaled, so that denormal terms do not vanish into a sum of squares);
 /// adds to `scale` the size of its terms, sum |D G_i| |x_i| + |D w| (round-off scales with it).
 template <class GraspT, class Vec>
-void residual_of(const GraspT& g, const Vec& x, const grip::Wrench<typename GraspT::ScalarType>& w,
-                 double& res, double& scale, double m = 1.0) {
+void residual_of(const GraspT& g, const Vec& x, const grip::Wrench<typename GraspT::ScalarType>& w, double& res,
+                 double& scale, double m = 1.0) {
   using M = typename GraspT::ModelType;
   constexpr int d = GraspT::dim;
   grip::Wrench<double> dm;
@@ -86,7 +86,8 @@ template <class GraspT>
 double inverse_lever(const GraspT& g) {
   using S = typename GraspT::ScalarType;
   double big = 0;
-  for (int i = 0; i < g.size(); ++i) big = std::max(big, static_cast<double>(g.contact(i).position.cwiseAbs().maxCoeff()));
+  for (int i = 0; i < g.size(); ++i)
+    big = std::max(big, static_cast<double>(g.contact(i).position.cwiseAbs().maxCoeff()));
   if (!(big > 0)) return 1.0;
   double k_sum = 0, kr2_sum = 0;
   for (int i = 0; i < g.size(); ++i) {
@@ -134,12 +135,11 @@ bool near_singular(const GraspT& g) {
 
 /// Checks one solver's answer; nullptr when it keeps the contract, else what broke.
 template <class GraspT>
-const char* check_solution(const GraspT& g, const grip::Wrench<typename GraspT::ScalarType>& w,
-                           const Expect& e, const grip::Solution<GraspT>& sol) {
+const char* check_solution(const GraspT& g, const grip::Wrench<typename GraspT::ScalarType>& w, const Expect& e,
+                           const grip::Solution<GraspT>& sol) {
   using S = typename GraspT::ScalarType;
   using grip::Status;
-  if (!finite(sol.forces) || !finite(sol.multipliers) || !std::isfinite(sol.residual))
-    return "non-finite output";
+  if (!finite(sol.forces) || !finite(sol.multipliers) || !std::isfinite(sol.residual)) return "non-finite output";
   if (sol.forces.size() != g.unknowns()) return "forces of the wrong size";
   const bool invalid = !e.contacts_valid || !wrench_valid(w);
   if (invalid != (sol.status == Status::InvalidInput)) return "InvalidInput does not match the input";
@@ -164,8 +164,8 @@ const char* check_solution(const GraspT& g, const grip::Wrench<typename GraspT::
   const double tiny = 64 * static_cast<double>(std::numeric_limits<S>::denorm_min());
   double res_terms = 0, res_t0 = 0;
   residual_of(g, g.target(), w, res_t0, res_terms);
-  const double m_lambda = grip::weighted_gram(g).template cast<double>().norm() *
-                          sol.multipliers.template cast<double>().stableNorm();
+  const double m_lambda =
+      grip::weighted_gram(g).template cast<double>().norm() * sol.multipliers.template cast<double>().stableNorm();
   if (!(std::fabs(res - static_cast<double>(sol.residual)) <= 64 * eps * (scale + res_terms + m_lambda) + tiny))
     return "reported residual differs from |G x + w|";
   // Least squares (solve_range_space's contract): |D (G x + w)| is smallest over all x, with
@@ -184,8 +184,10 @@ const char* check_solution(const GraspT& g, const grip::Wrench<typename GraspT::
   // per row in its own unit, and D multiplies the moment rows by 1/L: a denormal squeeze on a
   // lever of 0.6 mm leaves moments exact only to the spacing, 1/L = 1600 times that in D's units.
   const double tiny_d = tiny * (1 + inv_l);
-  if (!(sres <= sres_t * (1 + 1e-3) + 256 * eps * sscale + tiny_d)) return "least squares: |D(Gx+w)| worse than at x = t";
-  if (!(sres <= sres_0 * (1 + 1e-3) + 256 * eps * sscale + tiny_d)) return "least squares: |D(Gx+w)| worse than at x = 0";
+  if (!(sres <= sres_t * (1 + 1e-3) + 256 * eps * sscale + tiny_d))
+    return "least squares: |D(Gx+w)| worse than at x = t";
+  if (!(sres <= sres_0 * (1 + 1e-3) + 256 * eps * sscale + tiny_d))
+    return "least squares: |D(Gx+w)| worse than at x = 0";
   if (e.well_conditioned && !near_singular(g)) {  // near-singular: the least-squares checks above
     if (!(res <= 1e3 * eps * scale)) return "Ok but equilibrium not met";
     // Stationarity (eq. 9, lower rows): w_i (x_i - t_i) = G_i^T lambda.
@@ -198,8 +200,8 @@ const char* check_solution(const GraspT& g, const grip::Wrench<typename GraspT::
           (sol.forces.template segment<d>(i * d) - M::target(c)).template cast<double>();
       const Eigen::Matrix<double, d, 1> rhs =
           M::basis(c).template cast<double>().transpose() * sol.multipliers.template cast<double>();
-      if (!((lhs - rhs).norm() <= 1e4 * eps * (1 + lhs.norm() + rhs.norm() +
-                                               static_cast<double>(c.weight * c.squeeze))))
+      if (!((lhs - rhs).norm() <=
+            1e4 * eps * (1 + lhs.norm() + rhs.norm() + static_cast<double>(c.weight * c.squeeze))))
         return "Ok but not stationary";
     }
   }
@@ -275,7 +277,8 @@ const char* check_constrained(const GraspT& g, const grip::Wrench<typename Grasp
     }
     // Of dual norm 1 in the equilibrium norm (docs/solve.md).
     if (sol.status == grip::Status::Infeasible &&
-        !(std::abs(grip_test::dual_norm_l(sol.certificate.template cast<double>(), grip_test::grasp_lever_length(g)) - 1.0) <= 1e-3))
+        !(std::abs(grip_test::dual_norm_l(sol.certificate.template cast<double>(), grip_test::grasp_lever_length(g)) -
+                   1.0) <= 1e-3))
       return "solve_constrained certificate not of dual norm 1";
   }
   return nullptr;
@@ -285,8 +288,8 @@ const char* check_constrained(const GraspT& g, const grip::Wrench<typename Grasp
 /// the contract. Allocates nothing (callers check that around it). `with_constrained` false
 /// skips solve_constrained (iterative, by far the slowest on hostile input).
 template <class GraspT>
-const char* check_solvers(const GraspT& g, const grip::Wrench<typename GraspT::ScalarType>& w,
-                          const Expect& e, bool with_constrained = true) {
+const char* check_solvers(const GraspT& g, const grip::Wrench<typename GraspT::ScalarType>& w, const Expect& e,
+                          bool with_constrained = true) {
   using S = typename GraspT::ScalarType;
   const grip::Solution<GraspT> rs = grip::solve_range_space(g, w);
   if (const char* m = check_solution(g, w, e, rs)) return m;

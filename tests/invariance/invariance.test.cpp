@@ -54,8 +54,10 @@ GraspT apply(const GraspT& g, const Change& ch) {
     c.torsional_friction = S(double(c.torsional_friction) * ch.length);
     c.squeeze = S(double(c.squeeze) * ch.force);
     c.weight = S(double(c.weight) * ch.weight);
-    if constexpr (GraspT::fixed_size == Dynamic) REQUIRE(out.add(c) == Status::Ok);
-    else REQUIRE(out.set(j, c) == Status::Ok);
+    if constexpr (GraspT::fixed_size == Dynamic)
+      REQUIRE(out.add(c) == Status::Ok);
+    else
+      REQUIRE(out.set(j, c) == Status::Ok);
   }
   return out;
 }
@@ -110,7 +112,8 @@ std::vector<Change> changes(std::mt19937& rng, int n, bool lengths) {
   Change p;
   p.order = identity;
   for (int i = n - 1; i > 0; --i)  // Fisher-Yates (std::shuffle's draws differ between libraries)
-    std::swap(p.order[static_cast<std::size_t>(i)], p.order[static_cast<std::size_t>(grip_test::UniformInt(0, i)(rng))]);
+    std::swap(p.order[static_cast<std::size_t>(i)],
+              p.order[static_cast<std::size_t>(grip_test::UniformInt(0, i)(rng))]);
   out.push_back(p);
   Change w;
   w.order = identity;

@@ -63,7 +63,8 @@ TEST_CASE_TEMPLATE("Resolution: a stable balanced grasp leaves nothing unbalance
   using G = Grasp<Dynamic, HardFinger, S, 8>;
   std::mt19937 rng(82);
   G g;
-  for (int i = 0; i < 6; ++i) REQUIRE(g.add(grip_test::sphere_contact<S>(pi / 2, i * pi / 3, 0.05, 0.9, 8.0)) == Status::Ok);
+  for (int i = 0; i < 6; ++i)
+    REQUIRE(g.add(grip_test::sphere_contact<S>(pi / 2, i * pi / 3, 0.05, 0.9, 8.0)) == Status::Ok);
   Wrench<S> w = Wrench<S>::Zero();
   w(2) = S(-2);
   const auto sol = solve_range_space(g, w);

@@ -92,13 +92,13 @@ TEST_CASE_TEMPLATE("Monitor: modes agree with eq. 4-5 on seeded random forces", 
   CHECK(seen[2] > 200);
 }
 
-TEST_CASE_TEMPLATE("Monitor: a squeezed grasp holds, the same grasp with little friction slips", S, double,
-                   float) {
+TEST_CASE_TEMPLATE("Monitor: a squeezed grasp holds, the same grasp with little friction slips", S, double, float) {
   // Four fingers around a sphere (radius 4 cm) hold 1 N of weight: with squeeze 5 N and mu = 0.8
   // the range-space forces (squeeze + share of the load) stay in the cones.
   using G = Grasp<4, HardFinger, S>;
   G g;
-  for (int i = 0; i < 4; ++i) REQUIRE(g.set(i, grip_test::sphere_contact<S>(pi / 2, i * pi / 2, 0.04, 0.8, 5.0)) == Status::Ok);
+  for (int i = 0; i < 4; ++i)
+    REQUIRE(g.set(i, grip_test::sphere_contact<S>(pi / 2, i * pi / 2, 0.04, 0.8, 5.0)) == Status::Ok);
   Wrench<S> w = Wrench<S>::Zero();
   w(2) = S(-1);  // gravity on a 0.1 kg object
   const auto sol = solve_range_space(g, w);
@@ -110,7 +110,8 @@ TEST_CASE_TEMPLATE("Monitor: a squeezed grasp holds, the same grasp with little 
   // Each finger: f_n = 5 N, |f_t| = 0.25 N: margin 0.8 * 5 - 0.25 = 3.75 N.
   CHECK(st.min_margin == doctest::Approx(3.75).epsilon(1e-4));
   // mu = 0.04: capacity 0.2 N per finger < 0.25 N: all four slide.
-  for (int i = 0; i < 4; ++i) REQUIRE(g.set(i, grip_test::sphere_contact<S>(pi / 2, i * pi / 2, 0.04, 0.04, 5.0)) == Status::Ok);
+  for (int i = 0; i < 4; ++i)
+    REQUIRE(g.set(i, grip_test::sphere_contact<S>(pi / 2, i * pi / 2, 0.04, 0.04, 5.0)) == Status::Ok);
   const auto slip = monitor_grasp(g, solve_range_space(g, w).forces);
   CHECK_FALSE(slip.stable);
   CHECK(slip.sliding_count == 4);
@@ -222,7 +223,8 @@ void check_classify_matches(std::mt19937& rng, int trials, int n, double fn_low)
         x(i) = S(fn_low + (5.0 - fn_low) * u01(rng));
       } else {
         x.template segment<3>(G::dim * i) =
-            grip_test::random_force(rng, g.contact(i).normal.template cast<double>(), fn_low, 5.0, 5.0).template cast<S>();
+            grip_test::random_force(rng, g.contact(i).normal.template cast<double>(), fn_low, 5.0, 5.0)
+                .template cast<S>();
         if constexpr (G::dim == 4) x(G::dim * i + 3) = S(0.02 * (u01(rng) - 0.5));
       }
     }

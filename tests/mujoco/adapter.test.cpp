@@ -30,17 +30,31 @@ constexpr double box_mass = 0.2;
 std::string scene(double rig_z, double c_offset, double table_top) {
   const std::string pad = "<geom type=\"box\" size=\"0.005 0.02 0.02\" friction=\"1 0.005 0.0001\" condim=\"3\"/>";
   return "<mujoco><option timestep=\"0.001\" cone=\"elliptic\" impratio=\"10\"/><worldbody>"
-         "<geom name=\"table\" type=\"box\" pos=\"0 0 " + std::to_string(table_top - 0.05) +
+         "<geom name=\"table\" type=\"box\" pos=\"0 0 " +
+         std::to_string(table_top - 0.05) +
          "\" size=\"0.3 0.3 0.05\"/>"
-         "<body name=\"target\" mocap=\"true\" pos=\"0 0 " + std::to_string(rig_z) + "\"/>"
-         "<body name=\"rig\" pos=\"0 0 " + std::to_string(rig_z) + "\"><freejoint/>"
+         "<body name=\"target\" mocap=\"true\" pos=\"0 0 " +
+         std::to_string(rig_z) +
+         "\"/>"
+         "<body name=\"rig\" pos=\"0 0 " +
+         std::to_string(rig_z) +
+         "\"><freejoint/>"
          "<inertial pos=\"0 0 0\" mass=\"1\" diaginertia=\"0.01 0.01 0.01\"/>"
-         "<body name=\"pad_a\" pos=\"0.034 0 0\">" + pad + "</body>"
-         "<body name=\"pad_b\" pos=\"-0.034 0 0\">" + pad + "</body>"
-         "<body name=\"pad_c\" pos=\"0 " + std::to_string(c_offset) + " 0\" euler=\"0 0 1.5707963267948966\">" + pad +
+         "<body name=\"pad_a\" pos=\"0.034 0 0\">" +
+         pad +
+         "</body>"
+         "<body name=\"pad_b\" pos=\"-0.034 0 0\">" +
+         pad +
+         "</body>"
+         "<body name=\"pad_c\" pos=\"0 " +
+         std::to_string(c_offset) + " 0\" euler=\"0 0 1.5707963267948966\">" + pad +
          "</body></body>"
-         "<body name=\"box\" pos=\"0 0 " + std::to_string(rig_z) + "\"><freejoint/>"
-         "<geom type=\"box\" size=\"0.03 0.03 0.03\" mass=\"" + std::to_string(box_mass) + "\" condim=\"3\"/></body>"
+         "<body name=\"box\" pos=\"0 0 " +
+         std::to_string(rig_z) +
+         "\"><freejoint/>"
+         "<geom type=\"box\" size=\"0.03 0.03 0.03\" mass=\"" +
+         std::to_string(box_mass) +
+         "\" condim=\"3\"/></body>"
          "<body name=\"fixed\" pos=\"0.5 0 0.05\"><geom type=\"sphere\" size=\"0.01\"/></body>"
          "</worldbody><equality><weld body1=\"target\" body2=\"rig\" solref=\"0.01 1\"/></equality></mujoco>";
 }

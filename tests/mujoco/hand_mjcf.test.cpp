@@ -91,8 +91,8 @@ double worst_difference(Side side, int trials) {
       worst = std::max(worst, (at3(d->xaxis + 3 * j) - posture.joints[detail::idx(i)].axis).norm());
       // Any point of the axis will do: the anchor's offset from grip's point along the axis.
       const Eigen::Vector3d off = at3(d->xanchor + 3 * j) - posture.joints[detail::idx(i)].point;
-      worst = std::max(worst, (off - off.dot(posture.joints[detail::idx(i)].axis) *
-                                         posture.joints[detail::idx(i)].axis).norm());
+      worst = std::max(
+          worst, (off - off.dot(posture.joints[detail::idx(i)].axis) * posture.joints[detail::idx(i)].axis).norm());
     }
   }
   return worst;

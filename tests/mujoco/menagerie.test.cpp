@@ -42,7 +42,8 @@ MenagerieHand shadow_right() {
   const int finger_bodies[4][3] = {{2, 3, 4}, {5, 6, 7}, {8, 9, 10}, {11, 12, 13}};
   for (int f = 0; f < 4; ++f)
     for (int link = 0; link < 4; ++link)
-      h.map.push_back({names[static_cast<std::size_t>(4 * f + link)].c_str(), finger_bodies[f][link == 0 ? 0 : link - 1]});
+      h.map.push_back(
+          {names[static_cast<std::size_t>(4 * f + link)].c_str(), finger_bodies[f][link == 0 ? 0 : link - 1]});
   const int rest[7] = {18, 16, 14, 14, 14, 0, 1};
   for (int k = 0; k < 7; ++k) h.map.push_back({names[static_cast<std::size_t>(16 + k)].c_str(), rest[k]});
   for (const char* f : {"FF", "MF", "RF", "LF"})
@@ -65,14 +66,16 @@ MenagerieHand allegro_right() {
   MenagerieHand h{"wonik_allegro/scene_right.xml", {{"palm", 16}}, {}};
   const int bodies[4][5] = {{2, 2, 3, 4, 4}, {5, 5, 6, 7, 7}, {8, 8, 9, 10, 10}, {14, 14, 0, 1, 1}};
   for (int f = 0; f < 4; ++f)
-    for (int link = 0; link < 5; ++link) h.map.push_back({names[static_cast<std::size_t>(5 * f + link)].c_str(), bodies[f][link]});
+    for (int link = 0; link < 5; ++link)
+      h.map.push_back({names[static_cast<std::size_t>(5 * f + link)].c_str(), bodies[f][link]});
   for (const char* f : {"ff", "mf", "rf"})
     for (const char* j : {"1", "2", "3"}) h.actuators.push_back(std::string(f) + "a" + j);
   for (const char* j : {"0", "2", "3"}) h.actuators.push_back(std::string("tha") + j);
   return h;
 }
 
-const std::filesystem::path models = std::filesystem::path(GRIP_TEST_DATA_DIR) / ".." / ".." / ".." / "shared" / "models";
+const std::filesystem::path models =
+    std::filesystem::path(GRIP_TEST_DATA_DIR) / ".." / ".." / ".." / "shared" / "models";
 
 }  // namespace
 

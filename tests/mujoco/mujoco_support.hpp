@@ -25,9 +25,9 @@ using DataPtr = std::unique_ptr<mjData, DataDeleter>;
 /// MuJoCo's message when it fails.
 inline ModelPtr load_mjcf(const std::string& xml, std::string* error = nullptr) {
   static int counter = 0;
-  const std::filesystem::path path = std::filesystem::temp_directory_path() /
-                                     ("grip_mujoco_test_" + std::to_string(::getpid()) + "_" +
-                                      std::to_string(counter++) + ".xml");
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() /
+      ("grip_mujoco_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++) + ".xml");
   {
     std::ofstream out(path);
     out << xml;

@@ -36,7 +36,8 @@ TEST_CASE_TEMPLATE("constrained loop: weight balanced inside the cones, few iter
   REQUIRE(f.held);
   const int cold = f.iterations;
   // Statics as in the range-space loop: the hand feels +m g in all; no contact slides.
-  CHECK(double((grip_test::total_feedback(f) - Vector3<S>(S(0), S(0), S(-0.4 * 9.81))).norm()) <= equilibrium_tol(p, f));
+  CHECK(double((grip_test::total_feedback(f) - Vector3<S>(S(0), S(0), S(-0.4 * 9.81))).norm()) <=
+        equilibrium_tol(p, f));
   CHECK(f.sliding == 0);
   // A slowly accelerating hand: each frame starts from the previous multipliers.
   WristState<S> w = h.wrist;
@@ -190,9 +191,9 @@ TEST_CASE("constrained loop: separating contacts are dropped without a second so
   using S = haptic_session::S;
   const haptic_session::Script script;
   HapticPipeline<S, CylinderScene<S>, ResidualKeepingSolver> p(haptic_session::settings(), haptic_session::scene(),
-                                                                haptic_session::object());
+                                                               haptic_session::object());
   HapticPipeline<S, CylinderScene<S>, RangeSpaceFrameSolver> range(haptic_session::settings(), haptic_session::scene(),
-                                                                    haptic_session::object());
+                                                                   haptic_session::object());
   HapticFrame<S> f, g;
   int balanced = 0, range_resolves = 0;
   for (int i = 0; i < 600; ++i) {

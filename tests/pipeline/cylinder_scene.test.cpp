@@ -47,9 +47,9 @@ TEST_CASE_TEMPLATE("cylinder scene: side, end caps and rims at their closed-form
   CHECK(std::abs(double(out[0].point.z()) - (0.5 + 0.035)) <= tol<S>());
 
   // An end cap (world +y): a fingertip pushed 3 mm in along -y, off the axis.
-  scene.hand_contacts(single<S>(4, c + V3(0.01, 0.06 + 0.008 - 0.003 + 0.02, 0.005), c + V3(0.01, 0.06 + 0.005, 0.005),
-                                0.008),
-                      body, out);
+  scene.hand_contacts(
+      single<S>(4, c + V3(0.01, 0.06 + 0.008 - 0.003 + 0.02, 0.005), c + V3(0.01, 0.06 + 0.005, 0.005), 0.008), body,
+      out);
   REQUIRE(out.count == 1);
   CHECK(out[0].finger == Finger::Index);
   CHECK(out[0].phalanx == Phalanx::Distal);
@@ -88,8 +88,8 @@ TEST_CASE_TEMPLATE("cylinder scene: a rotated slab obstacle meets the rim points
   const Matrix3<S> R = Eigen::AngleAxis<S>(S(0.2), Vector3<S>::UnitX()).toRotationMatrix();
   const Vector3<S> up = R.col(2);
   const Vector3<S> top(S(0), S(0), S(0.041));
-  REQUIRE(scene.obstacles.add(Shape<S>(make_box<S>(Vector3<S>(S(1), S(1), S(0.05)), Vector3<S>(top - S(0.05) * up), R))) ==
-          Status::Ok);
+  REQUIRE(scene.obstacles.add(
+              Shape<S>(make_box<S>(Vector3<S>(S(1), S(1), S(0.05)), Vector3<S>(top - S(0.05) * up), R))) == Status::Ok);
   ObstacleContactSet<S> set;
   const int n = scene.obstacle_contacts(body, set);
   // Each lower-rim point p = (0.035 cos a, 0.035 sin a, 0.04) is below the plane by

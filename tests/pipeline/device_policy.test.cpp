@@ -87,8 +87,10 @@ TEST_CASE("vector forces saturate by norm, keeping the direction, and fingertips
       CHECK(c.force[k].norm() <= 3 * (1 + 1e-15));
       CHECK(c.force[k].cross(in.force[k]).norm() <= 1e-14 * n * n);  // parallel
       CHECK(c.force[k].dot(in.force[k]) >= 0);                       // same sense
-      if (n <= 3) CHECK((c.force[k] - in.force[k]).norm() == 0);       // untouched below the limit
-      else CHECK(c.force[k].norm() == doctest::Approx(3));             // by norm, not per component
+      if (n <= 3)
+        CHECK((c.force[k] - in.force[k]).norm() == 0);  // untouched below the limit
+      else
+        CHECK(c.force[k].norm() == doctest::Approx(3));  // by norm, not per component
       beyond += n > 3 ? 1 : 0;
     }
     CHECK(c.clipped == beyond);
@@ -98,8 +100,10 @@ TEST_CASE("vector forces saturate by norm, keeping the direction, and fingertips
   VectorForces<double>::Command c;
   REQUIRE(dev.render(in, h, HandJoints<double>::Zero(), c) == Status::Ok);
   for (int k = 0; k < 14; ++k) {
-    if (phalanx_kind(k) == Phalanx::Distal) CHECK((c.force[detail::idx(k)] - in.force[detail::idx(k)]).norm() == 0);
-    else CHECK(c.force[detail::idx(k)].norm() == 0);
+    if (phalanx_kind(k) == Phalanx::Distal)
+      CHECK((c.force[detail::idx(k)] - in.force[detail::idx(k)]).norm() == 0);
+    else
+      CHECK(c.force[detail::idx(k)].norm() == 0);
   }
   CHECK(c.clipped == 9);  // the 9 proximal and middle phalanges render nothing
 }
@@ -124,8 +128,10 @@ TEST_CASE("joint torques are J^T F summed over the phalanges, each clipped to it
     int beyond = 0;
     for (int i = 0; i < 20; ++i) {
       CHECK(std::abs(c.torque(i)) <= 0.05);
-      if (std::abs(want(i)) <= 0.05) CHECK(c.torque(i) == c.wanted(i));
-      else CHECK(c.torque(i) == doctest::Approx(want(i) > 0 ? 0.05 : -0.05));
+      if (std::abs(want(i)) <= 0.05)
+        CHECK(c.torque(i) == c.wanted(i));
+      else
+        CHECK(c.torque(i) == doctest::Approx(want(i) > 0 ? 0.05 : -0.05));
       beyond += std::abs(c.wanted(i)) > 0.05 ? 1 : 0;
     }
     CHECK(c.clipped == beyond);
@@ -307,8 +313,10 @@ TEST_CASE("brakes at the velocity's sign change: off while driven, full resistan
           check_brake(c, want, dev, i, qdot(i));
           const double l = dev.limit[detail::idx(i)];
           const double resisting = std::max(-l, std::min(l, want(i)));
-          if (s > 0) CHECK(c.torque(i) == 0);
-          else CHECK(std::abs(c.torque(i) - resisting) <= 1e-14);
+          if (s > 0)
+            CHECK(c.torque(i) == 0);
+          else
+            CHECK(std::abs(c.torque(i) - resisting) <= 1e-14);
         }
       }
     }

@@ -33,7 +33,8 @@ TEST_CASE_TEMPLATE("energy does not grow in free flight over 10 s of pipeline fr
   for (int i = 0; i < frames; ++i) {
     REQUIRE(p.step(h.wrist, open, f) == Status::Ok);
     REQUIRE(f.contacts == 0);
-    const double ti = (i + 1) * 1e-3, vj = std::abs(6 - 9.81 * ti) + 0.5, xj = std::abs(6 * ti - 9.81 * ti * ti / 2) + 3 + 0.5 * ti;
+    const double ti = (i + 1) * 1e-3, vj = std::abs(6 - 9.81 * ti) + 0.5,
+                 xj = std::abs(6 * ti - 9.81 * ti * ti / 2) + 3 + 0.5 * ti;
     sum_v += vj;
     sum_x += xj + 1e-3 * vj;
     tol_v = grip_test::roundoff<S>(2, 1, sum_v) + grip_test::roundoff<S>(4, 1, 9.81 * ti);

@@ -51,7 +51,7 @@ TEST_CASE_TEMPLATE("a held object at rest feels its weight, moments balanced", S
   // Statics (eq. 1-2): sum f_i + m g = 0 and sum r_i x f_i = 0 (gravity acts at the centre
   // of mass). The hand feels -f_i, so its forces add up to +m g = (0, 0, -0.4 * 9.81) N.
   const Vector3<S> expected(S(0), S(0), S(-0.4 * 9.81));
-    CHECK(double((grip_test::total_feedback(f) - expected).norm()) <= force_tol(p, f));
+  CHECK(double((grip_test::total_feedback(f) - expected).norm()) <= force_tol(p, f));
   CHECK(double(grip_test::finger_moment(f, p).norm()) <= force_tol(p, f) * grip_test::contact_reach(p));
   // The accessors: held, the settings given, the last grasp (its contacts are among the frame's),
   // the posture forward kinematics gives for the wrist and joint angles.
@@ -64,7 +64,8 @@ TEST_CASE_TEMPLATE("a held object at rest feels its weight, moments balanced", S
   REQUIRE(forward_kinematics(h.settings.hand, h.wrist.pose, h.closed, expect_posture) == Status::Ok);
   // The same forward kinematics of the same inputs: at most two evaluations' 24 roundings of
   // the hand length plus |t| apart (the count of hand_kinematics.test.cpp; support/tolerance.hpp).
-  const double fk = grip_test::roundoff<S>(48, 1, double(h.settings.hand.hand_length + h.wrist.pose.translation().norm()));
+  const double fk =
+      grip_test::roundoff<S>(48, 1, double(h.settings.hand.hand_length + h.wrist.pose.translation().norm()));
   for (std::size_t k = 0; k < expect_posture.phalanges.size(); ++k) {
     CHECK(double((p.posture().phalanges[k].base - expect_posture.phalanges[k].base).norm()) <= fk);
     CHECK(double((p.posture().phalanges[k].tip - expect_posture.phalanges[k].tip).norm()) <= fk);
@@ -130,7 +131,7 @@ TEST_CASE_TEMPLATE("during a vertical acceleration a the fingers push m (a - g)"
     // Newton: sum f_i + m g = m a_vec  =>  sum f_i = m (a_vec - g_vec), g_vec = (0, 0, -9.81);
     // the hand feels the opposite: -m (a + 9.81) along z.
     const Vector3<S> fingers = -grip_test::total_feedback(f);
-        CHECK(double(std::abs(fingers.z() - S(0.4 * (a + 9.81)))) <= force_tol(p, f));
+    CHECK(double(std::abs(fingers.z() - S(0.4 * (a + 9.81)))) <= force_tol(p, f));
     CHECK(double(std::abs(fingers.x())) <= force_tol(p, f));
     CHECK(double(std::abs(fingers.y())) <= force_tol(p, f));
   }
@@ -158,7 +159,8 @@ TEST_CASE_TEMPLATE("an impact raises the forces on the phalanges that resist it"
   // times 2 points of 2e4 N/m; and the force's own 2 roundings. The condition M / depth is in
   // the absolute depth error: k u M is 2e4 times larger in newtons.
   const double wall_M = std::abs(double(h.object.position.x())) + 0.08;
-  CHECK(std::abs(double(push.x()) - 80) <= 2 * 2e4 * grip_test::roundoff<S>(10, 1, wall_M) + grip_test::roundoff<S>(2, 1, 80));
+  CHECK(std::abs(double(push.x()) - 80) <=
+        2 * 2e4 * grip_test::roundoff<S>(10, 1, wall_M) + grip_test::roundoff<S>(2, 1, 80));
   // 80 N is more than the grasp holds inside its cones: the object is free this frame, and
   // what is left unbalanced is w_ext plus the forces the fingers transmit (documented on
   // HapticFrame): the hand feels minus those. It pushes the object away from the wall (+x).
@@ -192,7 +194,8 @@ TEST_CASE_TEMPLATE("a light push is held: the fingers cancel it", S, double, flo
   const Vector3<S> push = f.external.obstacles.template head<3>();
   // Round-off as in the case above.
   const double wall_M = std::abs(double(h.object.position.x())) + 0.08;
-  CHECK(std::abs(double(push.x()) - 4) <= 2 * 2e4 * grip_test::roundoff<S>(10, 1, wall_M) + grip_test::roundoff<S>(2, 1, 4));
+  CHECK(std::abs(double(push.x()) - 4) <=
+        2 * 2e4 * grip_test::roundoff<S>(10, 1, wall_M) + grip_test::roundoff<S>(2, 1, 4));
   REQUIRE(f.held);
   // Equilibrium: the fingers' forces (minus what the hand feels) cancel weight and push.
   const Vector3<S> fingers = -grip_test::total_feedback(f);
@@ -290,7 +293,8 @@ TEST_CASE_TEMPLATE("feedback is clamped to the device's limit, which is the defa
   p.device().limit[detail::idx(k)] = S(3);
   REQUIRE(p.step(h.wrist, h.closed, f) == Status::Ok);
   CHECK(f.phalanges[detail::idx(k)].command == S(3));
-  for (int j = 0; j < hand_phalanx_count; ++j) CHECK(f.phalanges[detail::idx(j)].command == p.device_command().force[detail::idx(j)]);
+  for (int j = 0; j < hand_phalanx_count; ++j)
+    CHECK(f.phalanges[detail::idx(j)].command == p.device_command().force[detail::idx(j)]);
   CHECK(f.clamped == p.device_command().clipped);
   // Another device: the feedback keeps the settings' limits (the paper's actuator view).
   auto v = h.template pipeline_with_device<VectorForces<S>>();

@@ -59,7 +59,7 @@ struct HeldCube {
     settings.hand.thumb_cmc.y() = S(-0.005);
     settings.hand.base[0].y() = S(-0.005);
     settings.contribution(Finger::Thumb, Phalanx::Proximal) = S(0.5);
-  settings.contribution(Finger::Thumb, Phalanx::Distal) = S(0.7);
+    settings.contribution(Finger::Thumb, Phalanx::Distal) = S(0.7);
     settings.stiffness.fill(S(1.5e4));
     settings.device_limit.fill(S(100));
     scene.octree = &cube_octree<S>();
@@ -90,7 +90,6 @@ template <class S, class P>
 double force_tol(const P& p, const grip::HapticFrame<S>& f) {
   return grip_test::frame_force_tolerance(p, f, 1);
 }
-
 
 // Round-off of n free-fall steps of 1 ms from x_a, v_a (support/tolerance.hpp), counted as in
 // integrator.test.cpp with V = |v_a| + g t and X = |x_a| + V t bounding |v| and |x|: the
@@ -250,7 +249,8 @@ TEST_CASE_TEMPLATE("the paper mode in the loop: exact on faces, no heap per fram
     REQUIRE(c != nullptr);
     // Both modes are exact on a face: each depth within 16 u M of the truth (collision.test.cpp),
     // M = |point| + |position|; each normal within 8 u.
-    CHECK(double(std::abs(c->depth - e.depth)) <= 2 * grip_test::roundoff<S>(16, 1, double(e.point.norm() + p.object().position.norm())));
+    CHECK(double(std::abs(c->depth - e.depth)) <=
+          2 * grip_test::roundoff<S>(16, 1, double(e.point.norm() + p.object().position.norm())));
     CHECK(double((c->normal - e.normal).norm()) <= 2 * grip_test::roundoff<S>(8, 1, 1));
     ++on_face;
   }
@@ -317,7 +317,8 @@ TEST_CASE_TEMPLATE("a mesh object in the loop: held, lifted and released, each p
   object.position = Vector3<S>(S(0.1), S(0.2), S(0.5));
   WristState<S> wrist;
   const S l = settings.hand.hand_length;
-  wrist.pose.translation() = object.position - Vector3<S>(S(0.374) * l + S(0.02), S(0), -(S(0.5) * (hi.z() - lo.z()) + S(0.045) * l - S(0.002)));
+  wrist.pose.translation() = object.position - Vector3<S>(S(0.374) * l + S(0.02), S(0),
+                                                          -(S(0.5) * (hi.z() - lo.z()) + S(0.045) * l - S(0.002)));
   const ClosedHand<S> closed = close_hand_in_scene<S>(scene, settings.hand, wrist.pose, object, S(0.002), S(0.05));
   REQUIRE(closed.status == Status::Ok);
   REQUIRE(closed.touching >= 6);

@@ -64,7 +64,8 @@ struct HeldCylinder {
   /// The pipeline with another device policy.
   template <class Device>
   grip::HapticPipeline<S, grip::CylinderScene<S>, grip::RangeSpaceFrameSolver, Device> pipeline_with_device() const {
-    return grip::HapticPipeline<S, grip::CylinderScene<S>, grip::RangeSpaceFrameSolver, Device>(settings, scene, object);
+    return grip::HapticPipeline<S, grip::CylinderScene<S>, grip::RangeSpaceFrameSolver, Device>(settings, scene,
+                                                                                                object);
   }
 };
 
@@ -105,7 +106,8 @@ grip::Vector3<S> finger_moment(const grip::HapticFrame<S>& f, const P& pipeline)
   for (int i = 0; i < contacts.count; ++i) {
     const auto& c = contacts.items[static_cast<std::size_t>(i)];
     const int k = grip::phalanx_index(c.finger, c.phalanx);
-    m += (c.point - pipeline.object().position).cross(grip::Vector3<S>(-f.phalanges[static_cast<std::size_t>(k)].force));
+    m +=
+        (c.point - pipeline.object().position).cross(grip::Vector3<S>(-f.phalanges[static_cast<std::size_t>(k)].force));
   }
   return m;
 }

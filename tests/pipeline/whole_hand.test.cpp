@@ -43,8 +43,8 @@ struct PalmUp {
     wrist.pose.translation() = Eigen::Vector3d(0.1, 0.2, 0.5);
     const Eigen::Vector3d in_hand(0.34 * L, 0.0, -(radius + 0.055 * L - 0.001));
     object.position = wrist.pose * in_hand;
-    object.orientation = Eigen::Quaterniond(wrist.pose.linear() *
-                                            Eigen::AngleAxisd(3.141592653589793 / 2, Eigen::Vector3d::UnitX()));
+    object.orientation =
+        Eigen::Quaterniond(wrist.pose.linear() * Eigen::AngleAxisd(3.141592653589793 / 2, Eigen::Vector3d::UnitX()));
   }
 };
 }  // namespace

@@ -189,7 +189,8 @@ void check_cones(std::mt19937& rng, int count) {
         const double reach = uj.norm() + a_ref * dj.norm();
         double slope = std::abs(dj(0)), size = reach;
         if constexpr (D > 1) {
-          const double qa = grip_test::soc_det(dj), qb = uj(0) * dj(0) - uj.template tail<D - 1>().dot(dj.template tail<D - 1>());
+          const double qa = grip_test::soc_det(dj),
+                       qb = uj(0) * dj(0) - uj.template tail<D - 1>().dot(dj.template tail<D - 1>());
           slope = 2 * std::abs(qa * a_ref + qb);
           size = reach * reach;
         }
@@ -208,7 +209,7 @@ void check_invalid() {
     u.set(j, Ref<3>(2.0, 0.5, 0.5));
     z.set(j, Ref<3>(1.0, 0.1, -0.2));
   }
-  u.set(0, Ref<3>(0.5, 1.0, 0.0));  // outside
+  u.set(0, Ref<3>(0.5, 1.0, 0.0));                               // outside
   if (P::width > 1) z.set(P::width - 1, Ref<3>(1.0, 1.0, 0.0));  // on the boundary
   const auto k = detail::nt_frame<P, 3>(u.load(), z.load());
   const unsigned ok = k.ok.bits();

@@ -59,8 +59,7 @@ double residual_in_double(const GraspT& g, const typename GraspT::ForceVector& x
 // iterate's, strictly inside but for the rounding of the map back to forces, 16 u |x_i|), and the
 // residual reported is that of the forces (summed in S: 8 n u times the scale).
 template <class GraspT>
-void check_cut(const GraspT& g, const Wrench<typename GraspT::ScalarType>& w,
-               const ConstrainedSolution<GraspT>& cut) {
+void check_cut(const GraspT& g, const Wrench<typename GraspT::ScalarType>& w, const ConstrainedSolution<GraspT>& cut) {
   using M = typename GraspT::ModelType;
   using S = typename GraspT::ScalarType;
   constexpr int d = M::dim;

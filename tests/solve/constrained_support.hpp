@@ -16,20 +16,20 @@ namespace grip_test {
 /// One instance of the reference file (see make_constrained_reference.py).
 struct ConstrainedReference {
   char model{'H'};
-  int n{0};                  ///< the contact count the instance line states
+  int n{0};  ///< the contact count the instance line states
   bool feasible{true};
   double objective{0};
-  double gap{0};             ///< cvxopt's duality gap at x*: F2(x*) - F2_min <= gap
+  double gap{0};  ///< cvxopt's duality gap at x*: F2(x*) - F2_min <= gap
   grip::Wrench<double> w_ext{grip::Wrench<double>::Zero()};
   std::vector<grip::Contact<double>> contacts;
-  std::vector<double> x;     ///< cvxopt's optimal forces (feasible instances)
+  std::vector<double> x;                                      ///< cvxopt's optimal forces (feasible instances)
   grip::Wrench<double> lambda{grip::Wrench<double>::Zero()};  ///< cvxopt's multipliers (feasible)
   bool has_lambda{false};
   /// Infeasible instances: |G x_c + w_ext| and F2(x_c) at cvxopt's least-residual forces x_c
   /// (negative when the line is missing).
   double least_residual{-1};
   double least_residual_f2{-1};
-  std::string kind;          ///< random, rescaled-1e-3, rescaled-1e3, collinear, nearly-collinear
+  std::string kind;  ///< random, rescaled-1e-3, rescaled-1e3, collinear, nearly-collinear
 };
 
 /// The file's "# counts" line: instances and infeasible ones per model tag.

@@ -37,7 +37,8 @@ L least_residual(const GraspT& g, const Wrench<typename GraspT::ScalarType>& w) 
   const Eigen::Matrix<L, 6, 1> dw = dm.cwiseProduct(w.template cast<L>());
   Eigen::Matrix<L, 6, 1> left = dw;
   for (int k = 0; k < svd.singularValues().size(); ++k)
-    if (svd.singularValues()(k) > 1e-9L * svd.singularValues()(0)) left -= svd.matrixU().col(k) * svd.matrixU().col(k).dot(dw);
+    if (svd.singularValues()(k) > 1e-9L * svd.singularValues()(0))
+      left -= svd.matrixU().col(k) * svd.matrixU().col(k).dot(dw);
   return left.norm();
 }
 

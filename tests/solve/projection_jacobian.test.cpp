@@ -106,7 +106,7 @@ TEST_CASE("projection_jacobian: elliptic soft-finger cones, mu_t = 0 and mu = 0 
     cone.mu_t = kind == 0 ? 0.0 : 0.02 * u01(rng);
     Eigen::Matrix<double, 4, 1> v;
     v << n01(rng), n01(rng), n01(rng), 0.02 * n01(rng);  // moments on the scale of mu_t f
-    if (i % 3 == 0) v.head<3>() += 2.0 * cone.normal;      // more points inside the cone
+    if (i % 3 == 0) v.head<3>() += 2.0 * cone.normal;    // more points inside the cone
     const int before = t.tested[0] + t.tested[1] + t.tested[2];
     check_point(cone, v, t, 1e-5, 1e-5);
     if (kind < 2) degenerate[static_cast<std::size_t>(kind)] += t.tested[0] + t.tested[1] + t.tested[2] - before;

@@ -42,8 +42,8 @@ template <class GraspT>
 double v_bound(const GraspT& g, int i, const Wrench<double>& l) {
   using M = typename GraspT::ModelType;
   const Contact<double> c = grip_test::cast_contact<double>(g.contact(i));
-  return M::target(c).norm() +
-         double(g.inverse_weight(i)) * (l.template head<3>().norm() + (1 + c.position.norm()) * l.template tail<3>().norm());
+  return M::target(c).norm() + double(g.inverse_weight(i)) * (l.template head<3>().norm() +
+                                                              (1 + c.position.norm()) * l.template tail<3>().norm());
 }
 
 // How an error e in a force or in s_i moves cone_violation and dual_cone_violation (their
@@ -111,8 +111,7 @@ double objective_tolerance(const GraspT& g, const Wrench<typename GraspT::Scalar
 // refined answer (projections at the multipliers); an answer of the interior-point method is
 // checked for its cones and equilibrium here, for its objective by the callers.
 template <class GraspT>
-void check_kkt(const GraspT& g, const Wrench<typename GraspT::ScalarType>& w,
-               const ConstrainedSolution<GraspT>& sol) {
+void check_kkt(const GraspT& g, const Wrench<typename GraspT::ScalarType>& w, const ConstrainedSolution<GraspT>& sol) {
   using M = typename GraspT::ModelType;
   constexpr int d = M::dim;
   using S = typename GraspT::ScalarType;
@@ -133,7 +132,8 @@ void check_kkt(const GraspT& g, const Wrench<typename GraspT::ScalarType>& w,
     const double ecc = d == 4 ? 1 / c.torsional_friction : 1.0;
     CHECK(grip_test::cone_violation<M>(c, x) <= grip_test::roundoff<S>(8, cone_condition<M>(c), v));
     if (sol.refined) {
-      CHECK(grip_test::dual_cone_violation<M>(c, s) <= grip_test::roundoff<S>(8, ecc * dual_condition<M>(c), c.weight * v));
+      CHECK(grip_test::dual_cone_violation<M>(c, s) <=
+            grip_test::roundoff<S>(8, ecc * dual_condition<M>(c), c.weight * v));
       CHECK(std::abs(s.dot(x)) <= grip_test::roundoff<S>(8, ecc, v * (c.weight * x.norm() + s.norm())));
     }
     r += M::wrench(c, x);
@@ -167,7 +167,8 @@ void kkt_on_random_instances(int count) {
 
 }  // namespace
 
-TEST_CASE_TEMPLATE("hard-finger pass: the fused projection and Hessian block match the generic path", S, double, float) {
+TEST_CASE_TEMPLATE("hard-finger pass: the fused projection and Hessian block match the generic path", S, double,
+                   float) {
   // The fused kernel against CoulombCone::project and k G J G^T from projection_jacobian (the
   // generic path the other models use), in every region: interior, polar cone, the boundary
   // part, exactly on the boundary (|v_t| = mu n), the apex v = 0, and mu = 0 (the ray).
@@ -209,10 +210,12 @@ TEST_CASE_TEMPLATE("hard-finger pass: the fused projection and Hessian block mat
     // sqrt(6) k (1 + |r|^2) in Frobenius norm, take about 16 roundings in the two paths, with
     // e = v_t / |v_t| within a few u times 1 + 1 / mu on the boundary part (where |v| <= (1 +
     // 1 / mu) |v_t|; with mu = 0, e meets only zero factors). Observed at most 0.1 of both.
-    const double r2 = double(c.position.squaredNorm()), mu_cond = 1 + (c.friction > S(0) ? 1 / double(c.friction) : 0.0);
+    const double r2 = double(c.position.squaredNorm()),
+                 mu_cond = 1 + (c.friction > S(0) ? 1 / double(c.friction) : 0.0);
     CHECK(double((x - x_ref).norm()) <= grip_test::roundoff<S>(32, 1, double(v.norm())));
     CAPTURE(rep);
-    CHECK(double((acc.matrix() - h_ref).norm()) <= grip_test::roundoff<S>(16, mu_cond, std::sqrt(6.0) * double(k) * (1 + r2)));
+    CHECK(double((acc.matrix() - h_ref).norm()) <=
+          grip_test::roundoff<S>(16, mu_cond, std::sqrt(6.0) * double(k) * (1 + r2)));
   }
   CHECK(regions[int(ProjectionRegion::Interior)] > 100);
   CHECK(regions[int(ProjectionRegion::Polar)] > 100);
@@ -250,7 +253,8 @@ TEST_CASE_TEMPLATE("solve_constrained: a pinch exactly on the cone's boundary (h
   // The forces' error is at most grasp_condition times the residual the solver accepts (unit
   // weights; the optimum is the unconstrained one, J = I: |x - x*| <= |r| / sigma_min(G), and
   // sigma_max(G) >= 1 from G's identity columns); F2's, objective_tolerance.
-  CHECK(double((sol.forces - expect).norm()) <= grip_test::grasp_condition(g) * equilibrium_tolerance(g, w, sol.forces));
+  CHECK(double((sol.forces - expect).norm()) <=
+        grip_test::grasp_condition(g) * equilibrium_tolerance(g, w, sol.forces));
   CHECK(std::abs(double(sol.objective) - 4.0) <= objective_tolerance(g, w, sol, 4.0));
   check_kkt(g, w, sol);
 }
@@ -332,13 +336,16 @@ TEST_CASE_TEMPLATE("solve_constrained: infeasible wrenches get a checked certifi
   // The residual in S: 3 + 4 roundings of its terms |w_ext| + sum (1 + |r_i|) |x_i|, and the
   // forces' f_z <= 0 to the cone tolerance below, a few more (k = 3 + 12).
   double terms = double(w.norm());
-  for (int i = 0; i < 3; ++i) terms += (1 + double(g.contact(i).position.norm())) * double(sol.forces.template segment<3>(3 * i).norm());
+  for (int i = 0; i < 3; ++i)
+    terms += (1 + double(g.contact(i).position.norm())) * double(sol.forces.template segment<3>(3 * i).norm());
   CHECK(double(sol.residual) >= 5.0 - grip_test::roundoff<S>(3 + 12, 1, terms));
   // In its cone: a projection sn a + beta v_t, both parts proportional to sn, so on the cone to
   // a few roundings of its own size |x_i| (k = 8), through 1 + mu (see cone_condition).
   for (int i = 0; i < 3; ++i)
-    CHECK(grip_test::cone_violation<HardFinger>(grip_test::cast_contact<double>(g.contact(i)), sol.forces.template segment<3>(3 * i)) <=
-          grip_test::roundoff<S>(8, 1 + double(g.contact(i).friction), double(sol.forces.template segment<3>(3 * i).norm())));
+    CHECK(grip_test::cone_violation<HardFinger>(grip_test::cast_contact<double>(g.contact(i)),
+                                                sol.forces.template segment<3>(3 * i)) <=
+          grip_test::roundoff<S>(8, 1 + double(g.contact(i).friction),
+                                 double(sol.forces.template segment<3>(3 * i).norm())));
   // An empty Dynamic grasp: only w_ext = 0 is balanced.
   DynamicGrasp<HardFinger, S> empty;
   CHECK(solve_constrained(empty, w).status == Status::Infeasible);
@@ -369,8 +376,8 @@ TEST_CASE_TEMPLATE("solve_constrained: fast path returns solve_range_space's opt
   check_kkt(g, w, sol);
 }
 
-TEST_CASE_TEMPLATE("solve_constrained: rank-deficient and ill-conditioned grasps reach the optimum by Newton",
-                   S, double, float) {
+TEST_CASE_TEMPLATE("solve_constrained: rank-deficient and ill-conditioned grasps reach the optimum by Newton", S,
+                   double, float) {
   // The fast path declines any grasp whose Gram matrix needs a rank fallback
   // (RankFallback::decline); the iteration then starts from zero multipliers.
   // A pinch (rank 5) by hand: hard fingers at x = -/+3 cm, normals +/-x, squeeze 4 N, mu = 1,
@@ -393,7 +400,8 @@ TEST_CASE_TEMPLATE("solve_constrained: rank-deficient and ill-conditioned grasps
   CHECK_FALSE(sol.fast_path);
   Eigen::Matrix<S, 6, 1> expect;
   expect << S(4), S(0), S(1), S(-4), S(0), S(1);
-  CHECK(double((sol.forces - expect).norm()) <= grip_test::grasp_condition(pinch) * equilibrium_tolerance(pinch, w, sol.forces));
+  CHECK(double((sol.forces - expect).norm()) <=
+        grip_test::grasp_condition(pinch) * equilibrium_tolerance(pinch, w, sol.forces));
   CHECK(std::abs(double(sol.objective) - 1.0) <= objective_tolerance(pinch, w, sol, 1.0));
   check_kkt(pinch, w, sol);
   // Full rank but ill-conditioned (grip_test::tetrahedron_cluster): the Schur complement's
@@ -446,9 +454,11 @@ TEST_CASE_TEMPLATE("solve_constrained: warm starts of a slowly moving grasp", S,
       // within grasp_condition times its accepted residual of x* (first order, J = I; an active
       // cone's J <= I could only worsen it: observed at most 0.0002 of this in float).
       CHECK(std::abs(double(hot.objective - cold.objective)) <=
-            objective_tolerance(g, w, hot, double(cold.objective)) + objective_tolerance(g, w, cold, double(cold.objective)));
+            objective_tolerance(g, w, hot, double(cold.objective)) +
+                objective_tolerance(g, w, cold, double(cold.objective)));
       CHECK(double((hot.forces - cold.forces).norm()) <=
-            grip_test::grasp_condition(g) * (equilibrium_tolerance(g, w, hot.forces) + equilibrium_tolerance(g, w, cold.forces)));
+            grip_test::grasp_condition(g) *
+                (equilibrium_tolerance(g, w, hot.forces) + equilibrium_tolerance(g, w, cold.forces)));
       cold_total += cold.passes;
       warm_total += hot.passes;
     }
@@ -513,7 +523,8 @@ TEST_CASE_TEMPLATE("solve_constrained: a warm start follows a slowly moving gras
     CHECK(cold.passes > 2 * warm_pass_bound);
     // The same optimum either way (as in the test above).
     CHECK(std::abs(double(hot.objective - cold.objective)) <=
-          objective_tolerance(g, w, hot, double(cold.objective)) + objective_tolerance(g, w, cold, double(cold.objective)));
+          objective_tolerance(g, w, hot, double(cold.objective)) +
+              objective_tolerance(g, w, cold, double(cold.objective)));
     warm = hot.multipliers;  // as a haptic loop chains them
   }
 }
@@ -564,8 +575,9 @@ TEST_CASE_TEMPLATE("solve_constrained: a contact at its apex can be dropped, the
                 grip_test::roundoff<S>(g.unknowns() + 4, 1, double(full.objective)));
       // An answer of the interior-point method (not refined) is within its gap of F2*: by F2's
       // strong convexity (modulus min w_i = 1 here) within sqrt(2 interior_tolerance F2) of x*.
-      const double gap = (full.refined ? 0.0 : std::sqrt(2 * double(ScalarTraits<S>::interior_tolerance) * double(full.objective))) +
-                         (part.refined ? 0.0 : std::sqrt(2 * double(ScalarTraits<S>::interior_tolerance) * f2));
+      const double gap =
+          (full.refined ? 0.0 : std::sqrt(2 * double(ScalarTraits<S>::interior_tolerance) * double(full.objective))) +
+          (part.refined ? 0.0 : std::sqrt(2 * double(ScalarTraits<S>::interior_tolerance) * f2));
       CHECK(double((part.forces - kept).norm()) <=
             grip_test::grasp_condition(reduced) *
                     (equilibrium_tolerance(reduced, w, part.forces) + equilibrium_tolerance(g, w, full.forces)) +
@@ -607,7 +619,8 @@ TEST_CASE_TEMPLATE("solve_constrained: bad input gives InvalidInput and zeros", 
   st = ConstrainedSettings<S>{};
   st.max_iterations = 1;
   GraspT low;
-  for (int i = 0; i < 5; ++i) REQUIRE(low.add(grip_test::sphere_contact<S>(0.5 + i, 1.3 * i, 0.04, 0.3, 0.1)) == Status::Ok);
+  for (int i = 0; i < 5; ++i)
+    REQUIRE(low.add(grip_test::sphere_contact<S>(0.5 + i, 1.3 * i, 0.04, 0.3, 0.1)) == Status::Ok);
   Wrench<S> load = Wrench<S>::Zero();
   load(0) = S(3);
   load(2) = S(-4);
@@ -665,7 +678,8 @@ TEST_CASE_TEMPLATE("solve_constrained: every setting is range-checked, defaults 
     CHECK_FALSE(ipm.refined);
     check_kkt(h, load, ipm);
     const double f2 = double(full.objective);
-    CHECK(std::abs(double(ipm.objective) - f2) <= objective_tolerance(h, load, ipm, f2) + objective_tolerance(h, load, full, f2));
+    CHECK(std::abs(double(ipm.objective) - f2) <=
+          objective_tolerance(h, load, ipm, f2) + objective_tolerance(h, load, full, f2));
   }
   CHECK(compared >= 10);
 }
@@ -675,7 +689,8 @@ TEST_CASE_TEMPLATE("solve_constrained: IterationLimit by a bound that bites, for
   // the cones: the interior-point method alone (newton_passes = 0) needs several iterations.
   using GraspT = DynamicGrasp<HardFinger, S>;
   GraspT g;
-  for (int i = 0; i < 5; ++i) REQUIRE(g.add(grip_test::sphere_contact<S>(0.5 + i, 1.3 * i, 0.04, 0.3, 0.1)) == Status::Ok);
+  for (int i = 0; i < 5; ++i)
+    REQUIRE(g.add(grip_test::sphere_contact<S>(0.5 + i, 1.3 * i, 0.04, 0.3, 0.1)) == Status::Ok);
   Wrench<S> load = Wrench<S>::Zero();
   load(0) = S(3);
   load(2) = S(-4);
@@ -702,7 +717,9 @@ TEST_CASE_TEMPLATE("solve_constrained: IterationLimit by a bound that bites, for
     terms += (1 + double(g.contact(i).position.norm())) * f.norm();
   }
   // and the residual it reports is its own: the sum in S, n + 4 roundings of its terms.
-  const double res = (g.grasp_matrix().template cast<double>() * cut.forces.template cast<double>() + load.template cast<double>()).norm();
+  const double res =
+      (g.grasp_matrix().template cast<double>() * cut.forces.template cast<double>() + load.template cast<double>())
+          .norm();
   CHECK(std::abs(double(cut.residual) - res) <= grip_test::roundoff<S>(g.size() + 4, 1, terms));
 }
 
@@ -718,8 +735,8 @@ TEST_CASE("solve_constrained: nearly infeasible grasps finish where the dual is 
   const Case cases[] = {
       {{0x1.4ecff4a3f6ca2p+0, 0x1.31e4eba80858fp-1, 0x1.8ab7bd4e828f4p+0},
        {0x1.74e68ed090b25p+2, 0x1.1fde80db868cbp+2, 0x1.66ddfaf91a7b4p+0},
-       {0x1.01fa4b0679a8fp-8, -0x1.1780a7d0fded2p-1, -0x1.c9a2f11decb8p+2, -0x1.114c6657f9665p-8,
-        -0x1.c7880a6fbf667p-7, -0x1.9fe80917fb6ep-8}},
+       {0x1.01fa4b0679a8fp-8, -0x1.1780a7d0fded2p-1, -0x1.c9a2f11decb8p+2, -0x1.114c6657f9665p-8, -0x1.c7880a6fbf667p-7,
+        -0x1.9fe80917fb6ep-8}},
       {{0x1.a2a8546b79b68p-1, 0x1.91c5a504bb9adp+0, 0x1.4274f2ab1a69p+1},
        {0x1.1517930563a82p+2, 0x1.ed7bf4f34892bp-3, 0x1.5b093c755f402p+2},
        {-0x1.ae7f46a676e2ep-1, -0x1.0394b6195e3cep-1, -0x1.55f16191ec23fp+2, -0x1.9e536278b01a9p-8,
@@ -727,7 +744,8 @@ TEST_CASE("solve_constrained: nearly infeasible grasps finish where the dual is 
   };
   for (const Case& k : cases) {
     Grasp<3, HardFinger, double> g;
-    for (int i = 0; i < 3; ++i) REQUIRE(g.set(i, grip_test::sphere_contact<double>(k.theta[i], k.phi[i], 0.04, 0.5, 0.3)) == Status::Ok);
+    for (int i = 0; i < 3; ++i)
+      REQUIRE(g.set(i, grip_test::sphere_contact<double>(k.theta[i], k.phi[i], 0.04, 0.5, 0.3)) == Status::Ok);
     const Wrench<double> w = Eigen::Map<const Wrench<double>>(k.w);
     const auto sol = solve_constrained(g, w);
     REQUIRE(sol.status == Status::Ok);
@@ -753,7 +771,9 @@ TEST_CASE("solve_constrained: a normal off unit within its tolerance keeps the f
   Wrench<float> w;
   w << 0x1.4c485ap-55f, 0x1.70a3d6p-9f, 0x1.ccccccp-9f, 0x1.028f5cp-7f, 0x1.333332p-8f, 0.0f;
   for (int k = 0; k < 2; ++k) {
-    const auto sol = k == 0 ? solve_constrained(g, w) : solve_constrained(g, w, ConstrainedSettings<float>{}, Wrench<float>(Wrench<float>::Zero()));
+    const auto sol = k == 0
+                         ? solve_constrained(g, w)
+                         : solve_constrained(g, w, ConstrainedSettings<float>{}, Wrench<float>(Wrench<float>::Zero()));
     CHECK(sol.status == Status::Infeasible);
     // In the cone about the normal the user meant (c's, scaled to unit length in double), to a
     // projection's few roundings of its own size (k = 8, through 1 + mu).
@@ -784,14 +804,15 @@ TEST_CASE("solve_constrained: warm starts near the optimum of nearly infeasible 
         -0x1.6466f2940e2dbp-8, 0x1.2ad73b70d9895p-8}},
       {{0x1.d702fe877f2ccp+0, 0x1.38411fd48f239p+0, 0x1.0349b2fe776b1p+1},
        {0x1.2181da7df7334p+1, 0x1.357a45051178dp-4, 0x1.e184bf97cd96ap+0},
-       {0x1.3b4e182683ecap+0, -0x1.452ce612472d4p-1, -0x1.51dac906fe794p+2, 0x1.8e05b71aacdeap-7,
-        0x1.df381a6e6dad1p-7, -0x1.91ef7a978f392p-8}},
+       {0x1.3b4e182683ecap+0, -0x1.452ce612472d4p-1, -0x1.51dac906fe794p+2, 0x1.8e05b71aacdeap-7, 0x1.df381a6e6dad1p-7,
+        -0x1.91ef7a978f392p-8}},
   };
   std::mt19937 rng(11);
   std::normal_distribution<double> n01(0, 1);
   for (const Case& k : cases) {
     Grasp<3, HardFinger, double> g;
-    for (int i = 0; i < 3; ++i) REQUIRE(g.set(i, grip_test::sphere_contact<double>(k.theta[i], k.phi[i], 0.04, 0.5, 0.3)) == Status::Ok);
+    for (int i = 0; i < 3; ++i)
+      REQUIRE(g.set(i, grip_test::sphere_contact<double>(k.theta[i], k.phi[i], 0.04, 0.5, 0.3)) == Status::Ok);
     const Wrench<double> w = Eigen::Map<const Wrench<double>>(k.w);
     const auto cold = solve_constrained(g, w);
     REQUIRE(cold.status == Status::Ok);
@@ -841,8 +862,8 @@ double least_residual_objective(const GraspT& g, const Wrench<double>& w, const 
   return 0.5 * rl * rl + delta * f2;
 }
 
-TEST_CASE_TEMPLATE("solve_constrained: grasps that slip or hold are decided within the bound, checked by definition",
-                   S, double, float) {
+TEST_CASE_TEMPLATE("solve_constrained: grasps that slip or hold are decided within the bound, checked by definition", S,
+                   double, float) {
   // Every solve ends Ok or Infeasible (none at IterationLimit with the default bound), within
   // max_iterations interior-point iterations. Ok: the KKT conditions. Infeasible: the certificate
   // from its definition, and the least-residual forces no worse, by P = |r|_L^2 / 2 + delta F2,
@@ -904,12 +925,14 @@ TEST_CASE_TEMPLATE("solve_constrained: grasps that slip or hold are decided with
     Eigen::VectorXd projected = Eigen::VectorXd::Zero(9);
     for (int i = 0; i < 3 && ref.status == Status::Ok; ++i) {
       const Contact<double> c = grip_test::cast_contact<double>(g.contact(i));
-      projected.segment<3>(3 * i) = CoulombCone<double>::from_contact(c).project(ref.forces.template segment<3>(3 * i).template cast<double>());
+      projected.segment<3>(3 * i) =
+          CoulombCone<double>::from_contact(c).project(ref.forces.template segment<3>(3 * i).template cast<double>());
     }
     // To the interior-point method's tolerance on the least-residual problem: a gap of
     // interior_tolerance of the objective, plus the rounding of P in S.
     const double p = least_residual_objective(g, wd, x, delta);
-    const double slack = 2 * double(ScalarTraits<S>::interior_tolerance) * p + grip_test::roundoff<S>(16, 1, wd.squaredNorm() + x.squaredNorm());
+    const double slack = 2 * double(ScalarTraits<S>::interior_tolerance) * p +
+                         grip_test::roundoff<S>(16, 1, wd.squaredNorm() + x.squaredNorm());
     CHECK(p <= least_residual_objective(g, wd, Eigen::VectorXd::Zero(9), delta) + slack);
     CHECK(p <= least_residual_objective(g, wd, projected, delta) + slack);
   }
@@ -987,9 +1010,11 @@ TEST_CASE_TEMPLATE("solve_constrained: bounds on the normal forces (hand derivat
     const double f2 = (4 - fn) * (4 - fn) + 1.0;
     // The active bound leaves the tangential part free: the same first-order argument as the
     // unbounded pinch, through grasp_condition.
-    CHECK(double((sol.forces - expect).norm()) <= 10 * grip_test::grasp_condition(g) * equilibrium_tolerance(g, w, sol.forces) +
-                                                      grip_test::roundoff<S>(8, 1, 4.0));
-    CHECK(std::abs(double(sol.objective) - f2) <= objective_tolerance(g, w, sol, f2) + grip_test::roundoff<S>(8, 1, f2));
+    CHECK(double((sol.forces - expect).norm()) <=
+          10 * grip_test::grasp_condition(g) * equilibrium_tolerance(g, w, sol.forces) +
+              grip_test::roundoff<S>(8, 1, 4.0));
+    CHECK(std::abs(double(sol.objective) - f2) <=
+          objective_tolerance(g, w, sol, f2) + grip_test::roundoff<S>(8, 1, f2));
     CHECK(double(sol.forces(0)) <= c + grip_test::roundoff<S>(4, 1, c));
   }
   {
@@ -1041,11 +1066,13 @@ TEST_CASE_TEMPLATE("solve_constrained: bounds on the normal forces (hand derivat
     const double eq = equilibrium_tolerance(g, w, sol.forces);
     CHECK(std::abs(double(sol.forces(0)) - 1.0) <= 2 * eq + grip_test::roundoff<S>(8, 1, 6.0));
     CHECK(std::abs(double(sol.forces(1)) - 6.0) <= 2 * eq + grip_test::roundoff<S>(8, 1, 6.0));
-    CHECK(std::abs(double(sol.objective) - 6.5) <= objective_tolerance(g, w, sol, 6.5) + grip_test::roundoff<S>(8, 1, 6.5));
+    CHECK(std::abs(double(sol.objective) - 6.5) <=
+          objective_tolerance(g, w, sol, 6.5) + grip_test::roundoff<S>(8, 1, 6.5));
   }
 }
 
-TEST_CASE_TEMPLATE("solve_constrained: an inactive bound changes nothing, and soft fingers with bounds", S, double, float) {
+TEST_CASE_TEMPLATE("solve_constrained: an inactive bound changes nothing, and soft fingers with bounds", S, double,
+                   float) {
   // Random grasps solved without bounds and with bounds above their optimum's normal forces: the
   // same optimum (the bounded solve's refinement projects onto truncated cones whose caps no force
   // reaches). Then bounds at 0.8 of the largest normal forces: every force below its bound.
@@ -1080,7 +1107,8 @@ TEST_CASE_TEMPLATE("solve_constrained: an inactive bound changes nothing, and so
       REQUIRE(same.status == Status::Ok);
       ++compared;
       const double f2 = double(free.objective);
-      CHECK(std::abs(double(same.objective) - f2) <= objective_tolerance(g, w, free, f2) + objective_tolerance(high, w, same, f2));
+      CHECK(std::abs(double(same.objective) - f2) <=
+            objective_tolerance(g, w, free, f2) + objective_tolerance(high, w, same, f2));
       const auto cut = solve_constrained(low, w);
       // Float's allowance: soft fingers with bounds have the interior-point method alone, whose
       // float iterates can stall short of its tolerance (none to two grasps in forty here, by
@@ -1115,8 +1143,7 @@ TEST_CASE("solve_constrained allocates nothing (fixed, Dynamic, every model, inf
   std::mt19937 rng(31);
   Grasp<20, HardFinger, double> h = grip_test::random_grasp<Grasp<20, HardFinger, double>>(rng, 20);
   DynamicGrasp<SoftFinger, float> s = grip_test::random_grasp<DynamicGrasp<SoftFinger, float>>(rng, 12);
-  DynamicGrasp<FrictionlessPoint, double> f =
-      grip_test::random_grasp<DynamicGrasp<FrictionlessPoint, double>>(rng, 12);
+  DynamicGrasp<FrictionlessPoint, double> f = grip_test::random_grasp<DynamicGrasp<FrictionlessPoint, double>>(rng, 12);
   const Wrench<double> w = grip_test::random_wrench<double>(rng);
   Wrench<double> big = w * 1e3;
   Grasp<20, HardFinger, double> bounded = h;
@@ -1139,7 +1166,8 @@ TEST_CASE("solve_constrained allocates nothing (fixed, Dynamic, every model, inf
   CHECK(d.status == a.status);
 }
 
-TEST_CASE_TEMPLATE("solve_newton_6x6: block adjugates where well-conditioned, else the floored Cholesky", S, double, float) {
+TEST_CASE_TEMPLATE("solve_newton_6x6: block adjugates where well-conditioned, else the floored Cholesky", S, double,
+                   float) {
   // Random SPD matrices O diag(ev) O^T with unit-scaled diagonals, condition numbers from 1 to
   // 1e12. Where the block solve declines (ill-conditioned; float always) the answer is exactly
   // the floored Cholesky's; where it answers, its residual is within its documented backward

@@ -53,7 +53,8 @@ bool check_multipliers(const grip_test::ConstrainedReference& ref, const Eigen::
         const double mu = c.friction, mt = c.torsional_friction;
         slack = std::min(slack, (mu * mt * k.n - std::sqrt(mt * mt * k.t * k.t + mu * mu * k.m * k.m)) / (mu * mt));
       }
-      if (c.max_normal_force < std::numeric_limits<double>::infinity()) slack = std::min(slack, c.max_normal_force - k.n);
+      if (c.max_normal_force < std::numeric_limits<double>::infinity())
+        slack = std::min(slack, c.max_normal_force - k.n);
       return slack > margin;
     };
     if (inside(x) && inside(xs)) interior.push_back(i);
@@ -67,7 +68,8 @@ bool check_multipliers(const grip_test::ConstrainedReference& ref, const Eigen::
     const int i = interior[j];
     const auto& c = ref.contacts[size_t(i)];
     const auto r = static_cast<Eigen::Index>(j) * d;
-    for (int k = 0; k < 6; ++k) b.block(r, k, d, 1) = Model::wrench_transpose(c, Wrench<double>(Wrench<double>::Unit(k)));
+    for (int k = 0; k < 6; ++k)
+      b.block(r, k, d, 1) = Model::wrench_transpose(c, Wrench<double>(Wrench<double>::Unit(k)));
     e.segment<d>(r) = c.weight * (x.segment<d>(i * d) - Model::target(c)) - Model::wrench_transpose(c, lambda);
     e_ref.segment<d>(r) = c.weight * (xs.segment<d>(i * d) - Model::target(c)) - Model::wrench_transpose(c, ref.lambda);
     w_max = std::max(w_max, c.weight);
@@ -107,7 +109,8 @@ void check_against_reference(const std::vector<grip_test::ConstrainedReference>&
     CHECK(sol.iterations <= settings.max_iterations);
     // Whatever the status, the forces are finite and inside the cones (up to round-off).
     double force_scale = ref.w_ext.norm();
-    for (int i = 0; i < g.size(); ++i) force_scale += sol.forces.template segment<Model::dim>(i * Model::dim).template cast<double>().norm();
+    for (int i = 0; i < g.size(); ++i)
+      force_scale += sol.forces.template segment<Model::dim>(i * Model::dim).template cast<double>().norm();
     const double cone_tol = (std::is_same<S, float>::value ? 1e-5 : 1e-10) * (1.0 + force_scale);
     for (int i = 0; i < g.size(); ++i) {
       const double v = grip_test::cone_violation<Model>(ref.contacts[size_t(i)],
@@ -117,9 +120,11 @@ void check_against_reference(const std::vector<grip_test::ConstrainedReference>&
       // and below its bound: f_n from the definition (a.f, or the frictionless unknown).
       const auto& c = ref.contacts[size_t(i)];
       if (c.max_normal_force < std::numeric_limits<double>::infinity()) {
-        const Eigen::Matrix<double, Model::dim, 1> xi = sol.forces.template segment<Model::dim>(i * Model::dim).template cast<double>();
+        const Eigen::Matrix<double, Model::dim, 1> xi =
+            sol.forces.template segment<Model::dim>(i * Model::dim).template cast<double>();
         const double fn = grip_test::cone_coordinates<Model>(c, xi).n;
-        CHECK_MESSAGE(fn <= c.max_normal_force + cone_tol, "instance ", index, " f_n ", fn, " bound ", c.max_normal_force);
+        CHECK_MESSAGE(fn <= c.max_normal_force + cone_tol, "instance ", index, " f_n ", fn, " bound ",
+                      c.max_normal_force);
         ++bounded_contacts;
       }
     }
@@ -139,7 +144,8 @@ void check_against_reference(const std::vector<grip_test::ConstrainedReference>&
       const double yw = y.dot(ref.w_ext);
       CHECK(yw > 0.0);
       const double cert_tol = (std::is_same<S, float>::value ? 1.5 : 1.1) *
-                              static_cast<double>(settings.certificate_tolerance) * yw / grip_test::norm_l(ref.w_ext, len);
+                              static_cast<double>(settings.certificate_tolerance) * yw /
+                              grip_test::norm_l(ref.w_ext, len);
       // A bounded contact needs less (docs/solve.md): over its truncated cone, the least of
       // z.x is c_i min(0, phi_i), phi_i the least of z.x at unit normal force, here by the
       // cone's coordinates: hard z_n - mu |z_t|, soft z_n - sqrt(mu^2 |z_t|^2 + mu_t^2 z_m^2),
@@ -160,8 +166,8 @@ void check_against_reference(const std::vector<grip_test::ConstrainedReference>&
           deficit += c.max_normal_force * std::max(0.0, -phi);
           continue;
         }
-        CHECK_MESSAGE(grip_test::dual_cone_violation<Model>(c, z) <= cert_tol + 1e-14, "instance ", index, " (", ref.kind,
-                      ")");
+        CHECK_MESSAGE(grip_test::dual_cone_violation<Model>(c, z) <= cert_tol + 1e-14, "instance ", index, " (",
+                      ref.kind, ")");
       }
       CHECK_MESSAGE(deficit < yw, "instance ", index, " bounded deficit ", deficit, " y.w ", yw);
     };
@@ -197,7 +203,9 @@ void check_against_reference(const std::vector<grip_test::ConstrainedReference>&
       // sizes the tolerance (negligible in double; in float it reaches percents for grasps that
       // need forces of 1e4 N).
       REQUIRE(ref.has_lambda);
-      const double shift = std::max(grip_test::dual_norm_l(ref.lambda, len), grip_test::dual_norm_l(sol.multipliers.template cast<double>(), len)) * res;
+      const double shift = std::max(grip_test::dual_norm_l(ref.lambda, len),
+                                    grip_test::dual_norm_l(sol.multipliers.template cast<double>(), len)) *
+                           res;
       const double rel = std::max(std::abs(f2 - ref.objective) - shift, 0.0) / std::max(ref.objective, 1e-12);
       worst_obj = std::max(worst_obj, rel);
       // An answer of the interior-point method alone (not refined): to its tolerance, the gap
@@ -224,7 +232,10 @@ void check_against_reference(const std::vector<grip_test::ConstrainedReference>&
       for (const auto& c : ref.contacts) w_min = std::min(w_min, c.weight);
       const double f2_roundoff = 64 * std::numeric_limits<double>::epsilon() * (1 + ref.objective);
       const double x_tol =
-          std::sqrt(2 * (std::max(f2 - ref.objective + grip_test::dual_norm_l(ref.lambda, len) * res, 0.0) + ref.gap + f2_roundoff) / w_min) +
+          std::sqrt(2 *
+                    (std::max(f2 - ref.objective + grip_test::dual_norm_l(ref.lambda, len) * res, 0.0) + ref.gap +
+                     f2_roundoff) /
+                    w_min) +
           std::sqrt(2 * (ref.gap + f2_roundoff) / w_min) + 1e3 * eps * force_scale;
       const Eigen::Map<const Eigen::VectorXd> x_ref(ref.x.data(), static_cast<Eigen::Index>(ref.x.size()));
       const double dx = (xd - x_ref).norm();
@@ -247,12 +258,14 @@ void check_against_reference(const std::vector<grip_test::ConstrainedReference>&
       double delta = 0;
       for (int k = 0; k < 6; ++k) {
         double d = 0;
-        for (const auto& c : ref.contacts) d += Model::wrench_transpose(c, Wrench<double>(Wrench<double>::Unit(k))).squaredNorm() / c.weight;
+        for (const auto& c : ref.contacts)
+          d += Model::wrench_transpose(c, Wrench<double>(Wrench<double>::Unit(k))).squaredNorm() / c.weight;
         delta = std::max(delta, k < 3 ? d : d / (len * len));  // in the norm's units
       }
       delta *= static_cast<double>(settings.least_residual_weight);
       const double slack = (std::is_same<S, float>::value ? 1e-3 : 1e-6) * force_scale_l;
-      const double bound = std::sqrt(ref.least_residual * ref.least_residual + 2 * delta * ref.least_residual_f2) + slack;
+      const double bound =
+          std::sqrt(ref.least_residual * ref.least_residual + 2 * delta * ref.least_residual_f2) + slack;
       worst_least = std::max(worst_least, (res - ref.least_residual) / force_scale_l);
       CHECK_MESSAGE(res <= bound, "instance ", index, " (", ref.kind, ") least residual ", res, " vs cvxopt ",
                     ref.least_residual, " bound ", bound);
@@ -268,11 +281,12 @@ void check_against_reference(const std::vector<grip_test::ConstrainedReference>&
   // The multipliers were compared somewhere (unique ones are common for every model).
   CHECK(lambda_checked > 0);
   CHECK(bounded_contacts > 0);  // the bounded instances were read and checked
-  std::printf("[constrained reference %c %s] %d instances (%d infeasible): worst objective rel %.2e, residual %.2e, "
-              "cone %.2e, |x - x*| %.2e, |lambda - lambda*| %.2e (%d unique), least residual excess %.2e, "
-              "iterations %d\n",
-              tag, std::is_same<S, float>::value ? "float" : "double", count, infeasible, worst_obj, worst_res,
-              worst_cone, worst_x, worst_lambda, lambda_checked, worst_least, worst_iter);
+  std::printf(
+      "[constrained reference %c %s] %d instances (%d infeasible): worst objective rel %.2e, residual %.2e, "
+      "cone %.2e, |x - x*| %.2e, |lambda - lambda*| %.2e (%d unique), least residual excess %.2e, "
+      "iterations %d\n",
+      tag, std::is_same<S, float>::value ? "float" : "double", count, infeasible, worst_obj, worst_res, worst_cone,
+      worst_x, worst_lambda, lambda_checked, worst_least, worst_iter);
 }
 
 }  // namespace

@@ -19,7 +19,8 @@ using grip_test::tight;
 // Every solver instantiated for each model, scalar and size kind.
 template Solution<Grasp<4, HardFinger, double>> grip::solve_range_space(const Grasp<4, HardFinger, double>&,
                                                                         const Wrench<double>&);
-template Solution<Grasp<4, SoftFinger, float>> grip::solve_kkt(const Grasp<4, SoftFinger, float>&, const Wrench<float>&);
+template Solution<Grasp<4, SoftFinger, float>> grip::solve_kkt(const Grasp<4, SoftFinger, float>&,
+                                                               const Wrench<float>&);
 template Solution<Grasp<Dynamic, FrictionlessPoint, double, 9>> grip::solve_kkt(
     const Grasp<Dynamic, FrictionlessPoint, double, 9>&, const Wrench<double>&);
 
@@ -33,7 +34,8 @@ Eigen::VectorXd reference_solve(const GraspT& g, const Wrench<typename GraspT::S
   const Eigen::VectorXd t = g.target().template cast<double>();
   const long m = G.cols();
   Eigen::VectorXd wdiag(m);
-  for (int i = 0; i < g.size(); ++i) wdiag.segment(i * GraspT::dim, GraspT::dim).setConstant(double(g.contact(i).weight));
+  for (int i = 0; i < g.size(); ++i)
+    wdiag.segment(i * GraspT::dim, GraspT::dim).setConstant(double(g.contact(i).weight));
   Eigen::MatrixXd K = Eigen::MatrixXd::Zero(m + 6, m + 6);
   K.topLeftCorner(m, m) = wdiag.asDiagonal();
   K.topRightCorner(m, 6) = G.transpose();
@@ -57,8 +59,8 @@ double f2_in_double(const GraspT& g, const Eigen::VectorXd& x) {
 }
 
 template <class GraspT>
-void check_optimal(const GraspT& g, const Wrench<typename GraspT::ScalarType>& w_ext,
-                   const Solution<GraspT>& sol, std::mt19937& rng) {
+void check_optimal(const GraspT& g, const Wrench<typename GraspT::ScalarType>& w_ext, const Solution<GraspT>& sol,
+                   std::mt19937& rng) {
   using S = typename GraspT::ScalarType;
   constexpr int d = GraspT::dim;
   REQUIRE(sol.status == Status::Ok);
@@ -69,7 +71,8 @@ void check_optimal(const GraspT& g, const Wrench<typename GraspT::ScalarType>& w
   // KKT stationarity: W (x - t) = G^T lambda, contact by contact.
   for (int i = 0; i < g.size(); ++i) {
     const auto& c = g.contact(i);
-    const typename GraspT::ContactVector lhs = c.weight * (sol.forces.template segment<d>(i * d) - GraspT::ModelType::target(c));
+    const typename GraspT::ContactVector lhs =
+        c.weight * (sol.forces.template segment<d>(i * d) - GraspT::ModelType::target(c));
     const typename GraspT::ContactVector rhs = GraspT::ModelType::basis(c).transpose() * sol.multipliers;
     CHECK((lhs - rhs).norm() <= tight<S>() * scale);
   }
@@ -78,8 +81,8 @@ void check_optimal(const GraspT& g, const Wrench<typename GraspT::ScalarType>& w
   CHECK((sol.forces.template cast<double>() - ref).norm() <= double(tight<S>() * scale) * 10.0);
   // Optimality: random null-space perturbations of G never lower F2.
   const Eigen::MatrixXd G = g.grasp_matrix().template cast<double>();
-  const Eigen::MatrixXd P = Eigen::MatrixXd::Identity(G.cols(), G.cols()) -
-                            G.transpose() * (G * G.transpose()).ldlt().solve(G);
+  const Eigen::MatrixXd P =
+      Eigen::MatrixXd::Identity(G.cols(), G.cols()) - G.transpose() * (G * G.transpose()).ldlt().solve(G);
   grip_test::Normal n01(0.0, 1.0);
   const double f0 = f2_in_double(g, sol.forces.template cast<double>());
   CHECK(f0 == doctest::Approx(double(objective_f2(g, sol.forces))).epsilon(1e-4));
@@ -137,7 +140,8 @@ TEST_CASE_TEMPLATE("hand-solved: three hard fingers at 120 degrees hold a ball a
   const double R = 0.04, m = 0.5, grav = 9.81, s = 2.0;
   Grasp<3, HardFinger, S> g;
   for (int i = 0; i < 3; ++i)
-    REQUIRE(g.set(i, grip_test::sphere_contact<S>(1.5707963267948966, 2.0943951023931957 * i, R, 0.5, s)) == Status::Ok);
+    REQUIRE(g.set(i, grip_test::sphere_contact<S>(1.5707963267948966, 2.0943951023931957 * i, R, 0.5, s)) ==
+            Status::Ok);
   Wrench<S> w_ext = Wrench<S>::Zero();
   w_ext(2) = S(-m * grav);
   for (const auto& sol : {solve_range_space(g, w_ext), solve_kkt(g, w_ext)}) {
@@ -353,7 +357,8 @@ TEST_CASE_TEMPLATE("the reported residual keeps its value when it is denormal", 
   // norm is Eigen's scaled one: on 32-bit ARM long double is double, and squares underflow)
   for (const auto* x : {&rs.forces, &kkt.forces, &con.forces}) {
     const Eigen::Matrix<long double, 6, 1> r =
-        g.grasp_matrix().template cast<long double>() * x->template cast<long double>() + w.template cast<long double>();
+        g.grasp_matrix().template cast<long double>() * x->template cast<long double>() +
+        w.template cast<long double>();
     CHECK(std::fabs(static_cast<double>(r.stableNorm()) - static_cast<double>(tau)) <= 8.0 * static_cast<double>(dmin));
   }
 }

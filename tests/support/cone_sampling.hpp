@@ -41,8 +41,8 @@ grip::Vector3<S> random_normal(std::mt19937& rng) {
 
 /// A force f = fn a + ft u (u a random tangent), in double; fn in [fn_lo, fn_hi],
 /// |f_t| in [0, ft_hi].
-inline grip::Vector3<double> random_force(std::mt19937& rng, const grip::Vector3<double>& a, double fn_lo,
-                                          double fn_hi, double ft_hi) {
+inline grip::Vector3<double> random_force(std::mt19937& rng, const grip::Vector3<double>& a, double fn_lo, double fn_hi,
+                                          double ft_hi) {
   grip_test::Uniform u01(0.0, 1.0);
   const double fn = fn_lo + (fn_hi - fn_lo) * u01(rng);
   const double ft = ft_hi * u01(rng);

@@ -96,8 +96,10 @@ double segment_minimum(const F& f, const V3& a, const V3& b, double* t_min = nul
   auto polish = [&](double lo, double hi) {
     for (int it = 0; it < 100; ++it) {
       const double m1 = lo + (hi - lo) / 3, m2 = hi - (hi - lo) / 3;
-      if (f(a + m1 * (b - a)) < f(a + m2 * (b - a))) hi = m2;
-      else lo = m1;
+      if (f(a + m1 * (b - a)) < f(a + m2 * (b - a)))
+        hi = m2;
+      else
+        lo = m1;
     }
     const double t = 0.5 * (lo + hi), v = f(a + t * (b - a));
     if (v < best) {

@@ -215,8 +215,10 @@ int main(int argc, char** argv) {
   std::vector<Svg> svgs;
   for (; k < argc && std::strcmp(argv[k], "--") != 0; ++k) {
     const std::string opt = argv[k];
-    if (opt == "--expect" && k + 1 < argc) expect.push_back(argv[++k]);
-    else if (opt == "--reject" && k + 1 < argc) reject.push_back(argv[++k]);
+    if (opt == "--expect" && k + 1 < argc)
+      expect.push_back(argv[++k]);
+    else if (opt == "--reject" && k + 1 < argc)
+      reject.push_back(argv[++k]);
     else if (opt == "--csv" && k + 3 < argc) {
       csvs.push_back(Csv{argv[k + 1], std::strtol(argv[k + 2], nullptr, 10), argv[k + 3]});
       k += 3;
@@ -224,7 +226,8 @@ int main(int argc, char** argv) {
       svgs.push_back(Svg{argv[k + 1], std::strtol(argv[k + 2], nullptr, 10)});
       k += 2;
     } else {
-      std::printf("usage: grip_example_check [--expect RE] [--reject RE] [--csv FILE ROWS TEXT] [--svg FILE MIN] -- EXAMPLE\n");
+      std::printf(
+          "usage: grip_example_check [--expect RE] [--reject RE] [--csv FILE ROWS TEXT] [--svg FILE MIN] -- EXAMPLE\n");
       return 2;
     }
   }

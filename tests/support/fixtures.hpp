@@ -26,8 +26,7 @@ constexpr S tight() {
 /// A contact on a sphere of `radius` centred at the origin, at polar angle `theta` and
 /// azimuth `phi`, pushing inwards.
 template <class S>
-grip::Contact<S> sphere_contact(double theta, double phi, double radius, double mu = 0.5,
-                                double squeeze = 1.0) {
+grip::Contact<S> sphere_contact(double theta, double phi, double radius, double mu = 0.5, double squeeze = 1.0) {
   grip::Contact<S> c;
   const grip::Vector3<double> u(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
   c.position = (radius * u).cast<S>();

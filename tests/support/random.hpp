@@ -19,8 +19,8 @@ namespace grip_test {
 template <class Engine>
 double canonical(Engine& g) {
   static_assert(Engine::min() == 0 && Engine::max() == 0xffffffffu, "a 32-bit engine such as std::mt19937");
-  const std::uint64_t hi = static_cast<std::uint64_t>(g()) >> 5;  // 27 bits
-  const std::uint64_t lo = static_cast<std::uint64_t>(g()) >> 6;  // 26 bits
+  const std::uint64_t hi = static_cast<std::uint64_t>(g()) >> 5;             // 27 bits
+  const std::uint64_t lo = static_cast<std::uint64_t>(g()) >> 6;             // 26 bits
   return static_cast<double>((hi << 26) | lo) * (1.0 / 9007199254740992.0);  // / 2^53
 }
 

@@ -16,8 +16,10 @@ using SocVector = Eigen::Matrix<S, M, 1>;
 // |(u_1, ..., u_{m-1})|.
 template <class S, int M>
 S soc_tail_norm(const SocVector<S, M>& u) {
-  if constexpr (M > 1) return u.template tail<M - 1>().norm();
-  else return S(0);
+  if constexpr (M > 1)
+    return u.template tail<M - 1>().norm();
+  else
+    return S(0);
 }
 
 // u^T J u = u_0^2 - |u_1|^2, computed as (u_0 - |u_1|)(u_0 + |u_1|) to keep its relative
@@ -57,7 +59,8 @@ SocVector<S, M> soc_divide(const SocVector<S, M>& lambda, const SocVector<S, M>&
   SocVector<S, M> d;
   const S l1r1 = lambda.dot(r) - lambda(0) * r(0);
   d(0) = (lambda(0) * r(0) - l1r1) / soc_det(lambda);
-  if constexpr (M > 1) d.template tail<M - 1>() = (r.template tail<M - 1>() - d(0) * lambda.template tail<M - 1>()) / lambda(0);
+  if constexpr (M > 1)
+    d.template tail<M - 1>() = (r.template tail<M - 1>() - d(0) * lambda.template tail<M - 1>()) / lambda(0);
   return d;
 }
 

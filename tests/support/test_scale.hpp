@@ -31,8 +31,6 @@ inline int scaled(int n, int at_least = 1) {
 /// events over few trials varies by far more than its share (1 pose apart in 50 trials where
 /// 200 trials give 12). Compare with `>`: count > scaled_bound(...) still asks for one event at
 /// least in the smallest run.
-inline int scaled_bound(int b, int trials, int full) {
-  return trials >= full ? b : b * trials / full / 4;
-}
+inline int scaled_bound(int b, int trials, int full) { return trials >= full ? b : b * trials / full / 4; }
 
 }  // namespace grip_test

@@ -33,10 +33,10 @@ namespace grip {
 /// What evaluate_grasp() computes and how.
 template <class Scalar>
 struct BatchSettings {
-  Scalar torque_scale{Scalar(1)};  ///< rho (m) for the singular values and epsilon.
-  bool force_closure{true};        ///< Run the exact-cone force-closure test.
-  bool epsilon_l1{true};           ///< Compute the L1 Ferrari-Canny epsilon.
-  bool epsilon_linf{false};        ///< Compute the L-infinity Ferrari-Canny epsilon.
+  Scalar torque_scale{Scalar(1)};         ///< rho (m) for the singular values and epsilon.
+  bool force_closure{true};               ///< Run the exact-cone force-closure test.
+  bool epsilon_l1{true};                  ///< Compute the L1 Ferrari-Canny epsilon.
+  bool epsilon_linf{false};               ///< Compute the L-infinity Ferrari-Canny epsilon.
   ConicAnalysisSettings<Scalar> conic{};  ///< Settings of the force-closure solver.
   /// Worker threads for evaluate_batch: 0 = std::thread::hardware_concurrency() (at least 1),
   /// at most 64 (the calling thread is one of them).
@@ -47,19 +47,19 @@ struct BatchSettings {
 /// first non-Ok status met (quality, force closure, epsilon L1, epsilon L-inf order).
 template <class Scalar>
 struct GraspMetrics {
-  GraspQuality<Scalar> quality{};  ///< Singular values of G, volume, isotropy.
-  bool closure{false};             ///< Exact-cone force closure (if requested).
-  Scalar closure_margin{0};        ///< Its margin (force_closure.hpp).
-  Epsilon<Scalar> epsilon_l1{};    ///< Ferrari-Canny L1 (if requested).
-  Epsilon<Scalar> epsilon_linf{};  ///< Ferrari-Canny L-infinity (if requested).
+  GraspQuality<Scalar> quality{};       ///< Singular values of G, volume, isotropy.
+  bool closure{false};                  ///< Exact-cone force closure (if requested).
+  Scalar closure_margin{0};             ///< Its margin (force_closure.hpp).
+  Epsilon<Scalar> epsilon_l1{};         ///< Ferrari-Canny L1 (if requested).
+  Epsilon<Scalar> epsilon_linf{};       ///< Ferrari-Canny L-infinity (if requested).
   Status status{Status::InvalidInput};  ///< Ok, or the first non-Ok status met (see above).
 };
 
 /// All requested metrics of one grasp, K-sided linearised cones for epsilon. No heap.
 template <int K, class GraspT, class Workspace>
 GraspMetrics<typename GraspT::ScalarType> evaluate_grasp(const GraspT& grasp,
-                                                        const BatchSettings<typename GraspT::ScalarType>& settings,
-                                                        Workspace& ws) {
+                                                         const BatchSettings<typename GraspT::ScalarType>& settings,
+                                                         Workspace& ws) {
   GraspMetrics<typename GraspT::ScalarType> m;
   m.quality = grasp_quality(grasp, settings.torque_scale);
   Status st = m.quality.status;
@@ -96,19 +96,15 @@ Status evaluate_batch(const GraspT* grasps, int count, GraspMetrics<typename Gra
   if (count == 0) return Status::Ok;
   int threads = settings.threads > 0 ? settings.threads : static_cast<int>(std::thread::hardware_concurrency());
   threads = std::max(1, std::min({threads, count, 64}));
-  const std::unique_ptr<EpsilonWorkspace<S>[]> workspaces(new (std::nothrow)
-                                                               EpsilonWorkspace<S>[detail::idx(threads)]);
+  const std::unique_ptr<EpsilonWorkspace<S>[]> workspaces(new (std::nothrow) EpsilonWorkspace<S>[detail::idx(threads)]);
   if (workspaces == nullptr) return Status::IterationLimit;
   auto work = [grasps, results, &settings](int begin, int end, EpsilonWorkspace<S>& ws) {
     for (int i = begin; i < end; ++i) results[i] = evaluate_grasp<K>(grasps[i], settings, ws);
   };
-  auto chunk_begin = [count, threads](int t) {
-    return static_cast<int>(static_cast<long long>(count) * t / threads);
-  };
+  auto chunk_begin = [count, threads](int t) { return static_cast<int>(static_cast<long long>(count) * t / threads); };
   std::array<std::thread, 64> pool;
   for (int t = 1; t < threads; ++t)
-    pool[detail::idx(t)] =
-        std::thread(work, chunk_begin(t), chunk_begin(t + 1), std::ref(workspaces[detail::idx(t)]));
+    pool[detail::idx(t)] = std::thread(work, chunk_begin(t), chunk_begin(t + 1), std::ref(workspaces[detail::idx(t)]));
   work(chunk_begin(0), chunk_begin(1), workspaces[0]);
   for (int t = 1; t < threads; ++t) pool[detail::idx(t)].join();
   return Status::Ok;

@@ -124,9 +124,9 @@ struct Epsilon {
   /// Unit wrench direction u (moment part scaled by 1/rho) of the nearest facet: the
   /// weakest direction. When not in closure, every wrench of W has u . w <= ~0.
   Wrench<Scalar> direction{Wrench<Scalar>::Zero()};
-  bool closure{false};  ///< epsilon > tolerance * scale: linearised force closure.
-  int vertices{0};      ///< support points used.
-  int facets{0};        ///< facets of the final inner polytope.
+  bool closure{false};                  ///< epsilon > tolerance * scale: linearised force closure.
+  int vertices{0};                      ///< support points used.
+  int facets{0};                        ///< facets of the final inner polytope.
   Status status{Status::InvalidInput};  ///< Ok, IterationLimit or InvalidInput (see above).
 };
 
@@ -135,12 +135,11 @@ struct Epsilon {
 /// (O(n K)), work in proportion to the facets the added point sees and their neighbours
 /// (detail/epsilon_polytope.hpp), and a pass over the facets' offsets for the nearest one.
 template <int K, class GraspT, class Workspace>
-Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, EpsilonNorm norm,
-                                                           typename GraspT::ScalarType torque_scale, Workspace& ws,
-                                                           typename GraspT::ScalarType tolerance =
-                                                               ScalarTraits<typename GraspT::ScalarType>::is_single_precision
-                                                                   ? typename GraspT::ScalarType(1e-4)
-                                                                   : typename GraspT::ScalarType(1e-10)) {
+Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(
+    const GraspT& grasp, EpsilonNorm norm, typename GraspT::ScalarType torque_scale, Workspace& ws,
+    typename GraspT::ScalarType tolerance = ScalarTraits<typename GraspT::ScalarType>::is_single_precision
+                                                ? typename GraspT::ScalarType(1e-4)
+                                                : typename GraspT::ScalarType(1e-10)) {
   static_assert(K >= 3, "a linearised cone needs K >= 3 sides");
   using S = typename GraspT::ScalarType;
   using M = typename GraspT::ModelType;

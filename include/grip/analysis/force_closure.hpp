@@ -83,7 +83,7 @@ bool valid_settings(const ConicAnalysisSettings<Scalar>& settings) {
 template <class GraspT>
 struct ForceClosure {
   using Scalar = typename GraspT::ScalarType;  ///< The grasp's scalar type.
-  bool closure{false};   ///< Force closure, decided with margin > 10 * settings.tolerance.
+  bool closure{false};                         ///< Force closure, decided with margin > 10 * settings.tolerance.
   /// The margin above (dimensionless): when the method converged, the one `internal_force`
   /// achieves (a witnessed lower bound, within the tolerance of the optimum), or the upper bound
   /// the multipliers give if that is less; <= 0 or tiny when not in closure; 0 when the rank test
@@ -99,9 +99,9 @@ struct ForceClosure {
   /// space of G (least squares on the cone spans). Zero when the rank test fails or the margin
   /// problem is infeasible; at IterationLimit the last iterate's, not corrected.
   typename GraspT::ForceVector internal_force;
-  Scalar residual{0};   ///< |G internal_force| (N and N m).
-  int rank{0};          ///< Rank of G restricted to the cone spans (6 needed).
-  int iterations{0};    ///< interior-point iterations used.
+  Scalar residual{0};                   ///< |G internal_force| (N and N m).
+  int rank{0};                          ///< Rank of G restricted to the cone spans (6 needed).
+  int iterations{0};                    ///< interior-point iterations used.
   Status status{Status::InvalidInput};  ///< Ok, IterationLimit or InvalidInput (see above).
 };
 
@@ -120,8 +120,7 @@ ForceClosure<GraspT> force_closure(const GraspT& grasp,
   ForceClosure<GraspT> out;
   out.internal_force.setZero(grasp.unknowns());
   const int n = grasp.size();
-  if (!grasp.complete() || n == 0 || !valid_settings(settings))
-    return out;
+  if (!grasp.complete() || n == 0 || !valid_settings(settings)) return out;
   auto contact = [&](int i) -> decltype(auto) { return detail::wide_contact<W>(grasp.contact(i)); };
   Analysis problem(grasp);
   const Wrench<W> dsc = problem.norm().weights();
@@ -147,7 +146,7 @@ ForceClosure<GraspT> force_closure(const GraspT& grasp,
   detail::SmallLdlt<6, W> chol;
   const W trace = gram.trace();
   bool full = false;
-  const auto fill_gram = [&gram](W (&f)[6][6]) {
+  const auto fill_gram = [&gram](W(&f)[6][6]) {
     for (int r = 0; r < 6; ++r)
       for (int k = 0; k < 6; ++k) f[r][k] = gram(r, k);
   };
@@ -279,7 +278,8 @@ ForceClosure<GraspT> force_closure(const GraspT& grasp,
   if (!corrected || !std::is_same<S, W>::value) {  // |G x| of the reported (rounded) force
     gx.setZero();
     for (int i = 0; i < n; ++i)
-      gx += M::wrench(contact(i), Eigen::Matrix<W, D, 1>(out.internal_force.template segment<D>(i * D).template cast<W>()));
+      gx += M::wrench(contact(i),
+                      Eigen::Matrix<W, D, 1>(out.internal_force.template segment<D>(i * D).template cast<W>()));
   }
   out.residual = S(gx.norm());
   out.closure = out.status == Status::Ok && out.margin > S(10) * settings.tolerance;

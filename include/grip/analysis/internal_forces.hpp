@@ -37,7 +37,7 @@ struct ForceDecomposition {
   typename GraspT::ForceVector external;  ///< x_ext = W^-1 G^T lambda (grasp.unknowns()).
   typename GraspT::ForceVector internal;  ///< x_int = x - x_ext, in null(G).
   Wrench<typename GraspT::ScalarType> multipliers{Wrench<typename GraspT::ScalarType>::Zero()};  ///< lambda.
-  Status status{Status::InvalidInput};   ///< See above.
+  Status status{Status::InvalidInput};                                                           ///< See above.
 };
 
 /// Splits the contact force vector `x` (grasp.unknowns() values, in grip's order: docs/conventions.md) into
@@ -83,11 +83,12 @@ template <class GraspT>
 struct InternalForceBasis {
   /// unknowns x (unknowns - rank) matrix, columns orthonormal, G * basis = 0. At most
   /// max_unknowns columns (bounded storage, no heap); unknowns - 6 when G has rank 6.
-  using Matrix = Eigen::Matrix<typename GraspT::ScalarType, GraspT::unknowns_at_compile_time, Dynamic,
-                               Eigen::ColMajor, GraspT::max_unknowns, GraspT::max_unknowns>;
-  Matrix basis;                         ///< unknowns() - rank columns spanning null(G); none under InvalidInput.
-  int rank{0};                          ///< rank of G (numerical, relative tolerance rank_tolerance).
-  Status status{Status::InvalidInput};  ///< Ok (rank 6), Singular (rank < 6; basis still exact), InvalidInput (0 columns).
+  using Matrix = Eigen::Matrix<typename GraspT::ScalarType, GraspT::unknowns_at_compile_time, Dynamic, Eigen::ColMajor,
+                               GraspT::max_unknowns, GraspT::max_unknowns>;
+  Matrix basis;  ///< unknowns() - rank columns spanning null(G); none under InvalidInput.
+  int rank{0};   ///< rank of G (numerical, relative tolerance rank_tolerance).
+  Status status{
+      Status::InvalidInput};  ///< Ok (rank 6), Singular (rank < 6; basis still exact), InvalidInput (0 columns).
 };
 
 /// A basis of null(G) from a column-pivoted Householder QR of G^T (unknowns x 6): the last
@@ -169,11 +170,11 @@ InternalForceBasis<GraspT> internal_force_basis(const GraspT& grasp) {
 /// e.g. equal squeezes at contacts whose normals sum to zero with zero moment; 0 when t = 0).
 template <class GraspT>
 struct SqueezeSplit {
-  typename GraspT::ForceVector asked;  ///< t (grasp.unknowns()).
-  typename GraspT::ForceVector kept;   ///< t_int, in null(G).
-  typename GraspT::ForceVector lost;   ///< t_ext = t - t_int.
+  typename GraspT::ForceVector asked;            ///< t (grasp.unknowns()).
+  typename GraspT::ForceVector kept;             ///< t_int, in null(G).
+  typename GraspT::ForceVector lost;             ///< t_ext = t - t_int.
   typename GraspT::ScalarType kept_fraction{0};  ///< |t_int|_w / |t|_w, 0 if t = 0.
-  Status status{Status::InvalidInput};          ///< as decompose_forces.
+  Status status{Status::InvalidInput};           ///< as decompose_forces.
 };
 
 /// Splits the targets of F2 into their internal (kept) and external (lost) parts. No heap.

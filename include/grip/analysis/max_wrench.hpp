@@ -44,22 +44,21 @@ namespace grip {
 template <class GraspT>
 struct ResistibleWrench {
   using Scalar = typename GraspT::ScalarType;  ///< The grasp's scalar type.
-  Scalar scale{0};  ///< s*: w_ext = s* d is the largest resisted wrench along d (0: none).
+  Scalar scale{0};                             ///< s*: w_ext = s* d is the largest resisted wrench along d (0: none).
   /// Contact forces inside the cones, normal forces summing to the budget, that resist
   /// -G forces ~ scale * d (zero when scale is 0 by a certificate).
   typename GraspT::ForceVector forces;
-  Scalar residual{0};  ///< |G forces + scale d| (N and N m): the gap of the estimate.
-  int iterations{0};   ///< interior-point iterations used.
+  Scalar residual{0};                   ///< |G forces + scale d| (N and N m): the gap of the estimate.
+  int iterations{0};                    ///< interior-point iterations used.
   Status status{Status::InvalidInput};  ///< Ok, IterationLimit or InvalidInput (see above).
 };
 
 /// Largest s such that the external wrench s * direction can be balanced by contact forces
 /// inside the exact cones whose normal components sum to at most `budget` (N).
 template <class GraspT>
-ResistibleWrench<GraspT> max_resistible_wrench(const GraspT& grasp,
-                                               const Wrench<typename GraspT::ScalarType>& direction,
-                                               typename GraspT::ScalarType budget,
-                                               const ConicAnalysisSettings<typename GraspT::ScalarType>& settings = {}) {
+ResistibleWrench<GraspT> max_resistible_wrench(
+    const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& direction, typename GraspT::ScalarType budget,
+    const ConicAnalysisSettings<typename GraspT::ScalarType>& settings = {}) {
   using S = typename GraspT::ScalarType;
   using Analysis = detail::ConicAnalysis<GraspT>;
   using W = typename Analysis::W;  // the scalar of the computation (ScalarTraits<S>::Wide)

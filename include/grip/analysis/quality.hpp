@@ -42,10 +42,10 @@ namespace grip {
 template <class Scalar>
 struct GraspQuality {
   Wrench<Scalar> singular_values{Wrench<Scalar>::Zero()};  ///< sigma_1 >= ... >= sigma_6 >= 0.
-  Scalar sigma_min{0};      ///< sigma_6 (N per N, with the torque scale).
-  Scalar sigma_max{0};      ///< sigma_1.
-  Scalar volume{0};         ///< pi^3 / 6 * prod sigma_k: the 6-D volume of {G x : |x| <= 1}.
-  Scalar isotropy{0};       ///< sigma_6 / sigma_1 in [0, 1] (0 if G = 0).
+  Scalar sigma_min{0};                                     ///< sigma_6 (N per N, with the torque scale).
+  Scalar sigma_max{0};                                     ///< sigma_1.
+  Scalar volume{0};                     ///< pi^3 / 6 * prod sigma_k: the 6-D volume of {G x : |x| <= 1}.
+  Scalar isotropy{0};                   ///< sigma_6 / sigma_1 in [0, 1] (0 if G = 0).
   Status status{Status::InvalidInput};  ///< Ok or InvalidInput.
 };
 
@@ -69,9 +69,8 @@ Matrix6<typename GraspT::ScalarType> scaled_gram(const GraspT& grasp, typename G
 /// Singular values of G (moment rows scaled by 1/torque_scale) and the measures derived
 /// from them. O(n) plus one 6x6 eigen-decomposition. No heap.
 template <class GraspT>
-GraspQuality<typename GraspT::ScalarType> grasp_quality(const GraspT& grasp,
-                                                        typename GraspT::ScalarType torque_scale =
-                                                            typename GraspT::ScalarType(1)) {
+GraspQuality<typename GraspT::ScalarType> grasp_quality(
+    const GraspT& grasp, typename GraspT::ScalarType torque_scale = typename GraspT::ScalarType(1)) {
   using S = typename GraspT::ScalarType;
   GraspQuality<S> q;
   if (!grasp.complete() || !std::isfinite(torque_scale) || !(torque_scale > S(0))) return q;

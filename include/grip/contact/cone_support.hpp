@@ -59,7 +59,8 @@ template <class Derived>
 bool cone_input_valid(const Eigen::MatrixBase<Derived>& v) {
   using S = typename Derived::Scalar;
   int bad = 0;  // a count, not an early exit: the loop vectorises
-  for (Eigen::Index i = 0; i < v.size(); ++i) bad += static_cast<int>(!(std::abs(v(i)) <= ScalarTraits<S>::max_magnitude));
+  for (Eigen::Index i = 0; i < v.size(); ++i)
+    bad += static_cast<int>(!(std::abs(v(i)) <= ScalarTraits<S>::max_magnitude));
   return bad == 0;  // NaN fails the comparison, so it counts
 }
 

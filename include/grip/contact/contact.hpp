@@ -21,10 +21,10 @@ template <class Scalar>
 struct Contact {
   Vector3<Scalar> position{Vector3<Scalar>::Zero()};  ///< r_i (m), from the object's centre of mass.
   Vector3<Scalar> normal{Vector3<Scalar>::Zero()};    ///< a_i, unit, pointing INTO the object.
-  Scalar friction{0};            ///< Coulomb coefficient mu_i (dimensionless), >= 0.
-  Scalar torsional_friction{0};  ///< Soft-finger torsional coefficient mu_t (m): |m| <= mu_t f_n.
-  Scalar squeeze{0};             ///< s_i (N), the squeezing force magnitude of eq. 7-8, >= 0.
-  Scalar weight{1};              ///< w_i > 0, the weight of this contact in F2.
+  Scalar friction{0};                                 ///< Coulomb coefficient mu_i (dimensionless), >= 0.
+  Scalar torsional_friction{0};                       ///< Soft-finger torsional coefficient mu_t (m): |m| <= mu_t f_n.
+  Scalar squeeze{0};                                  ///< s_i (N), the squeezing force magnitude of eq. 7-8, >= 0.
+  Scalar weight{1};                                   ///< w_i > 0, the weight of this contact in F2.
   /// The largest normal force f_n the contact can apply (N): a finger's strength or a device
   /// channel's limit, kept by solve_constrained (the cone truncated at f_n <= max_normal_force);
   /// +infinity (the default) for none. The other solvers do not read it.
@@ -49,11 +49,10 @@ template <class Scalar>
 Status validate(const Contact<Scalar>& c) {
   using T = ScalarTraits<Scalar>;
   if (!detail::all_in_range(c.position) || !detail::all_in_range(c.normal)) return Status::InvalidInput;
-  if (!detail::in_range(c.friction) || !detail::in_range(c.torsional_friction) ||
-      !detail::in_range(c.squeeze) || !detail::in_range(c.weight))
+  if (!detail::in_range(c.friction) || !detail::in_range(c.torsional_friction) || !detail::in_range(c.squeeze) ||
+      !detail::in_range(c.weight))
     return Status::InvalidInput;
-  if (c.friction < Scalar(0) || c.torsional_friction < Scalar(0) || c.squeeze < Scalar(0) ||
-      c.weight < T::min_weight)
+  if (c.friction < Scalar(0) || c.torsional_friction < Scalar(0) || c.squeeze < Scalar(0) || c.weight < T::min_weight)
     return Status::InvalidInput;
   if (!(c.max_normal_force > Scalar(0)) ||
       (!detail::in_range(c.max_normal_force) && c.max_normal_force != std::numeric_limits<Scalar>::infinity()))

@@ -23,9 +23,9 @@ namespace grip {
 /// mu >= 0 finite (from_contact() of a validated Contact guarantees it).
 template <class Scalar>
 struct CoulombCone {
-  using ScalarType = Scalar;                         ///< the scalar type (float or double)
-  static constexpr int dim = 3;                      ///< size of the contact unknown
-  using Vector = Eigen::Matrix<Scalar, 3, 1>;        ///< a contact force f (N)
+  using ScalarType = Scalar;                   ///< the scalar type (float or double)
+  static constexpr int dim = 3;                ///< size of the contact unknown
+  using Vector = Eigen::Matrix<Scalar, 3, 1>;  ///< a contact force f (N)
 
   Vector3<Scalar> normal{Vector3<Scalar>::UnitZ()};  ///< a, unit, into the object
   Scalar mu{0};                                      ///< friction coefficient, >= 0

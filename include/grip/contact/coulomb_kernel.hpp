@@ -120,7 +120,7 @@ static_assert(static_cast<int>(ContactMode::Sticking) == 0 && static_cast<int>(C
 /// the pass to forces_beyond_range(), the exact component-by-component check.
 template <class S>
 constexpr S size_bound =
-    ScalarTraits<S>::max_magnitude * ScalarTraits<S>::max_magnitude * (S(1) - S(4) * ScalarTraits<S>::normal_tolerance);
+    ScalarTraits<S>::max_magnitude* ScalarTraits<S>::max_magnitude*(S(1) - S(4) * ScalarTraits<S>::normal_tolerance);
 
 /// The number of the 3n values of x that are NaN, Inf or beyond max_magnitude.
 template <class Scalar>
@@ -164,8 +164,13 @@ struct CoulombClassifyKernel {
   CoulombCounts counts;
 
   CoulombClassifyKernel(const S* t, int s, ContactMode* m, S absolute_tolerance, S relative_tolerance)
-      : table(t), stride(s), modes(m), tol_abs(P::set1(absolute_tolerance)), tol_rel(P::set1(relative_tolerance)),
-        zero(P::set1(S(0))), size(zero) {}
+      : table(t),
+        stride(s),
+        modes(m),
+        tol_abs(P::set1(absolute_tolerance)),
+        tol_rel(P::set1(relative_tolerance)),
+        zero(P::set1(S(0))),
+        size(zero) {}
 
   /// Contacts b .. b + width - 1, forces from `forces` (= x + 3 b); Masked: only the first
   /// k (1 <= k; k >= width is a whole block) are read, written and counted.
@@ -195,9 +200,7 @@ struct CoulombClassifyKernel {
   }
 
   /// True unless every lane's sum of |x|^2 is at most size_bound.
-  bool beyond() const {
-    return (size <= P::set1(size_bound<S>)).bits() != (1u << P::width) - 1u;
-  }
+  bool beyond() const { return (size <= P::set1(size_bound<S>)).bits() != (1u << P::width) - 1u; }
 };
 
 /// coulomb_all_inside's rule on one pack of contacts per step.
@@ -239,8 +242,7 @@ GRIP_ALWAYS_INLINE void run_blocks(Kernel& kernel, int b, const S* forces, int c
 /// (Simd false) one contact at a time; FixedN as classify_coulomb.
 template <int FixedN, bool NonNegativeSlack, bool Simd, class S>
 GRIP_ALWAYS_INLINE CoulombCounts classify_coulomb_pass(const S* table, int stride, const S* x, int n_runtime,
-                                                       S absolute_tolerance, S relative_tolerance,
-                                                       ContactMode* modes) {
+                                                       S absolute_tolerance, S relative_tolerance, ContactMode* modes) {
   const int n = FixedN > 0 ? FixedN : n_runtime;
   using One = CoulombClassifyKernel<ScalarPack<S>, NonNegativeSlack>;
   CoulombCounts c;
@@ -295,8 +297,7 @@ GRIP_ALWAYS_INLINE CoulombCounts classify_coulomb(const Scalar* table, int strid
   if (absolute_tolerance >= 0 && relative_tolerance >= 0)
     return classify_coulomb_pass<FixedN, true, true>(table, stride, x, n, absolute_tolerance, relative_tolerance,
                                                      modes);
-  return classify_coulomb_pass<FixedN, false, true>(table, stride, x, n, absolute_tolerance, relative_tolerance,
-                                                    modes);
+  return classify_coulomb_pass<FixedN, false, true>(table, stride, x, n, absolute_tolerance, relative_tolerance, modes);
 }
 
 template <class Scalar>

@@ -17,9 +17,9 @@ namespace grip {
 /// cone_support.hpp (outside, margins cone_margin_floor(), projection 0).
 template <class Scalar>
 struct CompressionCone {
-  using ScalarType = Scalar;                         ///< the scalar type (float or double)
-  static constexpr int dim = 1;                      ///< size of the contact unknown
-  using Vector = Eigen::Matrix<Scalar, 1, 1>;        ///< the normal magnitude x (N)
+  using ScalarType = Scalar;                   ///< the scalar type (float or double)
+  static constexpr int dim = 1;                ///< size of the contact unknown
+  using Vector = Eigen::Matrix<Scalar, 1, 1>;  ///< the normal magnitude x (N)
 
   Vector3<Scalar> normal{Vector3<Scalar>::UnitZ()};  ///< a, unit, into the object (for reports)
 
@@ -36,9 +36,7 @@ struct CompressionCone {
   /// True iff x >= 0 (false for invalid x).
   bool is_inside(const Vector& x) const { return margin(x) >= Scalar(0); }
   /// x (N), or cone_margin_floor() for invalid x.
-  Scalar margin(const Vector& x) const {
-    return detail::cone_input_valid(x) ? x(0) : cone_margin_floor<Scalar>();
-  }
+  Scalar margin(const Vector& x) const { return detail::cone_input_valid(x) ? x(0) : cone_margin_floor<Scalar>(); }
   /// 1 (x > 0), 0 (x = 0), cone_margin_floor() (x < 0 or invalid).
   Scalar relative_margin(const Vector& x) const {
     if (!detail::cone_input_valid(x) || x(0) < Scalar(0)) return cone_margin_floor<Scalar>();

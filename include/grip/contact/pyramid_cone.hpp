@@ -65,12 +65,12 @@ class PyramidCone {
   /// The inscribed/circumscribed (per Fit) pyramid of contact c: a = c.normal, mu = c.friction.
   static PyramidCone from_contact(const Contact<Scalar>& c) { return PyramidCone(c.normal, c.friction, 0); }
 
-  const Vector3<Scalar>& normal() const { return normal_; }   ///< a
-  Scalar mu() const { return mu_; }                           ///< the nominal friction coefficient
-  int half_step() const { return half_; }                     ///< 0 or 1
+  const Vector3<Scalar>& normal() const { return normal_; }     ///< a
+  Scalar mu() const { return mu_; }                             ///< the nominal friction coefficient
+  int half_step() const { return half_; }                       ///< 0 or 1
   const TangentBasis<Scalar>& basis() const { return basis_; }  ///< (t1, t2)
-  Scalar inner_radius() const { return r_; }                  ///< r (see class comment)
-  Scalar outer_radius() const { return big_r_; }              ///< R (see class comment)
+  Scalar inner_radius() const { return r_; }                    ///< r (see class comment)
+  Scalar outer_radius() const { return big_r_; }                ///< R (see class comment)
 
   /// f_n = f.a (N).
   Scalar normal_part(const Vector& f) const { return f.dot(normal_); }
@@ -137,7 +137,7 @@ class PyramidCone {
     const Scalar scale = Scalar(1) / std::sqrt(Scalar(1) + big_r_ * big_r_);
     for (std::size_t j = 0; j < detail::idx(K); ++j)
       e[j] = scale * normal_ + (scale * big_r_) * (angle_cos(2 * static_cast<int>(j) + half_) * basis_.t1 +
-                                                    angle_sin(2 * static_cast<int>(j) + half_) * basis_.t2);
+                                                   angle_sin(2 * static_cast<int>(j) + half_) * basis_.t2);
     return detail::project_onto_edge_cone(f, e);
   }
 

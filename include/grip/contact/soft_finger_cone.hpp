@@ -64,10 +64,10 @@ enum class SoftFingerNorm {
 /// Invalid input follows cone_support.hpp. Preconditions: |a| = 1, mu, mu_t >= 0 finite.
 template <class Scalar, SoftFingerNorm Norm = SoftFingerNorm::Elliptic>
 struct SoftFingerCone {
-  using ScalarType = Scalar;                         ///< the scalar type (float or double)
-  static constexpr int dim = 4;                      ///< size of the contact unknown (f, m)
-  static constexpr SoftFingerNorm norm = Norm;       ///< the coupling of force and moment
-  using Vector = Eigen::Matrix<Scalar, 4, 1>;        ///< (f (N), m (N m))
+  using ScalarType = Scalar;                    ///< the scalar type (float or double)
+  static constexpr int dim = 4;                 ///< size of the contact unknown (f, m)
+  static constexpr SoftFingerNorm norm = Norm;  ///< the coupling of force and moment
+  using Vector = Eigen::Matrix<Scalar, 4, 1>;   ///< (f (N), m (N m))
   /// The norm of dual(): Elliptic -> Elliptic, Linear <-> Decoupled.
   static constexpr SoftFingerNorm dual_norm = Norm == SoftFingerNorm::Linear      ? SoftFingerNorm::Decoupled
                                               : Norm == SoftFingerNorm::Decoupled ? SoftFingerNorm::Linear
@@ -92,9 +92,7 @@ struct SoftFingerCone {
   /// f_n = f.a (N).
   Scalar normal_part(const Vector& x) const { return x.template head<3>().dot(normal); }
   /// f_t = f - (f.a) a (N).
-  Vector3<Scalar> tangential_part(const Vector& x) const {
-    return x.template head<3>() - normal_part(x) * normal;
-  }
+  Vector3<Scalar> tangential_part(const Vector& x) const { return x.template head<3>() - normal_part(x) * normal; }
   /// |f_t| (N).
   Scalar tangential_norm(const Vector& x) const { return tangential_part(x).norm(); }
   /// The torsional moment m (N m).
@@ -197,9 +195,7 @@ struct SoftFingerCone {
   /// The dual cone {y : y.x >= 0 for all x in the cone}, pairing (f, m) with (v, w) as
   /// f.v + m w: Elliptic(mu, mu_t) -> Elliptic(1/mu, 1/mu_t); Linear(mu, mu_t) <->
   /// Decoupled(1/mu, 1/mu_t). A zero coefficient maps to cone_half_space_mu() and back.
-  DualType dual() const {
-    return DualType{normal, detail::dual_coefficient(mu), detail::dual_coefficient(mu_t)};
-  }
+  DualType dual() const { return DualType{normal, detail::dual_coefficient(mu), detail::dual_coefficient(mu_t)}; }
 
  private:
   /// A coefficient counts as positive only when its square does not underflow (a denormal mu
@@ -254,7 +250,10 @@ struct SoftFingerCone {
       const Scalar l = mid / (Scalar(1) - mid);
       Scalar tl, ql;
       const Scalar sl = at(l, tl, ql);
-      if ((Scalar(1) - l) * sl - s > Scalar(0)) lo = mid; else hi = mid;
+      if ((Scalar(1) - l) * sl - s > Scalar(0))
+        lo = mid;
+      else
+        hi = mid;
     }
     const Scalar mid = detail::representation_midpoint(lo, hi);
     Scalar tl, ql;

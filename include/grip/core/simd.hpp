@@ -249,13 +249,16 @@ struct PackD8 {
     _mm256_mask_storeu_epi32(p, low_lanes(k), code);
   }
   template <class Out>
-  static void store_codes(Out* p, Mask ones, Mask twos) { store_codes(p, 8, ones, twos); }
+  static void store_codes(Out* p, Mask ones, Mask twos) {
+    store_codes(p, 8, ones, twos);
+  }
   static PackD8 load(const double* p) { return {_mm512_loadu_pd(p)}; }
   static PackD8 set1(double s) { return {_mm512_set1_pd(s)}; }
   void store(double* p) const { _mm512_storeu_pd(p, v); }
   double sum() const {  // masked extracts: GCC 12 warns on the undefined source of the unmasked ones
     const __m256d z = _mm256_setzero_pd();
-    return sum_lanes(_mm256_add_pd(_mm512_mask_extractf64x4_pd(z, 0xFF, v, 0), _mm512_mask_extractf64x4_pd(z, 0xFF, v, 1)));
+    return sum_lanes(
+        _mm256_add_pd(_mm512_mask_extractf64x4_pd(z, 0xFF, v, 0), _mm512_mask_extractf64x4_pd(z, 0xFF, v, 1)));
   }
   /// out[e] = a[e].sum() for 0 <= e < count (count a multiple of 8): eight sums at a time by a
   /// transposing tree of adds, 21 instructions where eight sum() calls take about 64.
@@ -267,7 +270,8 @@ struct PackD8 {
       return _mm512_add_pd(_mm512_mask_unpacklo_pd(z, 0xFF, x, y), _mm512_mask_unpackhi_pd(z, 0xFF, x, y));
     };
     const auto halve = [&](__m512d x, __m512d y) {  // 128-bit blocks: x0+x1, x2+x3, y0+y1, y2+y3
-      return _mm512_add_pd(_mm512_mask_shuffle_f64x2(z, 0xFF, x, y, 0x88), _mm512_mask_shuffle_f64x2(z, 0xFF, x, y, 0xDD));
+      return _mm512_add_pd(_mm512_mask_shuffle_f64x2(z, 0xFF, x, y, 0x88),
+                           _mm512_mask_shuffle_f64x2(z, 0xFF, x, y, 0xDD));
     };
     for (int e = 0; e < count; e += 8) {
       const __m512d t = halve(pair(a[e].v, a[e + 1].v), pair(a[e + 2].v, a[e + 3].v));
@@ -335,7 +339,8 @@ struct PackD4 {
   static void sum_each(const PackD4* a, int count, double* out) {
     for (int e = 0; e < count; e += 4) {
       const __m256d t0 = _mm256_hadd_pd(a[e].v, a[e + 1].v), t1 = _mm256_hadd_pd(a[e + 2].v, a[e + 3].v);
-      _mm256_storeu_pd(out + e, _mm256_add_pd(_mm256_permute2f128_pd(t0, t1, 0x20), _mm256_permute2f128_pd(t0, t1, 0x31)));
+      _mm256_storeu_pd(out + e,
+                       _mm256_add_pd(_mm256_permute2f128_pd(t0, t1, 0x20), _mm256_permute2f128_pd(t0, t1, 0x31)));
     }
   }
   friend PackD4 operator+(PackD4 a, PackD4 b) { return {_mm256_add_pd(a.v, b.v)}; }

@@ -30,14 +30,10 @@ template <class Scalar>
 using Wrench = Eigen::Matrix<Scalar, 6, 1>;
 
 /// `count * per_item` at compile time, or Dynamic if count is Dynamic.
-constexpr int times_or_dynamic(int count, int per_item) {
-  return count == Dynamic ? Dynamic : count * per_item;
-}
+constexpr int times_or_dynamic(int count, int per_item) { return count == Dynamic ? Dynamic : count * per_item; }
 
 /// `offset + count` at compile time, or Dynamic if count is Dynamic.
-constexpr int plus_or_dynamic(int offset, int count) {
-  return count == Dynamic ? Dynamic : offset + count;
-}
+constexpr int plus_or_dynamic(int offset, int count) { return count == Dynamic ? Dynamic : offset + count; }
 
 /// The skew-symmetric matrix `[r]x` with `[r]x v = r x v` (the paper's R_i, eq. 3).
 template <class Scalar>

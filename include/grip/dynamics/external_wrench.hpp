@@ -28,8 +28,7 @@ Wrench<Scalar> gravity_wrench(Scalar mass, const Vector3<Scalar>& g) {
 /// real external wrench makes Newton-Euler a statics problem: the contacts must balance
 /// the sum (docs/conventions.md: G f + w_ext = 0).
 template <class Scalar>
-Wrench<Scalar> inertial_wrench(const RigidBody<Scalar>& body, const Vector3<Scalar>& a,
-                               const Vector3<Scalar>& alpha) {
+Wrench<Scalar> inertial_wrench(const RigidBody<Scalar>& body, const Vector3<Scalar>& a, const Vector3<Scalar>& alpha) {
   const Matrix3<Scalar> inertia = body.world_inertia();
   const Vector3<Scalar>& omega = body.angular_velocity;
   Wrench<Scalar> w;  // fixed-size halves: see penalty_wrench()
@@ -45,7 +44,7 @@ struct ExternalWrench {
   Wrench<Scalar> gravity{Wrench<Scalar>::Zero()};    ///< [m g; 0]
   Wrench<Scalar> inertial{Wrench<Scalar>::Zero()};   ///< [-m a; -(I alpha + omega x I omega)]
   Wrench<Scalar> obstacles{Wrench<Scalar>::Zero()};  ///< sum of penalty_wrench()
-  Status status{Status::InvalidInput};  ///< Ok, or InvalidInput (then every term is zero)
+  Status status{Status::InvalidInput};               ///< Ok, or InvalidInput (then every term is zero)
 
   /// The sum of the terms: the paper's (F_ext, N_ext), i.e. grip's w_ext.
   Wrench<Scalar> total() const { return gravity + inertial + obstacles; }

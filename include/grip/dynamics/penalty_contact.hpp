@@ -21,8 +21,8 @@ template <class Scalar>
 struct PenaltyContact {
   Vector3<Scalar> point{Vector3<Scalar>::Zero()};   ///< r (m), from the centre of mass
   Vector3<Scalar> normal{Vector3<Scalar>::Zero()};  ///< n, unit, INTO the object
-  Scalar depth{0};       ///< interpenetration d (m); <= 0: touching or apart, no force
-  Scalar depth_rate{0};  ///< d' (m/s), > 0 while the object moves deeper into the obstacle
+  Scalar depth{0};                                  ///< interpenetration d (m); <= 0: touching or apart, no force
+  Scalar depth_rate{0};                             ///< d' (m/s), > 0 while the object moves deeper into the obstacle
 };
 
 /// Spring-damper law of a penalty contact.

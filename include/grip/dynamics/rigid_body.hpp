@@ -30,12 +30,12 @@ namespace grip {
 /// ScalarTraits::normal_tolerance.
 template <class Scalar>
 struct RigidBody {
-  Scalar mass{1};                                                            ///< m (kg)
-  Vector3<Scalar> principal_inertia{Vector3<Scalar>::Ones()};                ///< body-frame I (kg m^2)
-  Vector3<Scalar> position{Vector3<Scalar>::Zero()};                         ///< centre of mass (m)
+  Scalar mass{1};                                                                ///< m (kg)
+  Vector3<Scalar> principal_inertia{Vector3<Scalar>::Ones()};                    ///< body-frame I (kg m^2)
+  Vector3<Scalar> position{Vector3<Scalar>::Zero()};                             ///< centre of mass (m)
   Eigen::Quaternion<Scalar> orientation{Eigen::Quaternion<Scalar>::Identity()};  ///< body to world
-  Vector3<Scalar> linear_velocity{Vector3<Scalar>::Zero()};                  ///< v (m/s), world
-  Vector3<Scalar> angular_velocity{Vector3<Scalar>::Zero()};                 ///< omega (rad/s), world
+  Vector3<Scalar> linear_velocity{Vector3<Scalar>::Zero()};                      ///< v (m/s), world
+  Vector3<Scalar> angular_velocity{Vector3<Scalar>::Zero()};                     ///< omega (rad/s), world
 
   /// The rotation matrix R of `orientation` (body to world).
   Matrix3<Scalar> rotation() const { return orientation.toRotationMatrix(); }
@@ -69,9 +69,9 @@ struct RigidBody {
 template <class Scalar>
 Status validate(const RigidBody<Scalar>& b) {
   using T = ScalarTraits<Scalar>;
-  if (!detail::in_range(b.mass) || !detail::all_in_range(b.principal_inertia) ||
-      !detail::all_in_range(b.position) || !detail::all_in_range(b.orientation.coeffs()) ||
-      !detail::all_in_range(b.linear_velocity) || !detail::all_in_range(b.angular_velocity))
+  if (!detail::in_range(b.mass) || !detail::all_in_range(b.principal_inertia) || !detail::all_in_range(b.position) ||
+      !detail::all_in_range(b.orientation.coeffs()) || !detail::all_in_range(b.linear_velocity) ||
+      !detail::all_in_range(b.angular_velocity))
     return Status::InvalidInput;
   if (!(b.mass > Scalar(0))) return Status::InvalidInput;
   const Vector3<Scalar>& i = b.principal_inertia;
@@ -129,7 +129,8 @@ Vector3<Scalar> solid_cylinder_inertia(Scalar m, Scalar r, Scalar h) {
 /// I_x = m (h_y^2 + h_z^2) / 3, and so on (kg m^2).
 template <class Scalar>
 Vector3<Scalar> solid_box_inertia(Scalar m, const Vector3<Scalar>& h) {
-  return Vector3<Scalar>(m * (h.y() * h.y() + h.z() * h.z()) / Scalar(3), m * (h.x() * h.x() + h.z() * h.z()) / Scalar(3),
+  return Vector3<Scalar>(m * (h.y() * h.y() + h.z() * h.z()) / Scalar(3),
+                         m * (h.x() * h.x() + h.z() * h.z()) / Scalar(3),
                          m * (h.x() * h.x() + h.y() * h.y()) / Scalar(3));
 }
 

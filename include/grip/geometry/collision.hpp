@@ -118,8 +118,8 @@ Status detect_contacts(const HandCollisionModel<Scalar, Samples>& hand, const Sp
 /// reference of the descent; same result, since every sphere contains its descendants).
 template <class Scalar, int Samples, int Capacity>
 Status detect_contacts_exhaustive(const HandCollisionModel<Scalar, Samples>& hand,
-                                  const SphericalOctree<Scalar, Capacity>& object,
-                                  const Isometry3<Scalar>& object_pose, HandContacts<Scalar>& out);
+                                  const SphericalOctree<Scalar, Capacity>& object, const Isometry3<Scalar>& object_pose,
+                                  HandContacts<Scalar>& out);
 
 // ---------------------------------------------------------------------------------------------
 // Definitions.
@@ -233,8 +233,7 @@ void for_phalanges_in_reach(const HandCollisionModel<Scalar, Samples>& hand,
     if (!overlap(hand.finger_sphere(f), root_world)) continue;
     const int first = HandCollisionModel<Scalar, Samples>::first_phalanx(f);
     for (int k = first; k < first + HandCollisionModel<Scalar, Samples>::phalanges_of(f); ++k)
-      if (((mask & hand.bodies()) >> k & 1u) && overlap(hand.phalanx_node(k, 0), root_world))
-        per_phalanx(k, to_object);
+      if (((mask & hand.bodies()) >> k & 1u) && overlap(hand.phalanx_node(k, 0), root_world)) per_phalanx(k, to_object);
   }
 }
 
@@ -250,24 +249,24 @@ Status detect_contacts(const HandCollisionModel<Scalar, Samples>& hand, const Sp
   Scalar margin = Scalar(0);
   for (int k = 0; k < hand_body_count; ++k) margin = std::max(margin, detail::reach_margin(hand, k, settings));
   detail::JointSample<Scalar> joint;
-  detail::for_phalanges_in_reach(hand, octree, object_pose, margin, phalanx_mask,
-                                 [&](int k, const Isometry3<Scalar>& to_object) {
-    const detail::PhalanxAxis<Scalar> ax = detail::object_axis(hand, k, to_object);
-    detail::SampleField<Scalar, Samples> s;
-    detail::MarkReach<Scalar, Samples> mark{&s};
-    if constexpr (detail::has_bounded_query<Field, Scalar>::value) {  // stage 2: the field's own hierarchy
-      s.reach.fill(true);
-      mark.marked = Samples;
-    } else {
-      detail::descend_from_root(
-          detail::SegmentQuery<Scalar>::make(ax.a, ax.b, ax.radius + detail::reach_margin(hand, k, settings), Samples),
-          octree, mark);
-    }
-    if (mark.marked > 0)
-      detail::emit_contacts(
-          field, ax, s, k, settings, object_pose, out,
-          [&octree](const Vector3<Scalar>& x) { return detail::in_solid_leaf(octree, x); }, joint);
-  });
+  detail::for_phalanges_in_reach(
+      hand, octree, object_pose, margin, phalanx_mask, [&](int k, const Isometry3<Scalar>& to_object) {
+        const detail::PhalanxAxis<Scalar> ax = detail::object_axis(hand, k, to_object);
+        detail::SampleField<Scalar, Samples> s;
+        detail::MarkReach<Scalar, Samples> mark{&s};
+        if constexpr (detail::has_bounded_query<Field, Scalar>::value) {  // stage 2: the field's own hierarchy
+          s.reach.fill(true);
+          mark.marked = Samples;
+        } else {
+          detail::descend_from_root(detail::SegmentQuery<Scalar>::make(
+                                        ax.a, ax.b, ax.radius + detail::reach_margin(hand, k, settings), Samples),
+                                    octree, mark);
+        }
+        if (mark.marked > 0)
+          detail::emit_contacts(
+              field, ax, s, k, settings, object_pose, out,
+              [&octree](const Vector3<Scalar>& x) { return detail::in_solid_leaf(octree, x); }, joint);
+      });
   return Status::Ok;
 }
 
@@ -281,7 +280,8 @@ Status detect_contacts_direct(const HandCollisionModel<Scalar, Samples>& hand, c
       !field.bounding_box(lo, hi) || !lo.allFinite() || !hi.allFinite())
     return Status::InvalidInput;
   const Isometry3<Scalar> to_object = object_pose.inverse(Eigen::Isometry);
-  const BoundingSphere<Scalar> bounds{object_pose * Vector3<Scalar>((lo + hi) / Scalar(2)), (hi - lo).norm() / Scalar(2)};
+  const BoundingSphere<Scalar> bounds{object_pose * Vector3<Scalar>((lo + hi) / Scalar(2)),
+                                      (hi - lo).norm() / Scalar(2)};
   detail::JointSample<Scalar> joint;
   for (int k = 0; k < hand_body_count; ++k) {
     if (!((phalanx_mask & hand.bodies()) >> k & 1u)) continue;
@@ -331,20 +331,20 @@ Status detect_contacts(const HandCollisionModel<Scalar, Samples>& hand, const Sp
   out.count = 0;
   if (!hand.posed() || object.tree().empty() || !detail::rigid_pose_ok(object_pose)) return Status::InvalidInput;
   detail::PlaneEstimates<Scalar, Samples, Capacity> q{&object, {}, {}, {}};
-  detail::for_phalanges_in_reach(hand, object, object_pose, Scalar(0), phalanx_mask,
-                                 [&](int k, const Isometry3<Scalar>& to_object) {
-    detail::reset_estimates(q, hand, k, to_object);
-    const Scalar r = hand.capsule(k).radius;
-    detail::descend_from_root(detail::SegmentQuery<Scalar>::make(q.x[0], q.x[Samples - 1], r, Samples), object, q);
-    detail::append_combined(q, r, object_pose, k, out);
-  });
+  detail::for_phalanges_in_reach(
+      hand, object, object_pose, Scalar(0), phalanx_mask, [&](int k, const Isometry3<Scalar>& to_object) {
+        detail::reset_estimates(q, hand, k, to_object);
+        const Scalar r = hand.capsule(k).radius;
+        detail::descend_from_root(detail::SegmentQuery<Scalar>::make(q.x[0], q.x[Samples - 1], r, Samples), object, q);
+        detail::append_combined(q, r, object_pose, k, out);
+      });
   return Status::Ok;
 }
 
 template <class Scalar, int Samples, int Capacity>
 Status detect_contacts_exhaustive(const HandCollisionModel<Scalar, Samples>& hand,
-                                  const SphericalOctree<Scalar, Capacity>& object,
-                                  const Isometry3<Scalar>& object_pose, HandContacts<Scalar>& out) {
+                                  const SphericalOctree<Scalar, Capacity>& object, const Isometry3<Scalar>& object_pose,
+                                  HandContacts<Scalar>& out) {
   out.count = 0;
   if (!hand.posed() || object.tree().empty() || !detail::rigid_pose_ok(object_pose)) return Status::InvalidInput;
   const Isometry3<Scalar> to_object = object_pose.inverse(Eigen::Isometry);

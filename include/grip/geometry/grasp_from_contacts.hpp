@@ -31,29 +31,27 @@ struct ContactParameters {
                                                   {Scalar(1e4), Scalar(1e4), Scalar(1e4), Scalar(1e4)},
                                                   {Scalar(1e4), Scalar(1e4), Scalar(1e4), Scalar(1e4)},
                                                   {Scalar(1e4), Scalar(1e4), Scalar(1e4), Scalar(1e4)}}};
-  Scalar friction{Scalar(0.8)};       ///< mu_i (dimensionless), skin on a dry object.
-  Scalar torsional_friction{0};       ///< mu_t (m), for SoftFinger grasps.
-  Scalar weight{1};                   ///< w_i in F2.
+  Scalar friction{Scalar(0.8)};  ///< mu_i (dimensionless), skin on a dry object.
+  Scalar torsional_friction{0};  ///< mu_t (m), for SoftFinger grasps.
+  Scalar weight{1};              ///< w_i in F2.
 
   /// K_i of a digit's phalanx or metacarpal.
-  Scalar stiffness_of(Finger f, Phalanx p) const {
-    return stiffness[detail::idx(f)][detail::idx(p)];
-  }
+  Scalar stiffness_of(Finger f, Phalanx p) const { return stiffness[detail::idx(f)][detail::idx(p)]; }
 };
 
 /// The solver's contact for one hand contact: position r_i = point - center_of_mass (world
 /// axes, m), normal a_i (into the object), friction and weight from `params`, squeeze
 /// s_i = d_i K_i dr_i. Check the result with validate(Contact) (fill_grasp does).
 template <class Scalar>
-Contact<Scalar> to_contact(const HandContact<Scalar>& hc, const typename ContactParameters<Scalar>::Point& center_of_mass,
+Contact<Scalar> to_contact(const HandContact<Scalar>& hc,
+                           const typename ContactParameters<Scalar>::Point& center_of_mass,
                            const ContactParameters<Scalar>& params) {
   Contact<Scalar> c;
   c.position = hc.point - center_of_mass;
   c.normal = hc.normal;
   c.friction = params.friction;
   c.torsional_friction = params.torsional_friction;
-  c.squeeze = squeeze(params.contribution(hc.finger, hc.phalanx), params.stiffness_of(hc.finger, hc.phalanx),
-                      hc.depth);
+  c.squeeze = squeeze(params.contribution(hc.finger, hc.phalanx), params.stiffness_of(hc.finger, hc.phalanx), hc.depth);
   c.weight = params.weight;
   return c;
 }
@@ -64,7 +62,8 @@ Contact<Scalar> to_contact(const HandContact<Scalar>& hc, const typename Contact
 /// there are more contacts than MaxN; the grasp then holds the contacts added before the
 /// failure. Ok otherwise. Ready for solve_kkt / solve_range_space.
 template <class Scalar, int PerPhalanx, class Model, int MaxN>
-Status fill_grasp(const HandContacts<Scalar, PerPhalanx>& contacts, const typename ContactParameters<Scalar>::Point& center_of_mass,
+Status fill_grasp(const HandContacts<Scalar, PerPhalanx>& contacts,
+                  const typename ContactParameters<Scalar>::Point& center_of_mass,
                   const ContactParameters<Scalar>& params, Grasp<Dynamic, Model, Scalar, MaxN>& grasp) {
   grasp.clear();
   if (!center_of_mass.allFinite()) return Status::InvalidInput;

@@ -83,8 +83,10 @@ Status close_hand_with(const HandDimensions<Scalar>& dims, const Eigen::Transfor
       if (reached)
         for (int it = 0; it < 10; ++it) {
           const Scalar mid = (lo + hi) / Scalar(2);
-          if (depth_at(mid) >= target_depth) hi = mid;
-          else lo = mid;
+          if (depth_at(mid) >= target_depth)
+            hi = mid;
+          else
+            lo = mid;
         }
       angles(j) = hi;
     }
@@ -99,10 +101,10 @@ Status close_hand_with(const HandDimensions<Scalar>& dims, const Eigen::Transfor
 /// joint reaches its upper limit (dims.joint_upper_limit; for the 20 joints dims.limits).
 /// `angles` is the paper's 14 flexions (JointAngles) or the whole hand's 20 joints
 /// (HandJoints): then only the flexions close, the thumb's CMC and the abductions stay as
-/// given, and the palm is part of the hand (it does not stop a digit). Contacts from detect_contacts() with the object's
-/// octree and distance field `field` (exact narrow phase). Statuses: InvalidInput for bad
-/// dimensions, poses, angles, a step <= 0 or target depth <= 0, or an empty octree; Ok
-/// otherwise. Uses a HandCollisionModel of `Samples` samples per phalanx (no heap).
+/// given, and the palm is part of the hand (it does not stop a digit). Contacts from detect_contacts() with the
+/// object's octree and distance field `field` (exact narrow phase). Statuses: InvalidInput for bad dimensions, poses,
+/// angles, a step <= 0 or target depth <= 0, or an empty octree; Ok otherwise. Uses a HandCollisionModel of `Samples`
+/// samples per phalanx (no heap).
 template <int Samples = 8, class Scalar, int Capacity, class Field, class Joints>
 Status close_hand(const HandDimensions<Scalar>& dims, const Eigen::Transform<Scalar, 3, Eigen::Isometry>& wrist,
                   const SphericalOctree<Scalar, Capacity>& object, const Field& field,

@@ -165,8 +165,7 @@ class HandCollisionModel {
   }
   static constexpr Spans spans = make_spans();
 
-  std::array<std::array<BoundingSphere<Scalar>, detail::idx(nodes_per_phalanx)>,
-             hand_body_count> nodes_{};
+  std::array<std::array<BoundingSphere<Scalar>, detail::idx(nodes_per_phalanx)>, hand_body_count> nodes_{};
   std::array<PhalanxCapsule<Scalar>, hand_body_count> capsules_{};
   std::array<BoundingSphere<Scalar>, group_count> fingers_{};
   BoundingSphere<Scalar> hand_{};

@@ -24,13 +24,13 @@ namespace grip {
 /// point of the primitive x is deepest in, which may lie inside another; see shape.hpp.)
 template <class Scalar>
 struct HandContact {
-  Finger finger{Finger::Thumb};                     ///< Which digit.
-  Phalanx phalanx{Phalanx::Proximal};               ///< Which phalanx.
-  Vector3<Scalar> point{Vector3<Scalar>::Zero()};   ///< Contact point on the object's surface (m), world.
-  Vector3<Scalar> normal{Vector3<Scalar>::UnitZ()}; ///< Unit normal INTO the object (the push direction), world.
-  Scalar depth{0};                                  ///< Interpenetration dr_i (m), > 0.
-  int samples{0};    ///< How many of the phalanx's sample spheres penetrate and belong to this contact.
-  int sample{0};     ///< The sample the contact was found from (0 at the base .. Samples - 1 at the tip).
+  Finger finger{Finger::Thumb};                      ///< Which digit.
+  Phalanx phalanx{Phalanx::Proximal};                ///< Which phalanx.
+  Vector3<Scalar> point{Vector3<Scalar>::Zero()};    ///< Contact point on the object's surface (m), world.
+  Vector3<Scalar> normal{Vector3<Scalar>::UnitZ()};  ///< Unit normal INTO the object (the push direction), world.
+  Scalar depth{0};                                   ///< Interpenetration dr_i (m), > 0.
+  int samples{0};            ///< How many of the phalanx's sample spheres penetrate and belong to this contact.
+  int sample{0};             ///< The sample the contact was found from (0 at the base .. Samples - 1 at the tip).
   Scalar axis_parameter{0};  ///< Where on the phalanx axis the contact's depth is measured, 0 base .. 1 tip.
 };
 
@@ -39,10 +39,10 @@ struct HandContact {
 template <class Scalar, int PerPhalanx = 1>
 struct HandContacts {
   static_assert(PerPhalanx >= 1 && PerPhalanx <= 8, "1 to 8 contacts per phalanx");
-  static constexpr int per_phalanx = PerPhalanx;                      ///< Most contacts of one phalanx.
-  static constexpr int capacity = hand_body_count * PerPhalanx;       ///< Most contacts of a frame.
+  static constexpr int per_phalanx = PerPhalanx;                   ///< Most contacts of one phalanx.
+  static constexpr int capacity = hand_body_count * PerPhalanx;    ///< Most contacts of a frame.
   std::array<HandContact<Scalar>, detail::idx(capacity)> items{};  ///< items[0 .. count).
-  int count{0};                                                       ///< Number of contacts.
+  int count{0};                                                    ///< Number of contacts.
 
   /// Contact i. Precondition (GRIP_ASSERT): 0 <= i < count.
   const HandContact<Scalar>& operator[](int i) const {
@@ -52,8 +52,7 @@ struct HandContacts {
   /// The deepest contact of a finger's phalanx, or nullptr if it has none.
   const HandContact<Scalar>* find(Finger f, Phalanx p) const {
     for (int i = 0; i < count; ++i)
-      if (items[detail::idx(i)].finger == f && items[detail::idx(i)].phalanx == p)
-        return &items[detail::idx(i)];
+      if (items[detail::idx(i)].finger == f && items[detail::idx(i)].phalanx == p) return &items[detail::idx(i)];
     return nullptr;
   }
   /// Number of contacts of a finger's phalanx.

@@ -81,11 +81,11 @@ NumberParse parse_coordinate(const char* b, const char* e, Scalar& out) {
 
 /// True if [b, e) is a statement the OBJ specification defines but grip ignores.
 inline bool obj_ignored_keyword(const char* b, const char* e) {
-  static constexpr const char* words[] = {"vn",   "vt",       "vp",       "o",     "g",         "s",         "usemtl",
-                                          "mtllib", "l",      "p",        "cstype", "deg",      "bmat",      "step",
-                                          "curv", "curv2",    "surf",     "parm",  "trim",      "hole",      "scrv",
-                                          "sp",   "end",      "con",      "mg",    "bevel",     "c_interp",  "d_interp",
-                                          "lod",  "maplib",   "usemap",   "shadow_obj", "trace_obj", "ctech", "stech"};
+  static constexpr const char* words[] = {
+      "vn",       "vt",     "vp",     "o",      "g",          "s",         "usemtl", "mtllib", "l",
+      "p",        "cstype", "deg",    "bmat",   "step",       "curv",      "curv2",  "surf",   "parm",
+      "trim",     "hole",   "scrv",   "sp",     "end",        "con",       "mg",     "bevel",  "c_interp",
+      "d_interp", "lod",    "maplib", "usemap", "shadow_obj", "trace_obj", "ctech",  "stech"};
   for (const char* w : words)
     if (equals_word(b, e, w)) return true;
   return false;
@@ -149,7 +149,8 @@ MeshReport read_stl_binary(const char* data, std::size_t size, TriangleMesh<Scal
   const long declared = static_cast<long>(n);
   const std::uint64_t need = 84 + 50 * static_cast<std::uint64_t>(n);
   if (need > size) return refuse_read(mesh, MeshIssue::Truncated, 0, -1, declared);
-  if (n > static_cast<std::uint32_t>(Mesh::max_triangles)) return refuse_read(mesh, MeshIssue::TooManyTriangles, 0, -1, declared);
+  if (n > static_cast<std::uint32_t>(Mesh::max_triangles))
+    return refuse_read(mesh, MeshIssue::TooManyTriangles, 0, -1, declared);
   if (need < size) return refuse_read(mesh, MeshIssue::Malformed, 0, -1, declared);
   for (std::uint32_t f = 0; f < n; ++f) {
     const char* rec = data + 84 + 50 * static_cast<std::size_t>(f) + 12;  // skip the normal
@@ -257,7 +258,8 @@ MeshReport read_obj(const char* data, std::size_t size, TriangleMesh<Scalar, V, 
       while (in.token(b, e, true)) {
         Scalar x = Scalar(0);
         const detail::NumberParse r = detail::parse_coordinate(b, e, x);
-        if (r == detail::NumberParse::Malformed || n >= 7) return detail::refuse_read(mesh, MeshIssue::Malformed, line, -1);
+        if (r == detail::NumberParse::Malformed || n >= 7)
+          return detail::refuse_read(mesh, MeshIssue::Malformed, line, -1);
         if (r == detail::NumberParse::NonFinite) return detail::refuse_read(mesh, MeshIssue::NonFinite, line, -1);
         if (n < 3) p(n) = x;
         ++n;

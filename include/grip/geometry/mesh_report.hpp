@@ -64,13 +64,13 @@ constexpr const char* to_string(MeshIssue issue) {
 struct MeshReport {
   Status status{Status::InvalidInput};  ///< Ok, or InvalidInput with an issue.
   MeshIssue issue{MeshIssue::Empty};    ///< Why the mesh was refused; None when Ok.
-  long line{0};                ///< 1-based line of the statement at fault in a text file; 0 if none.
-  long element{-1};            ///< Triangle at fault (the mesh's, or a binary STL's facet); -1 if none.
-  long declared_triangles{-1};  ///< The facet count a binary STL declares; -1 for other inputs.
-  int vertices{0};             ///< Vertices in the mesh (after welding).
-  int triangles{0};            ///< Triangles in the mesh.
-  int components{0};           ///< Connected closed surfaces (finalize, when it got that far).
-  bool flipped{false};         ///< The mesh was oriented inward and finalize turned every triangle.
+  long line{0};                         ///< 1-based line of the statement at fault in a text file; 0 if none.
+  long element{-1};                     ///< Triangle at fault (the mesh's, or a binary STL's facet); -1 if none.
+  long declared_triangles{-1};          ///< The facet count a binary STL declares; -1 for other inputs.
+  int vertices{0};                      ///< Vertices in the mesh (after welding).
+  int triangles{0};                     ///< Triangles in the mesh.
+  int components{0};                    ///< Connected closed surfaces (finalize, when it got that far).
+  bool flipped{false};                  ///< The mesh was oriented inward and finalize turned every triangle.
 
   /// True when status is Ok.
   bool ok() const { return status == Status::Ok; }

@@ -48,8 +48,8 @@
 /// Storage (bytes, Scalar of s bytes): per triangle of MaxTriangles 36.75 s + 20 (its lane of
 /// a leaf block, 20 s + 4; a quarter of the block's oriented box, 3.75 s; half a binary node
 /// and its winding data, 7 s + 4; a quarter of a 4-wide node, 6 s + 8; the build's order, 4):
-/// double 314 B, float 167 B, on top of the TriangleMesh. There are 2 ceil(T / 4) - 1 binary nodes and fewer than ceil(T / 4) 4-wide
-/// ones.
+/// double 314 B, float 167 B, on top of the TriangleMesh. There are 2 ceil(T / 4) - 1 binary nodes and fewer than
+/// ceil(T / 4) 4-wide ones.
 
 #include <array>
 #include <cmath>
@@ -88,12 +88,12 @@ struct MeshWindingNode {
 template <class Scalar, int MaxVertices, int MaxTriangles>
 class MeshShape {
  public:
-  using ScalarType = Scalar;                                       ///< The scalar type.
-  using Mesh = TriangleMesh<Scalar, MaxVertices, MaxTriangles>;    ///< The mesh type.
-  static constexpr int leaf_size = 4;          ///< Triangles per leaf (one leaf may hold fewer).
-  static constexpr int stack_size = 64;        ///< Traversal stack entries (3 per level of the 4-wide tree, + 4).
+  using ScalarType = Scalar;                                     ///< The scalar type.
+  using Mesh = TriangleMesh<Scalar, MaxVertices, MaxTriangles>;  ///< The mesh type.
+  static constexpr int leaf_size = 4;                            ///< Triangles per leaf (one leaf may hold fewer).
+  static constexpr int stack_size = 64;  ///< Traversal stack entries (3 per level of the 4-wide tree, + 4).
   static constexpr int max_nodes = 2 * ((MaxTriangles + 3) / 4);  ///< Node storage (binary hierarchy).
-  static constexpr int max_quads = (MaxTriangles + 3) / 4;       ///< Node storage (4-wide hierarchy).
+  static constexpr int max_quads = (MaxTriangles + 3) / 4;        ///< Node storage (4-wide hierarchy).
 
   /// Builds the hierarchy over a finalized mesh (kept by pointer). InvalidInput, and an
   /// empty shape, if the mesh is not finalized Ok. Offline: O(T log T). If the mesh changes
@@ -193,8 +193,8 @@ class MeshShape {
   std::array<detail::MeshQuadNode<Scalar>, max_quads> quads_{};
   std::array<MeshWindingNode<Scalar>, max_nodes> wnodes_{};
   std::array<detail::LeafBox<Scalar>, (MaxTriangles + 3) / 4> leaf_boxes_{};  // oriented box of each block
-  std::array<Block, (MaxTriangles + 3) / 4> blocks_{};  // triangles in leaf order, 4 per block
-  std::array<int, MaxTriangles> slot_id_{};             // build: mesh triangle of each slot
+  std::array<Block, (MaxTriangles + 3) / 4> blocks_{};                        // triangles in leaf order, 4 per block
+  std::array<int, MaxTriangles> slot_id_{};                                   // build: mesh triangle of each slot
   const Mesh* mesh_{nullptr};
   unsigned long revision_{0};
   int node_count_{0};

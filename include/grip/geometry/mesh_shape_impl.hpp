@@ -291,12 +291,14 @@ Scalar MeshShape<Scalar, MaxVertices, MaxTriangles>::signed_distance(const Vecto
   const Vector3<Scalar> diff = p - q;
   // The pseudo-normal, unnormalised where only its sign matters.
   const int e = feature_edge(f), v = feature_vertex(f);
-  const Vector3<Scalar> n = e >= 0   ? Vector3<Scalar>(mesh_->face_normal(t) + mesh_->face_normal(mesh_->neighbour(t, e)))
+  const Vector3<Scalar> n = e >= 0 ? Vector3<Scalar>(mesh_->face_normal(t) + mesh_->face_normal(mesh_->neighbour(t, e)))
                             : v >= 0 ? mesh_->vertex_normal(mesh_->triangle(t)[detail::idx(v)])
                                      : mesh_->face_normal(t);
   const Scalar sign = diff.dot(n) < Scalar(0) ? Scalar(-1) : Scalar(1);
-  if (d > tiny_) normal = diff * (sign / d);
-  else normal = n.normalized();
+  if (d > tiny_)
+    normal = diff * (sign / d);
+  else
+    normal = n.normalized();
   return sign * d;
 }
 
@@ -355,7 +357,8 @@ Scalar MeshShape<Scalar, MaxVertices, MaxTriangles>::distance(const Vector3<Scal
 }
 
 template <class Scalar, int MaxVertices, int MaxTriangles>
-Scalar MeshShape<Scalar, MaxVertices, MaxTriangles>::winding_number(const Vector3<Scalar>& p, Scalar& error_bound) const {
+Scalar MeshShape<Scalar, MaxVertices, MaxTriangles>::winding_number(const Vector3<Scalar>& p,
+                                                                    Scalar& error_bound) const {
   error_bound = Scalar(0);
   if (!built() || !(p.cwiseAbs().maxCoeff() <= ScalarTraits<Scalar>::max_magnitude)) return Scalar(0);
   const Scalar beta2 = beta_ * beta_;

@@ -148,10 +148,10 @@ inline bool parse_integer(const char* b, const char* e, long long& value, const 
 
 /// A read position in a buffer of `size` bytes with the current 1-based line.
 struct TextCursor {
-  const char* data;   ///< The buffer.
-  std::size_t size;   ///< Its size.
-  std::size_t pos;    ///< Next byte.
-  long line;          ///< Line of `pos`, 1-based.
+  const char* data;  ///< The buffer.
+  std::size_t size;  ///< Its size.
+  std::size_t pos;   ///< Next byte.
+  long line;         ///< Line of `pos`, 1-based.
 
   /// Starts at the beginning, after a UTF-8 byte-order mark if present.
   TextCursor(const char* d, std::size_t n) : data(d), size(d == nullptr ? 0 : n), pos(0), line(1) {

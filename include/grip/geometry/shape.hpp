@@ -25,11 +25,11 @@ enum class PrimitiveKind { Sphere, Box, Cylinder, Capsule };
 /// cylinder and the capsule have their axis along local z.
 template <class Scalar>
 struct ShapePrimitive {
-  PrimitiveKind kind{PrimitiveKind::Sphere};                 ///< Which SDF.
-  Vector3<Scalar> center{Vector3<Scalar>::Zero()};            ///< Centre (m), object frame.
-  Matrix3<Scalar> rotation{Matrix3<Scalar>::Identity()};      ///< Local-to-object rotation.
-  Vector3<Scalar> half_extents{Vector3<Scalar>::Zero()};      ///< Box half sizes (m).
-  Scalar radius{0};                                           ///< Sphere, cylinder, capsule radius (m).
+  PrimitiveKind kind{PrimitiveKind::Sphere};              ///< Which SDF.
+  Vector3<Scalar> center{Vector3<Scalar>::Zero()};        ///< Centre (m), object frame.
+  Matrix3<Scalar> rotation{Matrix3<Scalar>::Identity()};  ///< Local-to-object rotation.
+  Vector3<Scalar> half_extents{Vector3<Scalar>::Zero()};  ///< Box half sizes (m).
+  Scalar radius{0};                                       ///< Sphere, cylinder, capsule radius (m).
   Scalar half_length{0};  ///< Cylinder: half height; capsule: half the segment length (m).
 
   /// Signed distance (m) from object-frame point p; writes the unit outward gradient to
@@ -49,8 +49,10 @@ struct ShapePrimitive {
         const Scalar z = std::min(std::max(q.z(), -half_length), half_length);
         const Vector3<Scalar> v(q.x(), q.y(), q.z() - z);
         const Scalar n = v.norm();
-        if (n > Scalar(0)) g_local = v / n;
-        else g_local = Vector3<Scalar>::UnitX();
+        if (n > Scalar(0))
+          g_local = v / n;
+        else
+          g_local = Vector3<Scalar>::UnitX();
         d = n - radius;
         break;
       }
@@ -184,11 +186,10 @@ ShapePrimitive<Scalar> make_capsule(Scalar radius, Scalar half_length,
 /// rotation orthonormal within 1e-3; InvalidInput otherwise.
 template <class Scalar>
 Status validate(const ShapePrimitive<Scalar>& s) {
-  if (!s.center.allFinite() || !s.rotation.allFinite() || !s.half_extents.allFinite() ||
-      !std::isfinite(s.radius) || !std::isfinite(s.half_length))
+  if (!s.center.allFinite() || !s.rotation.allFinite() || !s.half_extents.allFinite() || !std::isfinite(s.radius) ||
+      !std::isfinite(s.half_length))
     return Status::InvalidInput;
-  if (!((s.rotation.transpose() * s.rotation - Matrix3<Scalar>::Identity()).cwiseAbs().maxCoeff() <=
-        Scalar(1e-3)))
+  if (!((s.rotation.transpose() * s.rotation - Matrix3<Scalar>::Identity()).cwiseAbs().maxCoeff() <= Scalar(1e-3)))
     return Status::InvalidInput;
   switch (s.kind) {
     case PrimitiveKind::Sphere: return s.radius > Scalar(0) ? Status::Ok : Status::InvalidInput;

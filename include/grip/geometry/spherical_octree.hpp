@@ -55,8 +55,8 @@ namespace grip {
 /// The local surface model stored with each octree node (see the file comment).
 template <class Scalar>
 struct SurfacePlane {
-  Scalar distance{0};                                  ///< phi(c) (m): signed distance of the cell centre.
-  Vector3<Scalar> normal{Vector3<Scalar>::UnitZ()};    ///< n(c): unit outward normal of the nearest surface.
+  Scalar distance{0};                                ///< phi(c) (m): signed distance of the cell centre.
+  Vector3<Scalar> normal{Vector3<Scalar>::UnitZ()};  ///< n(c): unit outward normal of the nearest surface.
 };
 
 /// What an octree cell is.
@@ -75,7 +75,7 @@ constexpr int max_octree_depth = 15;
 template <class Scalar, int Capacity>
 class SphericalOctree {
  public:
-  static constexpr int capacity = Capacity;  ///< Most cells held.
+  static constexpr int capacity = Capacity;      ///< Most cells held.
   using Tree = SphereTree<Scalar, Capacity, 8>;  ///< The cells: a sphere tree of branching 8.
 
   /// Builds the octree of the distance field `shape` (a Shape, a MeshShape, ...: see the file
@@ -90,8 +90,8 @@ class SphericalOctree {
     depth_ = 0;
     needed_ = 0;
     Vector3<Scalar> lo = Vector3<Scalar>::Zero(), hi = Vector3<Scalar>::Zero();
-    if (max_depth < 0 || max_depth > max_octree_depth || !shape.bounding_box(lo, hi) ||
-        !lo.allFinite() || !hi.allFinite())
+    if (max_depth < 0 || max_depth > max_octree_depth || !shape.bounding_box(lo, hi) || !lo.allFinite() ||
+        !hi.allFinite())
       return Status::InvalidInput;
     const Scalar sqrt3 = std::sqrt(Scalar(3));
     const Vector3<Scalar> c0 = (lo + hi) / Scalar(2);
@@ -115,8 +115,8 @@ class SphericalOctree {
       const Scalar rc = sqrt3 * hc;
       const Vector3<Scalar> parent_center = cell.center;
       for (int o = 0; o < 8; ++o) {
-        const Vector3<Scalar> c = parent_center + Vector3<Scalar>((o & 1) ? hc : -hc, (o & 2) ? hc : -hc,
-                                                                  (o & 4) ? hc : -hc);
+        const Vector3<Scalar> c =
+            parent_center + Vector3<Scalar>((o & 1) ? hc : -hc, (o & 2) ? hc : -hc, (o & 4) ? hc : -hc);
         const Scalar d = shape.distance(c, n);
         if (!std::isfinite(d) || !n.allFinite()) {
           tree_.clear();

@@ -139,9 +139,12 @@ Scalar closest_point_on_flat_triangle(const Vector3<Scalar>& p, const Vector3<Sc
     if (d2 < best) {
       best = d2;
       q = qe;
-      if (t <= Scalar(0)) feature = static_cast<TriangleFeature>(4 + e);
-      else if (t >= Scalar(1)) feature = static_cast<TriangleFeature>(4 + (e + 1) % 3);
-      else feature = static_cast<TriangleFeature>(1 + e);
+      if (t <= Scalar(0))
+        feature = static_cast<TriangleFeature>(4 + e);
+      else if (t >= Scalar(1))
+        feature = static_cast<TriangleFeature>(4 + (e + 1) % 3);
+      else
+        feature = static_cast<TriangleFeature>(1 + e);
     }
   }
   return best;

@@ -28,15 +28,15 @@ namespace detail {
 /// Up to 4 non-degenerate triangles in lanes; unused lanes repeat lane 0.
 template <class Scalar>
 struct TriangleBlock {
-  Scalar ax[4], ay[4], az[4];     ///< vertex a
-  Scalar ux[4], uy[4], uz[4];     ///< u = b - a
-  Scalar vx[4], vy[4], vz[4];     ///< v = c - a
-  Scalar nx[4], ny[4], nz[4];     ///< n = u x v
-  Scalar uu[4], uv[4], vv[4];     ///< u.u, u.v, v.v
-  Scalar det[4];                  ///< (u.u)(v.v) - (u.v)^2
-  Scalar inv_nn[4];               ///< 1 / n.n
+  Scalar ax[4], ay[4], az[4];              ///< vertex a
+  Scalar ux[4], uy[4], uz[4];              ///< u = b - a
+  Scalar vx[4], vy[4], vz[4];              ///< v = c - a
+  Scalar nx[4], ny[4], nz[4];              ///< n = u x v
+  Scalar uu[4], uv[4], vv[4];              ///< u.u, u.v, v.v
+  Scalar det[4];                           ///< (u.u)(v.v) - (u.v)^2
+  Scalar inv_nn[4];                        ///< 1 / n.n
   Scalar inv_uu[4], inv_vv[4], inv_ww[4];  ///< 1 / u.u, 1 / v.v, 1 / w.w with w = c - b
-  int id[4];                      ///< mesh triangle of each lane
+  int id[4];                               ///< mesh triangle of each lane
 
   /// Stores triangle (a, b, c), mesh index `triangle`, in `lane`.
   void set(int lane, const Vector3<Scalar>& a, const Vector3<Scalar>& b, const Vector3<Scalar>& c, int triangle) {
@@ -56,7 +56,8 @@ struct TriangleBlock {
   /// Copies lane 0 into lanes count .. 3.
   void pad(int count) {
     for (int l = count; l < 4; ++l) {
-      Scalar* fields[] = {ax, ay, az, ux, uy, uz, vx, vy, vz, nx, ny, nz, uu, uv, vv, det, inv_nn, inv_uu, inv_vv, inv_ww};
+      Scalar* fields[] = {ax, ay, az, ux, uy, uz,  vx,     vy,     vz,     nx,
+                          ny, nz, uu, uv, vv, det, inv_nn, inv_uu, inv_vv, inv_ww};
       for (Scalar* f : fields) f[l] = f[0];
       id[l] = id[0];
     }
@@ -117,9 +118,12 @@ struct TriangleBlock {
     const Vector3<Scalar> e[3] = {a + k[0] * u, a + k[1] * v, Vector3<Scalar>(a + u) + k[2] * w};
     const Scalar d[3] = {(p - e[0]).squaredNorm(), (p - e[1]).squaredNorm(), (p - e[2]).squaredNorm()};
     const int i = d[1] < d[0] ? (d[2] < d[1] ? 2 : 1) : (d[2] < d[0] ? 2 : 0);
-    static constexpr TriangleFeature edge[3] = {TriangleFeature::EdgeAB, TriangleFeature::EdgeCA, TriangleFeature::EdgeBC};
-    static constexpr TriangleFeature start[3] = {TriangleFeature::VertexA, TriangleFeature::VertexA, TriangleFeature::VertexB};
-    static constexpr TriangleFeature end[3] = {TriangleFeature::VertexB, TriangleFeature::VertexC, TriangleFeature::VertexC};
+    static constexpr TriangleFeature edge[3] = {TriangleFeature::EdgeAB, TriangleFeature::EdgeCA,
+                                                TriangleFeature::EdgeBC};
+    static constexpr TriangleFeature start[3] = {TriangleFeature::VertexA, TriangleFeature::VertexA,
+                                                 TriangleFeature::VertexB};
+    static constexpr TriangleFeature end[3] = {TriangleFeature::VertexB, TriangleFeature::VertexC,
+                                               TriangleFeature::VertexC};
     q = e[i];
     feature = k[i] <= Scalar(0) ? start[i] : (k[i] >= Scalar(1) ? end[i] : edge[i]);
     return d[i];
@@ -139,7 +143,7 @@ template <class Scalar>
 struct LeafBox {
   Vector3<Scalar> center{Vector3<Scalar>::Zero()};
   Matrix3<Scalar> rotation{Matrix3<Scalar>::Identity()};  ///< rows: the box's axes
-  Vector3<Scalar> half{Vector3<Scalar>::Zero()};           ///< half extents along them
+  Vector3<Scalar> half{Vector3<Scalar>::Zero()};          ///< half extents along them
 
   /// Squared distance from p to the box (0 inside).
   GRIP_ALWAYS_INLINE Scalar distance2(const Vector3<Scalar>& p) const {

@@ -97,7 +97,7 @@ class TriangleMesh {
   static_assert(MaxTriangles <= (1 << 28), "triangle indices must fit an int with room for edge numbers");
 
  public:
-  using ScalarType = Scalar;                      ///< The scalar type.
+  using ScalarType = Scalar;                          ///< The scalar type.
   static constexpr int max_vertices = MaxVertices;    ///< Most vertices held.
   static constexpr int max_triangles = MaxTriangles;  ///< Most triangles held.
 
@@ -112,9 +112,7 @@ class TriangleMesh {
   /// are already numbered.
   int add_source_vertex(const Vector3<Scalar>& p);
   /// Mesh vertex of source vertex k (0-based), or -1 if k is not numbered.
-  int source_vertex(long k) const {
-    return k >= 0 && k < sources_ ? source_[detail::idx(k)] : -1;
-  }
+  int source_vertex(long k) const { return k >= 0 && k < sources_ ? source_[detail::idx(k)] : -1; }
   /// Number of source vertices numbered since clear().
   int source_vertex_count() const { return sources_; }
   /// Appends triangle (a, b, c) (vertex indices, counter-clockwise seen from outside):
@@ -189,8 +187,8 @@ class TriangleMesh {
   static constexpr std::size_t table_size = detail::weld_table_size(MaxVertices);
   std::array<Vector3<Scalar>, MaxVertices> verts_{};
   std::array<Vector3<Scalar>, MaxVertices> vert_n_{};
-  std::array<int, table_size> table_{};      // vertex index + 1 per slot, 0 for empty
-  std::array<int, MaxVertices> source_{};    // mesh vertex per source vertex
+  std::array<int, table_size> table_{};       // vertex index + 1 per slot, 0 for empty
+  std::array<int, MaxVertices> source_{};     // mesh vertex per source vertex
   std::array<int, MaxVertices + 1> start_{};  // finalize: out-edges of vertex v in half_[start_[v], start_[v + 1])
   std::array<std::array<int, 3>, MaxTriangles> tris_{};
   std::array<std::array<int, 3>, MaxTriangles> nbr_{};

@@ -127,7 +127,8 @@ MeshIssue TriangleMesh<Scalar, MaxVertices, MaxTriangles>::check_fans(long& elem
       const int nb = nbr_[detail::idx(t)][detail::idx(ep)];
       int next = -1;
       for (int k = 0; k < 3; ++k)
-        if (tris_[detail::idx(nb)][detail::idx(k)] == v && tris_[detail::idx(nb)][detail::idx((k + 1) % 3)] == w) next = 3 * nb + k;
+        if (tris_[detail::idx(nb)][detail::idx(k)] == v && tris_[detail::idx(nb)][detail::idx((k + 1) % 3)] == w)
+          next = 3 * nb + k;
       if (next < 0) break;
       h = next;
       ++steps;
@@ -180,8 +181,10 @@ MeshIssue TriangleMesh<Scalar, MaxVertices, MaxTriangles>::check_components(long
       const Vector3<Scalar>& a = verts_[detail::idx(tri[0])];
       const Vector3<Scalar>& b = verts_[detail::idx(tri[1])];
       const Vector3<Scalar>& c = verts_[detail::idx(tri[2])];
-      if (comp[t] == k) vol += (a - c0).dot((b - c0).cross(c - c0));
-      else angle += triangle_solid_angle(x, a, b, c);
+      if (comp[t] == k)
+        vol += (a - c0).dot((b - c0).cross(c - c0));
+      else
+        angle += triangle_solid_angle(x, a, b, c);
     }
     element = first;
     if (!(vol != Scalar(0))) return MeshIssue::FoldedSurface;
@@ -232,7 +235,8 @@ MeshReport TriangleMesh<Scalar, MaxVertices, MaxTriangles>::finalize() {
   Scalar six_volume = Scalar(0);
   for (int t = 0; t < nt_; ++t) {
     const std::array<int, 3>& tri = tris_[detail::idx(t)];
-    six_volume += (verts_[detail::idx(tri[0])] - c0).dot((verts_[detail::idx(tri[1])] - c0).cross(verts_[detail::idx(tri[2])] - c0));
+    six_volume += (verts_[detail::idx(tri[0])] - c0)
+                      .dot((verts_[detail::idx(tri[1])] - c0).cross(verts_[detail::idx(tri[2])] - c0));
   }
   if (!(six_volume != Scalar(0)) || !std::isfinite(six_volume)) return refuse(MeshIssue::FoldedSurface, -1);
   if (six_volume < Scalar(0)) {  // inward: turn every triangle (a, b, c) -> (a, c, b)
@@ -248,7 +252,8 @@ MeshReport TriangleMesh<Scalar, MaxVertices, MaxTriangles>::finalize() {
   std::fill(vert_n_.begin(), vert_n_.begin() + nv_, Vector3<Scalar>::Zero());
   for (int t = 0; t < nt_; ++t) {
     const std::array<int, 3>& tri = tris_[detail::idx(t)];
-    const Vector3<Scalar>* p[3] = {&verts_[detail::idx(tri[0])], &verts_[detail::idx(tri[1])], &verts_[detail::idx(tri[2])]};
+    const Vector3<Scalar>* p[3] = {&verts_[detail::idx(tri[0])], &verts_[detail::idx(tri[1])],
+                                   &verts_[detail::idx(tri[2])]};
     const Vector3<Scalar> n = (*p[1] - *p[0]).cross(*p[2] - *p[0]).normalized();
     face_n_[detail::idx(t)] = n;
     for (int k = 0; k < 3; ++k) {

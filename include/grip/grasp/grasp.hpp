@@ -37,11 +37,11 @@ class Grasp {
   static_assert(N != Dynamic || MaxN >= 1, "a Dynamic grasp needs a compile-time bound MaxN >= 1");
 
  public:
-  using ScalarType = Scalar;                                    ///< the scalar type (float or double).
-  using ModelType = Model;                                      ///< the contact model policy.
-  static constexpr int fixed_size = N;                          ///< N (or Dynamic).
-  static constexpr int capacity = N == Dynamic ? MaxN : N;      ///< most contacts held.
-  static constexpr int dim = Model::dim;                        ///< unknowns per contact.
+  using ScalarType = Scalar;                                ///< the scalar type (float or double).
+  using ModelType = Model;                                  ///< the contact model policy.
+  static constexpr int fixed_size = N;                      ///< N (or Dynamic).
+  static constexpr int capacity = N == Dynamic ? MaxN : N;  ///< most contacts held.
+  static constexpr int dim = Model::dim;                    ///< unknowns per contact.
   /// Unknowns N * dim, or Dynamic for a Dynamic grasp (the Eigen size of ForceVector).
   static constexpr int unknowns_at_compile_time = times_or_dynamic(N, dim);
   /// Most unknowns, capacity * dim: the storage bound of ForceVector and GraspMatrix.
@@ -58,11 +58,10 @@ class Grasp {
   /// Stacked contact unknowns x = (x_1, ..., x_n): size() * dim.
   using ForceVector = Eigen::Matrix<Scalar, unknowns_at_compile_time, 1, Eigen::ColMajor, max_unknowns, 1>;
   /// Grasp matrix G: 6 x (size() * dim).
-  using GraspMatrix =
-      Eigen::Matrix<Scalar, 6, unknowns_at_compile_time, Eigen::ColMajor, 6, max_unknowns>;
+  using GraspMatrix = Eigen::Matrix<Scalar, 6, unknowns_at_compile_time, Eigen::ColMajor, 6, max_unknowns>;
   /// KKT matrix H of eq. 9: (6 + size() * dim) square.
-  using KktMatrix = Eigen::Matrix<Scalar, kkt_size_at_compile_time, kkt_size_at_compile_time,
-                                  Eigen::ColMajor, max_kkt_size, max_kkt_size>;
+  using KktMatrix = Eigen::Matrix<Scalar, kkt_size_at_compile_time, kkt_size_at_compile_time, Eigen::ColMajor,
+                                  max_kkt_size, max_kkt_size>;
   /// KKT right-hand side b and unknown c = (f, lambda) of eq. 9.
   using KktVector = Eigen::Matrix<Scalar, kkt_size_at_compile_time, 1, Eigen::ColMajor, max_kkt_size, 1>;
   /// One contact's unknowns.
@@ -97,7 +96,7 @@ class Grasp {
   /// grasp is then unchanged.
   Status set(int i, const ContactType& c) {
     if (i < 0 || i >= size() || i >= capacity) return Status::InvalidInput;  // size() <= capacity; the
-    if (validate(c) != Status::Ok) return Status::InvalidInput;               // bound is for -Warray-bounds
+    if (validate(c) != Status::Ok) return Status::InvalidInput;              // bound is for -Warray-bounds
     const auto k = detail::idx(i);
     store(k, c);
     if (!is_set_[k]) {
@@ -164,8 +163,7 @@ class Grasp {
     const GraspMatrix g = grasp_matrix();
     h.topLeftCorner(6, m) = g;
     h.bottomRightCorner(m, 6) = -g.transpose();
-    for (int i = 0; i < count_; ++i)
-      h.block(6 + i * dim, i * dim, dim, dim).diagonal().setConstant(contact(i).weight);
+    for (int i = 0; i < count_; ++i) h.block(6 + i * dim, i * dim, dim, dim).diagonal().setConstant(contact(i).weight);
     return h;
   }
 
@@ -183,8 +181,7 @@ class Grasp {
   template <class Derived>
   Wrench<Scalar> wrench(const Eigen::MatrixBase<Derived>& x) const {
     Wrench<Scalar> w = Wrench<Scalar>::Zero();
-    for (int i = 0; i < count_; ++i)
-      w += Model::wrench(contact(i), ContactVector(x.template segment<dim>(i * dim)));
+    for (int i = 0; i < count_; ++i) w += Model::wrench(contact(i), ContactVector(x.template segment<dim>(i * dim)));
     return w;
   }
 

@@ -27,8 +27,7 @@ typename GraspT::ScalarType objective_f1(const GraspT& grasp, const Eigen::Matri
   using S = typename GraspT::ScalarType;
   constexpr int d = GraspT::dim;
   S sum(0);
-  for (int i = 0; i < grasp.size(); ++i)
-    sum += grasp.contact(i).weight * x.template segment<d>(i * d).squaredNorm();
+  for (int i = 0; i < grasp.size(); ++i) sum += grasp.contact(i).weight * x.template segment<d>(i * d).squaredNorm();
   return S(0.5) * sum;
 }
 

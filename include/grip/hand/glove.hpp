@@ -79,9 +79,9 @@ struct GloveCalibration {
 /// Finger abductions are 0.
 template <class Scalar>
 struct Glove14 {
-  static constexpr int sensors = 14;                         ///< Readings per frame.
-  using Readings = Eigen::Matrix<Scalar, sensors, 1>;        ///< Raw readings.
-  GloveCalibration<Scalar, sensors> calibration{};           ///< Per sensor.
+  static constexpr int sensors = 14;                   ///< Readings per frame.
+  using Readings = Eigen::Matrix<Scalar, sensors, 1>;  ///< Raw readings.
+  GloveCalibration<Scalar, sensors> calibration{};     ///< Per sensor.
   /// CMC flexion and abduction (rad) at full thumb MCP flexion: 30 and 45 deg.
   std::array<Scalar, 2> opposition{{Scalar(30) * Scalar(3.14159265358979323846) / Scalar(180),
                                     Scalar(45) * Scalar(3.14159265358979323846) / Scalar(180)}};
@@ -108,7 +108,7 @@ struct Glove22 {
   static constexpr int sensors = 22;                   ///< Readings per frame.
   using Readings = Eigen::Matrix<Scalar, sensors, 1>;  ///< Raw readings.
   GloveCalibration<Scalar, sensors> calibration{};     ///< Per sensor.
-  bool couple_dip{false};  ///< Ignore the DIP sensors: DIP = 2/3 PIP (couple_dip()).
+  bool couple_dip{false};                              ///< Ignore the DIP sensors: DIP = 2/3 PIP (couple_dip()).
 
   /// Joints (and the extras) of raw readings, joints clamped to `limits`. Statuses as
   /// Glove14::map; `extras` may be null.
@@ -144,7 +144,8 @@ Status Glove14<Scalar>::map(const Readings& raw, const JointLimits<Scalar>& limi
   for (int k = 0; k < hand_joint_count; ++k) out(phalanx_joint(k)) = a(k);
   const Scalar mcp_max = limits.upper[detail::idx(HandJoint::ThumbMcp)];
   const Scalar mcp = out(static_cast<int>(HandJoint::ThumbMcp));
-  const Scalar share = mcp_max > Scalar(0) ? (mcp <= Scalar(0) ? Scalar(0) : (mcp >= mcp_max ? Scalar(1) : mcp / mcp_max)) : Scalar(0);
+  const Scalar share =
+      mcp_max > Scalar(0) ? (mcp <= Scalar(0) ? Scalar(0) : (mcp >= mcp_max ? Scalar(1) : mcp / mcp_max)) : Scalar(0);
   out(0) = share * opposition[0];
   out(1) = share * opposition[1];
   q = out;
@@ -165,7 +166,8 @@ Status Glove22<Scalar>::map(const Readings& raw, const JointLimits<Scalar>& limi
   const Status s = calibration.angles(raw, a);
   if (s == Status::InvalidInput) return s;
   HandJoints<Scalar> out;
-  for (int i = 0; i < hand_dof_count; ++i) out(i) = detail::glove22_sensor(i) >= 0 ? a(detail::glove22_sensor(i)) : Scalar(0);
+  for (int i = 0; i < hand_dof_count; ++i)
+    out(i) = detail::glove22_sensor(i) >= 0 ? a(detail::glove22_sensor(i)) : Scalar(0);
   out(static_cast<int>(HandJoint::IndexAbduction)) = a(7);
   out(static_cast<int>(HandJoint::RingAbduction)) = -a(14);
   out(static_cast<int>(HandJoint::LittleAbduction)) = -a(14) - a(18);

@@ -56,12 +56,12 @@ constexpr ContributionTable<Scalar> contribution_table(GraspType t) {
     case GraspType::SphericalPower:
       // Finger and thumb totals from circular-grip measurements (Kinoshita et al. 1996),
       // rescaled to the four fingers; each finger split over its phalanges as in Table 1.
-      return detail::contribution_table_of<Scalar>({{0.230, 0, 0.383},        // thumb
-                                                    {0.069, 0.013, 0.095},    // index
-                                                    {0.081, 0.015, 0.114},    // long
-                                                    {0.119, 0.022, 0.165},    // ring
-                                                    {0.119, 0.022, 0.165}},   // little
-                                                   0.400);                    // palm
+      return detail::contribution_table_of<Scalar>({{0.230, 0, 0.383},       // thumb
+                                                    {0.069, 0.013, 0.095},   // index
+                                                    {0.081, 0.015, 0.114},   // long
+                                                    {0.119, 0.022, 0.165},   // ring
+                                                    {0.119, 0.022, 0.165}},  // little
+                                                   0.400);                   // palm
     case GraspType::TipPinch:
       // Two pads on one line: equilibrium makes their normal forces equal.
       return detail::contribution_table_of<Scalar>({{0, 0, 1}, {0, 0, 1}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, 0);

@@ -38,8 +38,8 @@ Status point_jacobian(const HandPosture<Scalar>& posture, int k, const Vector3<S
 /// torques are tau.segment<4>(4 f). InvalidInput (tau unchanged) if k is outside [0, 19) or p
 /// or f is not finite; Ok otherwise.
 template <class Scalar>
-Status add_joint_torques(const HandPosture<Scalar>& posture, int k, const Vector3<Scalar>& p,
-                         const Vector3<Scalar>& f, HandJoints<Scalar>& tau);
+Status add_joint_torques(const HandPosture<Scalar>& posture, int k, const Vector3<Scalar>& p, const Vector3<Scalar>& f,
+                         HandJoints<Scalar>& tau);
 
 // ---------------------------------------------------------------------------------------------
 
@@ -60,8 +60,8 @@ Status point_jacobian(const HandPosture<Scalar>& posture, int k, const Vector3<S
 }
 
 template <class Scalar>
-Status add_joint_torques(const HandPosture<Scalar>& posture, int k, const Vector3<Scalar>& p,
-                         const Vector3<Scalar>& f, HandJoints<Scalar>& tau) {
+Status add_joint_torques(const HandPosture<Scalar>& posture, int k, const Vector3<Scalar>& p, const Vector3<Scalar>& f,
+                         HandJoints<Scalar>& tau) {
   if (k < 0 || k >= hand_body_count || !p.allFinite() || !f.allFinite()) return Status::InvalidInput;
   for (int i = detail::first_joint_of(k); i <= phalanx_joint(k); ++i) {
     const JointFrame<Scalar>& a = posture.joints[detail::idx(i)];

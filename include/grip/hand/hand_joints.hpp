@@ -28,11 +28,26 @@ constexpr int hand_dof_count = 20;
 
 /// The 20 joints by name, valued as their index in the joint vector.
 enum class HandJoint {
-  ThumbCmcFlexion = 0, ThumbCmcAbduction, ThumbMcp, ThumbIp,
-  IndexAbduction, IndexMcp, IndexPip, IndexDip,
-  LongAbduction, LongMcp, LongPip, LongDip,
-  RingAbduction, RingMcp, RingPip, RingDip,
-  LittleAbduction, LittleMcp, LittlePip, LittleDip,
+  ThumbCmcFlexion = 0,
+  ThumbCmcAbduction,
+  ThumbMcp,
+  ThumbIp,
+  IndexAbduction,
+  IndexMcp,
+  IndexPip,
+  IndexDip,
+  LongAbduction,
+  LongMcp,
+  LongPip,
+  LongDip,
+  RingAbduction,
+  RingMcp,
+  RingPip,
+  RingDip,
+  LittleAbduction,
+  LittleMcp,
+  LittlePip,
+  LittleDip,
 };
 
 /// The joint vector of the whole hand (rad), in the order of this file.

@@ -44,8 +44,8 @@ struct JointFrame {
 /// phalanx_joint(k) >= 0.
 template <class Scalar>
 struct HandPosture {
-  std::array<PhalanxCapsule<Scalar>, hand_body_count> phalanges{};     ///< World-frame capsules.
-  std::array<JointFrame<Scalar>, hand_dof_count> joints{};             ///< World-frame joint axes.
+  std::array<PhalanxCapsule<Scalar>, hand_body_count> phalanges{};  ///< World-frame capsules.
+  std::array<JointFrame<Scalar>, hand_dof_count> joints{};          ///< World-frame joint axes.
   /// Bit k set if body k belongs to the model: the paper's hand (14 angles) is its phalanges,
   /// the whole hand (20 joints) has the palm too. Collision detection skips the others.
   std::uint32_t bodies{(1u << hand_phalanx_count) - 1u};
@@ -70,15 +70,13 @@ struct HandPosture {
 /// unchanged. Ok otherwise. Scalar is deduced from `dims` only, so expressions such as
 /// JointAngles<S>::Zero() bind; a vector of another size does not compile.
 template <class Scalar, class Derived>
-Status forward_kinematics(const HandDimensions<Scalar>& dims,
-                          const typename HandDimensions<Scalar>::Transform& wrist,
+Status forward_kinematics(const HandDimensions<Scalar>& dims, const typename HandDimensions<Scalar>::Transform& wrist,
                           const Eigen::MatrixBase<Derived>& q, HandPosture<Scalar>& out);
 
 // ---------------------------------------------------------------------------------------------
 
 template <class Scalar, class Derived>
-Status forward_kinematics(const HandDimensions<Scalar>& dims,
-                          const typename HandDimensions<Scalar>::Transform& wrist,
+Status forward_kinematics(const HandDimensions<Scalar>& dims, const typename HandDimensions<Scalar>::Transform& wrist,
                           const Eigen::MatrixBase<Derived>& q, HandPosture<Scalar>& out) {
   constexpr int n = Derived::SizeAtCompileTime;
   static_assert(n == hand_joint_count || n == hand_dof_count, "14 flexion angles or the 20 joints");

@@ -61,7 +61,9 @@ constexpr Finger phalanx_finger(int k) {
 
 /// The kind of body index k in [0, 19).
 constexpr Phalanx phalanx_kind(int k) {
-  return k >= hand_phalanx_count ? Phalanx::Metacarpal : k < 2 ? (k == 0 ? Phalanx::Proximal : Phalanx::Distal) : static_cast<Phalanx>((k - 2) % 3);
+  return k >= hand_phalanx_count ? Phalanx::Metacarpal
+         : k < 2                 ? (k == 0 ? Phalanx::Proximal : Phalanx::Distal)
+                                 : static_cast<Phalanx>((k - 2) % 3);
 }
 
 /// Which hand a model is. A left hand is the mirror image of the right in the hand frame's
@@ -124,15 +126,15 @@ constexpr std::array<std::array<Scalar, 4>, 5> buchholz_segment_fractions() {
 /// axis (a -> -(a_x, -a_y, a_z)), so that positive angles keep their meaning.
 template <class Scalar>
 struct HandDimensions {
-  using Angles = JointAngles<Scalar>;                               ///< The 14 joint angles.
+  using Angles = JointAngles<Scalar>;                              ///< The 14 joint angles.
   using Transform = Eigen::Transform<Scalar, 3, Eigen::Isometry>;  ///< A rigid pose (hand -> world).
 
-  Scalar hand_length{Scalar(0.19)};                          ///< L (m), wrist crease to long fingertip.
-  std::array<Scalar, hand_phalanx_count> length{};           ///< Segment length of phalanx k (m).
-  std::array<Scalar, hand_phalanx_count> radius{};           ///< Capsule radius of phalanx k (m).
-  std::array<Vector3<Scalar>, 5> base{};                     ///< First joint of each digit (finger MCP, thumb MCP), hand frame.
-  std::array<Vector3<Scalar>, 5> rest_direction{};           ///< Unit direction of each digit's phalanges at rest.
-  std::array<Vector3<Scalar>, 5> flexion_axis{};             ///< Unit axis about which a positive angle flexes.
+  Scalar hand_length{Scalar(0.19)};                 ///< L (m), wrist crease to long fingertip.
+  std::array<Scalar, hand_phalanx_count> length{};  ///< Segment length of phalanx k (m).
+  std::array<Scalar, hand_phalanx_count> radius{};  ///< Capsule radius of phalanx k (m).
+  std::array<Vector3<Scalar>, 5> base{};            ///< First joint of each digit (finger MCP, thumb MCP), hand frame.
+  std::array<Vector3<Scalar>, 5> rest_direction{};  ///< Unit direction of each digit's phalanges at rest.
+  std::array<Vector3<Scalar>, 5> flexion_axis{};    ///< Unit axis about which a positive angle flexes.
   std::array<Scalar, hand_joint_count> joint_upper_limit{};  ///< Largest flexion (rad) for closing helpers.
   Vector3<Scalar> thumb_cmc{Vector3<Scalar>::Zero()};        ///< Thumb CMC joint, hand frame.
   Scalar thumb_metacarpal{0};                                ///< Thumb CMC to MCP (m).
@@ -224,8 +226,10 @@ Status validate(const HandDimensions<Scalar>& d) {
   const Scalar tol = Scalar(1e-3);
   if (!std::isfinite(d.hand_length) || !(d.hand_length > Scalar(0))) return Status::InvalidInput;
   for (int k = 0; k < hand_phalanx_count; ++k) {
-    if (!std::isfinite(d.length[detail::idx(k)]) || !(d.length[detail::idx(k)] > Scalar(0))) return Status::InvalidInput;
-    if (!std::isfinite(d.radius[detail::idx(k)]) || !(d.radius[detail::idx(k)] > Scalar(0))) return Status::InvalidInput;
+    if (!std::isfinite(d.length[detail::idx(k)]) || !(d.length[detail::idx(k)] > Scalar(0)))
+      return Status::InvalidInput;
+    if (!std::isfinite(d.radius[detail::idx(k)]) || !(d.radius[detail::idx(k)] > Scalar(0)))
+      return Status::InvalidInput;
     if (!std::isfinite(d.joint_upper_limit[detail::idx(k)])) return Status::InvalidInput;
   }
   if (!d.thumb_cmc.allFinite() || !std::isfinite(d.thumb_metacarpal) || !(d.thumb_metacarpal > Scalar(0)))

@@ -58,13 +58,15 @@ struct ContributionTable {
 /// contribution_table(GraspType::CylindricalPower) returns this table.
 template <class Scalar = double>
 constexpr ContributionTable<Scalar> cylindrical_power_grip() {
-  return ContributionTable<Scalar>{{
-      {Scalar(0.150), Scalar(0), Scalar(0.250)},           // thumb: proximal, -, distal (grip's choice)
-      {Scalar(0.115), Scalar(0.021), Scalar(0.159)},       // index: proximal, middle, distal
-      {Scalar(0.126), Scalar(0.023), Scalar(0.176)},       // long
-      {Scalar(0.088), Scalar(0.016), Scalar(0.122)},       // ring
-      {Scalar(0.060), Scalar(0.011), Scalar(0.083)},       // little
-  }, Scalar(0.400)};                                       // palm (grip's choice)
+  return ContributionTable<Scalar>{
+      {
+          {Scalar(0.150), Scalar(0), Scalar(0.250)},      // thumb: proximal, -, distal (grip's choice)
+          {Scalar(0.115), Scalar(0.021), Scalar(0.159)},  // index: proximal, middle, distal
+          {Scalar(0.126), Scalar(0.023), Scalar(0.176)},  // long
+          {Scalar(0.088), Scalar(0.016), Scalar(0.122)},  // ring
+          {Scalar(0.060), Scalar(0.011), Scalar(0.083)},  // little
+      },
+      Scalar(0.400)};  // palm (grip's choice)
 }
 
 /// Eq. 8: s = d K dr, the squeezing force (N) for contribution d (dimensionless), contact

@@ -16,10 +16,10 @@ namespace grip {
 /// The monitor's report on one contact.
 template <class Scalar>
 struct ContactState {
-  ContactMode mode{ContactMode::Separating};  ///< see ContactMode
-  Scalar margin{cone_margin_floor<Scalar>()};           ///< the cone's margin (N), >= 0 inside
-  Scalar relative_margin{cone_margin_floor<Scalar>()};  ///< the cone's relative margin, <= 1
-  Scalar normal_force{0};                               ///< f_n = f.a (N)
+  ContactMode mode{ContactMode::Separating};                  ///< see ContactMode
+  Scalar margin{cone_margin_floor<Scalar>()};                 ///< the cone's margin (N), >= 0 inside
+  Scalar relative_margin{cone_margin_floor<Scalar>()};        ///< the cone's relative margin, <= 1
+  Scalar normal_force{0};                                     ///< f_n = f.a (N)
   Vector3<Scalar> tangential_force{Vector3<Scalar>::Zero()};  ///< f_t = f - f_n a (N)
   Scalar moment{0};  ///< torsional moment about a (N m): soft finger only, else 0
   /// True when the contact has a max_normal_force and f_n reaches it to the monitor's tolerance

@@ -53,8 +53,7 @@ Resolution<GraspT> resolve(const GraspT& grasp, const typename GraspT::ForceVect
   static_assert(Cone::dim == d, "the cone must act on the contact model's unknowns");
   Resolution<GraspT> r;
   r.transmitted.setZero(grasp.unknowns());
-  if (!state.ok() || state.size() != grasp.size() || forces.size() != grasp.unknowns() ||
-      validate(w_ext) != Status::Ok)
+  if (!state.ok() || state.size() != grasp.size() || forces.size() != grasp.unknowns() || validate(w_ext) != Status::Ok)
     return r;
   Wrench<S> total = w_ext;
   for (int i = 0; i < grasp.size(); ++i) {

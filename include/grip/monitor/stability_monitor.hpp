@@ -27,7 +27,7 @@ struct MonitorSettings {
   /// exactly on the cone leave round-off on either side. For the Coulomb cone this reads
   /// |f_t| <= (mu + relative_tolerance) f_n + absolute_tolerance: the friction coefficient with
   /// relative_tolerance of slack. Negative values make the monitor stricter than the cone.
-  Scalar absolute_tolerance{0};                                      ///< N
+  Scalar absolute_tolerance{0};                                        ///< N
   Scalar relative_tolerance{ScalarTraits<Scalar>::default_tolerance};  ///< dimensionless
 };
 
@@ -123,8 +123,8 @@ class StabilityMonitor {
     if constexpr (std::is_same<Cone, CoulombCone<Scalar>>::value) {
       // Every field is written once: the verdict, or the InvalidInput state.
       if (shape_ok(grasp, forces)) {
-        const detail::CoulombCounts c = detail::classify_coulomb_grasp(
-            grasp, forces, settings_.absolute_tolerance, settings_.relative_tolerance, out.modes.data());
+        const detail::CoulombCounts c = detail::classify_coulomb_grasp(grasp, forces, settings_.absolute_tolerance,
+                                                                       settings_.relative_tolerance, out.modes.data());
         if (c.invalid == 0) {
           out.count = grasp.size();
           const int counts[3] = {grasp.size() - c.sliding - c.separating, c.sliding, c.separating};

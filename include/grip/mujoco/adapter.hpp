@@ -53,7 +53,7 @@ template <class Model = HardFinger, class Scalar = double, int MaxContacts = 64>
 class Adapter {
  public:
   using GraspType = Grasp<Dynamic, Model, Scalar, MaxContacts>;  ///< The grasp update() fills.
-  using ForceVector = typename GraspType::ForceVector;            ///< A solver's contact unknowns.
+  using ForceVector = typename GraspType::ForceVector;           ///< A solver's contact unknowns.
 
   /// Set-up, once per model: binds the map's `count` entries and the object's body. Statuses:
   /// InvalidInput with problem() and entry() naming what is wrong (BodyMap::bind()'s problems,
@@ -85,14 +85,14 @@ class Adapter {
   int mujoco_contact(int i) const { return contact_[detail::idx(i)]; }  ///< Index in d->contact.
   int mujoco_body(int i) const { return body_[detail::idx(i)]; }        ///< The hand body's id.
   int grip_body(int i) const { return grip_body_[detail::idx(i)]; }     ///< Its grip body.
-  int object() const { return object_; }             ///< The object's body id (-1 when not bound).
-  const Vector3<Scalar>& center_of_mass() const { return com_; }  ///< The object's, at update() (m, world).
-  int ignored() const { return ignored_; }           ///< Contacts with unmapped hand bodies.
-  int obstacle_contacts() const { return obstacles_; }  ///< Contacts added to w_ext.
-  int dropped() const { return dropped_; }           ///< Hand contacts beyond MaxContacts.
-  const BodyMap& map() const { return map_; }        ///< The bound map.
-  Problem problem() const { return problem_; }       ///< What the last bind() found wrong.
-  int entry() const { return map_.entry(); }         ///< The map entry it stopped at, or -1.
+  int object() const { return object_; }                                ///< The object's body id (-1 when not bound).
+  const Vector3<Scalar>& center_of_mass() const { return com_; }        ///< The object's, at update() (m, world).
+  int ignored() const { return ignored_; }                              ///< Contacts with unmapped hand bodies.
+  int obstacle_contacts() const { return obstacles_; }                  ///< Contacts added to w_ext.
+  int dropped() const { return dropped_; }                              ///< Hand contacts beyond MaxContacts.
+  const BodyMap& map() const { return map_; }                           ///< The bound map.
+  Problem problem() const { return problem_; }                          ///< What the last bind() found wrong.
+  int entry() const { return map_.entry(); }                            ///< The map entry it stopped at, or -1.
 
  private:
   Status fail(Problem p) {

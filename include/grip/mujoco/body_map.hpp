@@ -23,17 +23,17 @@ namespace mujoco {
 
 /// What a set-up call found wrong, beside its Status (InvalidInput for all but None).
 enum class Problem {
-  None,               ///< Nothing: the set-up succeeded.
-  NullModel,          ///< The model (or the data) pointer is null.
-  ModelNotFinite,     ///< The model's timestep is not finite and positive, or its gravity not finite.
-  EmptyMap,           ///< No entry, a null entry array, or more entries than the map holds.
-  NameMissing,        ///< An entry's name is null or is not a body of the model (entry()).
-  BodyOutOfRange,     ///< An entry's grip body is outside [0, hand_body_count) (entry()).
-  BodyTwice,          ///< An entry names a body that an earlier entry named (entry()).
-  WorldBody,          ///< An entry names the world body (entry()).
-  ObjectMissing,      ///< The object's name is null or is not a body of the model.
-  ObjectNotFree,      ///< The object body has no free joint (exactly one joint, mjJNT_FREE).
-  ObjectInHand,       ///< The object body is one of the map's bodies.
+  None,            ///< Nothing: the set-up succeeded.
+  NullModel,       ///< The model (or the data) pointer is null.
+  ModelNotFinite,  ///< The model's timestep is not finite and positive, or its gravity not finite.
+  EmptyMap,        ///< No entry, a null entry array, or more entries than the map holds.
+  NameMissing,     ///< An entry's name is null or is not a body of the model (entry()).
+  BodyOutOfRange,  ///< An entry's grip body is outside [0, hand_body_count) (entry()).
+  BodyTwice,       ///< An entry names a body that an earlier entry named (entry()).
+  WorldBody,       ///< An entry names the world body (entry()).
+  ObjectMissing,   ///< The object's name is null or is not a body of the model.
+  ObjectNotFree,   ///< The object body has no free joint (exactly one joint, mjJNT_FREE).
+  ObjectInHand,    ///< The object body is one of the map's bodies.
 };
 
 /// A short English name of a problem, for messages ("name missing", ...).

@@ -24,10 +24,10 @@ struct BodyName {
 /// then "thumb_metacarpal", ..., "little_metacarpal". nullptr outside the range.
 constexpr const char* hand_body_name(int k) {
   constexpr const char* names[hand_body_count] = {
-      "thumb_proximal",   "thumb_distal",     "index_proximal",  "index_middle",    "index_distal",
-      "long_proximal",    "long_middle",      "long_distal",     "ring_proximal",   "ring_middle",
-      "ring_distal",      "little_proximal",  "little_middle",   "little_distal",   "thumb_metacarpal",
-      "index_metacarpal", "long_metacarpal",  "ring_metacarpal", "little_metacarpal"};
+      "thumb_proximal",   "thumb_distal",    "index_proximal",  "index_middle",     "index_distal",
+      "long_proximal",    "long_middle",     "long_distal",     "ring_proximal",    "ring_middle",
+      "ring_distal",      "little_proximal", "little_middle",   "little_distal",    "thumb_metacarpal",
+      "index_metacarpal", "long_metacarpal", "ring_metacarpal", "little_metacarpal"};
   return k >= 0 && k < hand_body_count ? names[k] : nullptr;
 }
 
@@ -43,11 +43,16 @@ inline std::array<BodyName, hand_body_count> grip_hand_body_names() {
 /// "thumb_cmc_flexion", "thumb_cmc_abduction", "thumb_mcp", "thumb_ip", then per finger
 /// "<finger>_abduction", "_mcp", "_pip", "_dip" (index, long, ring, little). nullptr outside.
 constexpr const char* hand_joint_name(int i) {
-  constexpr const char* names[hand_dof_count] = {
-      "thumb_cmc_flexion", "thumb_cmc_abduction", "thumb_mcp",   "thumb_ip",   "index_abduction",
-      "index_mcp",         "index_pip",           "index_dip",   "long_abduction", "long_mcp",
-      "long_pip",          "long_dip",            "ring_abduction", "ring_mcp",  "ring_pip",
-      "ring_dip",          "little_abduction",    "little_mcp",  "little_pip", "little_dip"};
+  constexpr const char* names[hand_dof_count] = {"thumb_cmc_flexion", "thumb_cmc_abduction",
+                                                 "thumb_mcp",         "thumb_ip",
+                                                 "index_abduction",   "index_mcp",
+                                                 "index_pip",         "index_dip",
+                                                 "long_abduction",    "long_mcp",
+                                                 "long_pip",          "long_dip",
+                                                 "ring_abduction",    "ring_mcp",
+                                                 "ring_pip",          "ring_dip",
+                                                 "little_abduction",  "little_mcp",
+                                                 "little_pip",        "little_dip"};
   return i >= 0 && i < hand_dof_count ? names[i] : nullptr;
 }
 

@@ -43,18 +43,18 @@ struct HandMjcf {
   std::string model{"grip_hand"};  ///< The `<mujoco model=...>` name.
   std::string prefix{};            ///< Prepended to every name the hand writes (two hands in one scene).
   Eigen::Isometry3d wrist{Eigen::Isometry3d::Identity()};  ///< The hand frame's initial pose (m; world).
-  bool mocap{true};                ///< The hand welded to a mocap target (tracker-driven); false: fixed.
-  double palm_mass{0.4};           ///< The hand body's mass (kg) with mocap on; a box's inertia of 10 x 8 x 3 cm.
-  double servo_gain{2.0};          ///< Position actuators' kp (N m/rad); 0 writes no actuator.
-  double joint_damping{0.05};      ///< Joint damping (N m s/rad).
-  double armature{1e-4};           ///< Joint armature (kg m^2), steadies the light phalanges.
-  double density{1000.0};          ///< Capsule density (kg/m^3), for the bodies' masses.
-  double friction{0.8};            ///< The hand geoms' sliding friction coefficient.
+  bool mocap{true};                  ///< The hand welded to a mocap target (tracker-driven); false: fixed.
+  double palm_mass{0.4};             ///< The hand body's mass (kg) with mocap on; a box's inertia of 10 x 8 x 3 cm.
+  double servo_gain{2.0};            ///< Position actuators' kp (N m/rad); 0 writes no actuator.
+  double joint_damping{0.05};        ///< Joint damping (N m s/rad).
+  double armature{1e-4};             ///< Joint armature (kg m^2), steadies the light phalanges.
+  double density{1000.0};            ///< Capsule density (kg/m^3), for the bodies' masses.
+  double friction{0.8};              ///< The hand geoms' sliding friction coefficient.
   double torsional_friction{0.005};  ///< Their torsional coefficient (m), used with condim 4 and 6.
-  int condim{3};                   ///< The hand geoms' contact dimension (1, 3, 4 or 6).
-  double timestep{0.001};          ///< The model's timestep (s).
-  std::string worldbody{};         ///< XML placed in `<worldbody>` after the hand (a table, an object).
-  std::string extra{};             ///< XML placed in `<mujoco>` after the worldbody (assets, contacts).
+  int condim{3};                     ///< The hand geoms' contact dimension (1, 3, 4 or 6).
+  double timestep{0.001};            ///< The model's timestep (s).
+  std::string worldbody{};           ///< XML placed in `<worldbody>` after the hand (a table, an object).
+  std::string extra{};               ///< XML placed in `<mujoco>` after the worldbody (assets, contacts).
 };
 
 /// Writes grip's whole hand of dimensions `dims` as a complete MJCF document into `out`.
@@ -93,9 +93,8 @@ inline Status hand_mjcf(const HandDimensions<double>& dims, const HandMjcf& o, s
   const bool options_ok =
       std::isfinite(o.servo_gain) && o.servo_gain >= 0 && std::isfinite(o.joint_damping) && o.joint_damping >= 0 &&
       std::isfinite(o.armature) && o.armature >= 0 && std::isfinite(o.density) && o.density > 0 &&
-      std::isfinite(o.palm_mass) && o.palm_mass > 0 &&
-      std::isfinite(o.friction) && o.friction >= 0 && std::isfinite(o.torsional_friction) &&
-      o.torsional_friction >= 0 && std::isfinite(o.timestep) && o.timestep > 0 &&
+      std::isfinite(o.palm_mass) && o.palm_mass > 0 && std::isfinite(o.friction) && o.friction >= 0 &&
+      std::isfinite(o.torsional_friction) && o.torsional_friction >= 0 && std::isfinite(o.timestep) && o.timestep > 0 &&
       (o.condim == 1 || o.condim == 3 || o.condim == 4 || o.condim == 6) && o.wrist.matrix().allFinite() &&
       (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-9 && R.determinant() > 0 &&
       detail::mjcf_name_ok(o.prefix) && detail::mjcf_name_ok(o.model);
@@ -146,10 +145,9 @@ inline Status hand_mjcf(const HandDimensions<double>& dims, const HandMjcf& o, s
   std::string s = "<mujoco model=\"" + o.model + "\">\n";
   s += "<compiler angle=\"radian\"/>\n<option timestep=\"" + mjcf_number(o.timestep) + "\"/>\n";
   s += "<default><default class=\"" + pre + "grip_hand\"><geom contype=\"2\" conaffinity=\"1\" condim=\"" +
-       std::to_string(o.condim) + "\" friction=\"" + mjcf_number(o.friction) + " " +
-       mjcf_number(o.torsional_friction) + " 0.0001\" density=\"" + mjcf_number(o.density) +
-       "\"/><joint damping=\"" + mjcf_number(o.joint_damping) + "\" armature=\"" + mjcf_number(o.armature) +
-       "\"/></default></default>\n";
+       std::to_string(o.condim) + "\" friction=\"" + mjcf_number(o.friction) + " " + mjcf_number(o.torsional_friction) +
+       " 0.0001\" density=\"" + mjcf_number(o.density) + "\"/><joint damping=\"" + mjcf_number(o.joint_damping) +
+       "\" armature=\"" + mjcf_number(o.armature) + "\"/></default></default>\n";
   const std::string pose = "pos=\"" + mjcf_vector(o.wrist.translation()) + "\" quat=\"" + mjcf_number(q.w()) + " " +
                            mjcf_number(q.x()) + " " + mjcf_number(q.y()) + " " + mjcf_number(q.z()) + "\"";
   s += "<worldbody>\n";

@@ -76,16 +76,17 @@ ObjectWrench<Scalar> free_body_wrench(const mjModel* m, const mjData* d, int bod
   using M = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
   const double mass = m->body_mass[body];
   const V g(m->opt.gravity[0], m->opt.gravity[1], m->opt.gravity[2]);
-  const Eigen::Map<const M> R(d->xmat + 9 * body);      // body frame -> world
-  const Eigen::Map<const M> Ri(d->ximat + 9 * body);    // inertial frame -> world
+  const Eigen::Map<const M> R(d->xmat + 9 * body);    // body frame -> world
+  const Eigen::Map<const M> Ri(d->ximat + 9 * body);  // inertial frame -> world
   const V r = V(d->xipos[3 * body], d->xipos[3 * body + 1], d->xipos[3 * body + 2]) -
               V(d->xpos[3 * body], d->xpos[3 * body + 1], d->xpos[3 * body + 2]);
   const V omega = V(d->cvel[6 * body], d->cvel[6 * body + 1], d->cvel[6 * body + 2]);  // world axes
   const V a_origin(d->qacc[dof], d->qacc[dof + 1], d->qacc[dof + 2]);
   const V alpha = R * V(d->qacc[dof + 3], d->qacc[dof + 4], d->qacc[dof + 5]);
   const V a = a_origin + alpha.cross(r) + omega.cross(omega.cross(r));
-  const M I = Ri * V(m->body_inertia[3 * body], m->body_inertia[3 * body + 1], m->body_inertia[3 * body + 2])
-                       .asDiagonal() * Ri.transpose();
+  const M I = Ri *
+              V(m->body_inertia[3 * body], m->body_inertia[3 * body + 1], m->body_inertia[3 * body + 2]).asDiagonal() *
+              Ri.transpose();
   Wrench<double> grav, inert, applied;
   grav << mass * g, V::Zero();
   inert << -mass * a, -(I * alpha + omega.cross(I * omega));

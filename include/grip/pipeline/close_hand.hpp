@@ -20,8 +20,8 @@ namespace grip {
 /// Result of close_hand_in_scene(): `Joints` the paper's 14 flexions or the 20 joints.
 template <class Scalar, class Joints = JointAngles<Scalar>>
 struct ClosedHand {
-  Joints angles{Joints::Zero()};  ///< the closed posture (rad)
-  int touching{0};  ///< phalanges in contact in the closed posture
+  Joints angles{Joints::Zero()};        ///< the closed posture (rad)
+  int touching{0};                      ///< phalanges in contact in the closed posture
   Status status{Status::InvalidInput};  ///< Ok, or InvalidInput (angles zero)
 };
 
@@ -79,11 +79,13 @@ ClosedHand<Scalar, Joints> close_hand_in_scene(const Scene& scene, const HandDim
           break;
         }
       }
-      if (!blocked) continue;  // the joint reached its limit
+      if (!blocked) continue;            // the joint reached its limit
       for (int it = 0; it < 30; ++it) {  // bisection: smallest angle reaching target_depth
         q(j) = Scalar(0.5) * (lo + hi);
-        if (deepest(k, last) >= target_depth) hi = q(j);
-        else lo = q(j);
+        if (deepest(k, last) >= target_depth)
+          hi = q(j);
+        else
+          lo = q(j);
       }
       q(j) = hi;  // the next joint then flexes the phalanges beyond this one
     }

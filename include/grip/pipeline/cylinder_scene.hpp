@@ -35,12 +35,12 @@ namespace grip {
 template <class Scalar, int MaxObstacles = 4, int PerPhalanx = 1, int Samples = 8>
 struct CylinderScene {
   static constexpr int contacts_per_phalanx = PerPhalanx;  ///< most hand contacts per phalanx
-  Scalar radius{Scalar(0.035)};       ///< cylinder radius (m)
-  Scalar half_length{Scalar(0.06)};   ///< half of the cylinder's length (m)
-  int rim_points{8};                  ///< sample points per rim, in [1, max_obstacle_contacts / 2]
-  Obstacles<Scalar, MaxObstacles> obstacles{};  ///< obstacles in the world (e.g. a table: add_box)
-  ContactSettings<Scalar> contact_settings{};   ///< the narrow phase's settings
-  mutable HandCollisionModel<Scalar, Samples> model{};  ///< per-frame hand spheres (scratch)
+  Scalar radius{Scalar(0.035)};                            ///< cylinder radius (m)
+  Scalar half_length{Scalar(0.06)};                        ///< half of the cylinder's length (m)
+  int rim_points{8};                                       ///< sample points per rim, in [1, max_obstacle_contacts / 2]
+  Obstacles<Scalar, MaxObstacles> obstacles{};             ///< obstacles in the world (e.g. a table: add_box)
+  ContactSettings<Scalar> contact_settings{};              ///< the narrow phase's settings
+  mutable HandCollisionModel<Scalar, Samples> model{};     ///< per-frame hand spheres (scratch)
 
   /// The hand contacts of `posture` with the cylinder posed as `object`. Returns their count
   /// (0 also when the posture, the object or the settings are invalid).

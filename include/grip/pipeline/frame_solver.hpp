@@ -67,8 +67,8 @@ struct ConstrainedFrameSolver {
   ConstrainedSettings<Scalar> settings{};
   Wrench<Scalar> warm{Wrench<Scalar>::Zero()};  ///< multipliers of the last usable solve
   bool has_warm{false};                         ///< whether `warm` holds any
-  int passes{0};       ///< passes over the contacts of the last solve (ConstrainedSolution::passes)
-  int iterations{0};   ///< interior-point iterations of the last solve (0: the fast path or Newton answered)
+  int passes{0};      ///< passes over the contacts of the last solve (ConstrainedSolution::passes)
+  int iterations{0};  ///< interior-point iterations of the last solve (0: the fast path or Newton answered)
 
   /// min F2 s.t. G x + w_ext = 0 and x_i in K_i for this frame's grasp (GraspT::ScalarType must be
   /// Scalar), warm-started when `has_warm`; keeps the multipliers of an Ok or IterationLimit solve

@@ -43,9 +43,9 @@ struct HapticSettings {
   /// K_i of the palm's bodies (N/m): the metacarpals and the thenar, which touch objects when
   /// the pipeline runs the whole hand (20 joints).
   Scalar palm_stiffness{Scalar(3e4)};
-  Scalar friction{Scalar(0.8)};                              ///< Coulomb mu of every hand contact
+  Scalar friction{Scalar(0.8)};                                  ///< Coulomb mu of every hand contact
   Vector3<Scalar> gravity{Scalar(0), Scalar(0), Scalar(-9.81)};  ///< g (m/s^2)
-  PenaltyMaterial<Scalar> obstacle_material{};               ///< object-obstacle spring-damper
+  PenaltyMaterial<Scalar> obstacle_material{};                   ///< object-obstacle spring-damper
   /// The largest force per phalanx along its actuation direction (N): the default device
   /// policy's (PhalanxActuators) limits when the pipeline is built (then device().limit), and
   /// the limits of PhalanxFeedback::command under the other device policies.
@@ -57,7 +57,7 @@ struct HapticSettings {
   /// object (a phalanx whose limit is <= 0 then touches nothing; the palm's bodies have no
   /// actuator: unbounded). False: no bounds, and the device clips what it cannot render.
   bool bound_by_device{true};
-  Scalar dt{Scalar(1e-3)};                                   ///< frame period (s)
+  Scalar dt{Scalar(1e-3)};  ///< frame period (s)
   /// Re-solves per frame after dropping separating contacts, >= 0 (none with a solver that
   /// enforces the cones: its separating forces are zero and the rest already the answer).
   int max_resolves{4};
@@ -82,8 +82,8 @@ struct PhalanxFeedback {
   /// direction d and flexion axis e (world); the object pressing on the palmar side pushes
   /// along it.
   Vector3<Scalar> actuation_direction{Vector3<Scalar>::Zero()};
-  Scalar actuated{0};    ///< force . actuation_direction (N)
-  Scalar command{0};     ///< actuated clamped to [0, device_limit] (N): what the device renders
+  Scalar actuated{0};      ///< force . actuation_direction (N)
+  Scalar command{0};       ///< actuated clamped to [0, device_limit] (N): what the device renders
   bool in_contact{false};  ///< the phalanx touches the object
   bool clamped{false};     ///< command != actuated (beyond the limit, or pulling)
   bool sliding{false};     ///< its contact force left the friction cone
@@ -98,18 +98,18 @@ struct HapticFrame {
   Wrench<Scalar> unbalanced{Wrench<Scalar>::Zero()};
   Status solve_status{Status::InvalidInput};  ///< status of the last solve of the frame
   Status status{Status::InvalidInput};        ///< Ok, or InvalidInput (bad wrist/angles/state)
-  int contacts{0};      ///< hand contacts detected
-  int obstacles{0};     ///< obstacle contacts
-  int sliding{0};       ///< contacts outside their cone (after re-solves)
-  int separating{0};    ///< contacts dropped as separating (f . a <= 0)
-  int clamped{0};       ///< phalanges whose command was clamped
+  int contacts{0};                            ///< hand contacts detected
+  int obstacles{0};                           ///< obstacle contacts
+  int sliding{0};                             ///< contacts outside their cone (after re-solves)
+  int separating{0};                          ///< contacts dropped as separating (f . a <= 0)
+  int clamped{0};                             ///< phalanges whose command was clamped
   /// -f summed over the palm's contacts (N, world): what the palm feels (whole hand only).
   Vector3<Scalar> palm_force{Vector3<Scalar>::Zero()};
   int device_clipped{0};  ///< outputs the device policy clipped (its Command::clipped)
-  int solves{0};        ///< solver calls this frame
-  int iterations{0};    ///< solver iterations this frame (0 for direct solvers)
-  bool held{false};     ///< the grasp is stable: the object moves with the hand
-  Scalar min_margin{0};  ///< smallest Coulomb margin (N) over the contacts of the last solve
+  int solves{0};          ///< solver calls this frame
+  int iterations{0};      ///< solver iterations this frame (0 for direct solvers)
+  bool held{false};       ///< the grasp is stable: the object moves with the hand
+  Scalar min_margin{0};   ///< smallest Coulomb margin (N) over the contacts of the last solve
 };
 
 namespace detail {

@@ -141,7 +141,7 @@ class HapticPipeline {
     /// object (N, world; zero if dropped as separating or if resolve() failed).
     std::array<Vector3<Scalar>, max_contacts> transmitted{};
     std::array<bool, max_contacts> sliding{};  ///< by solve_forces: the contact left its cone
-    bool stable{false};  ///< by solve_forces: the last solve Ok and every contact kept sticks
+    bool stable{false};                        ///< by solve_forces: the last solve Ok and every contact kept sticks
   };
 
   // The stages, in step()'s order.
@@ -185,7 +185,8 @@ class HapticPipeline {
     (void)device_.render(felt_, posture_, joint_velocity_, command_);
     frame.device_clipped = command_.clipped;
     if constexpr (phalanx_device)
-      for (int k = 0; k < hand_phalanx_count; ++k) detail::set_phalanx_command(frame, k, command_.force[detail::idx(k)]);
+      for (int k = 0; k < hand_phalanx_count; ++k)
+        detail::set_phalanx_command(frame, k, command_.force[detail::idx(k)]);
   }
   /// Whether Device is the default PhalanxActuators, whose command is PhalanxFeedback::command.
   static constexpr bool phalanx_device = std::is_same<Device, PhalanxActuators<Scalar>>::value;
@@ -265,10 +266,9 @@ template <class Scalar, class Scene, class Solver, class Device>
 template <class Derived>
 bool HapticPipeline<Scalar, Scene, Solver, Device>::pose_hand(const WristState<Scalar>& wrist,
                                                               const Eigen::MatrixBase<Derived>& angles) {
-  if (!wrist.pose.matrix().allFinite() || !wrist.linear_velocity.allFinite() ||
-      !wrist.angular_velocity.allFinite() || !wrist.linear_acceleration.allFinite() ||
-      !wrist.angular_acceleration.allFinite() || !angles.allFinite() || validate(object_) != Status::Ok ||
-      !(settings_.dt > Scalar(0)))
+  if (!wrist.pose.matrix().allFinite() || !wrist.linear_velocity.allFinite() || !wrist.angular_velocity.allFinite() ||
+      !wrist.linear_acceleration.allFinite() || !wrist.angular_acceleration.allFinite() || !angles.allFinite() ||
+      validate(object_) != Status::Ok || !(settings_.dt > Scalar(0)))
     return false;
   if (forward_kinematics(settings_.hand, wrist.pose, angles, posture_) != Status::Ok) return false;
   HandJoints<Scalar> q = HandJoints<Scalar>::Zero();
@@ -307,15 +307,16 @@ void HapticPipeline<Scalar, Scene, Solver, Device>::find_contacts(HapticFrame<Sc
 }
 
 template <class Scalar, class Scene, class Solver, class Device>
-bool HapticPipeline<Scalar, Scene, Solver, Device>::object_wrench(const WristState<Scalar>& wrist, HapticFrame<Scalar>& frame) {
+bool HapticPipeline<Scalar, Scene, Solver, Device>::object_wrench(const WristState<Scalar>& wrist,
+                                                                  HapticFrame<Scalar>& frame) {
   const Vector3<Scalar> wrist_origin = wrist.pose.translation();
   const Vector3<Scalar> r = object_.position - wrist_origin;
   const Vector3<Scalar>& w = wrist.angular_velocity;
   const Vector3<Scalar> a = wrist.linear_acceleration + wrist.angular_acceleration.cross(r) + w.cross(w.cross(r));
   RigidBody<Scalar> imposed = object_;
   imposed.angular_velocity = w;
-  frame.external = external_wrench(imposed, settings_.gravity, a, wrist.angular_acceleration,
-                                   obstacles_.items.data(), obstacles_.count, settings_.obstacle_material);
+  frame.external = external_wrench(imposed, settings_.gravity, a, wrist.angular_acceleration, obstacles_.items.data(),
+                                   obstacles_.count, settings_.obstacle_material);
   if (frame.external.status != Status::Ok) return false;
   forces_.w_ext = frame.external.total();
   return true;
@@ -364,7 +365,8 @@ void HapticPipeline<Scalar, Scene, Solver, Device>::solve_forces(HapticFrame<Sca
 
 template <class Scalar, class Scene, class Solver, class Device>
 auto HapticPipeline<Scalar, Scene, Solver, Device>::monitor_cones(const Solution<GraspType>& sol,
-                                                          HapticFrame<Scalar>& frame) const -> GraspState<GraspType> {
+                                                                  HapticFrame<Scalar>& frame) const
+    -> GraspState<GraspType> {
   GraspState<GraspType> state = monitor_.evaluate(grasp_, sol.forces);
   if (state.status != Status::Ok) {
     frame.solve_status = Status::InvalidInput;
@@ -376,7 +378,8 @@ auto HapticPipeline<Scalar, Scene, Solver, Device>::monitor_cones(const Solution
 }
 
 template <class Scalar, class Scene, class Solver, class Device>
-void HapticPipeline<Scalar, Scene, Solver, Device>::move_object(const WristState<Scalar>& wrist, HapticFrame<Scalar>& frame) {
+void HapticPipeline<Scalar, Scene, Solver, Device>::move_object(const WristState<Scalar>& wrist,
+                                                                HapticFrame<Scalar>& frame) {
   Wrench<Scalar> transmitted = Wrench<Scalar>::Zero();
   for (int i = 0; i < hand_.count; ++i) {
     const Vector3<Scalar>& f = forces_.transmitted[detail::idx(i)];

@@ -100,7 +100,8 @@ struct Obstacles {
 /// half_length, axis body z through the centre of mass): 2 per_rim points. InvalidInput if
 /// they do not fit (those that fit are kept) or per_rim < 1.
 template <class Scalar, int MaxPoints>
-Status add_rim_points(SurfacePoints<Scalar, MaxPoints>& points, typename SurfacePoints<Scalar, MaxPoints>::Point::Scalar radius,
+Status add_rim_points(SurfacePoints<Scalar, MaxPoints>& points,
+                      typename SurfacePoints<Scalar, MaxPoints>::Point::Scalar radius,
                       typename SurfacePoints<Scalar, MaxPoints>::Point::Scalar half_length, int per_rim) {
   if (per_rim < 1) return Status::InvalidInput;
   const Scalar two_pi = Scalar(6.283185307179586);
@@ -124,9 +125,9 @@ Status add_box_points(SurfacePoints<Scalar, MaxPoints>& points,
   for (int code = 0; code < 27; ++code) {
     const int c[3] = {code % 3 - 1, (code / 3) % 3 - 1, code / 9 - 1};
     if ((c[0] == 0) + (c[1] == 0) + (c[2] == 0) > 1) continue;
-    const Vector3<Scalar> local = Vector3<Scalar>(static_cast<Scalar>(c[0]), static_cast<Scalar>(c[1]),
-                                                  static_cast<Scalar>(c[2]))
-                                      .cwiseProduct(half_extents);
+    const Vector3<Scalar> local =
+        Vector3<Scalar>(static_cast<Scalar>(c[0]), static_cast<Scalar>(c[1]), static_cast<Scalar>(c[2]))
+            .cwiseProduct(half_extents);
     if (points.add(center + rotation * local) != Status::Ok) return Status::InvalidInput;
   }
   return Status::Ok;

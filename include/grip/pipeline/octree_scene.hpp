@@ -34,14 +34,15 @@ struct PaperMode {};
 template <class Scalar, int Capacity, class Field = PaperMode, int Samples = 8, int PerPhalanx = 1,
           int MaxObstacles = 4>
 struct OctreeScene {
-  static_assert(PerPhalanx == 1 || !std::is_same<Field, PaperMode>::value, "the paper mode gives one contact per phalanx");
-  static constexpr int contacts_per_phalanx = PerPhalanx;  ///< most hand contacts per phalanx
+  static_assert(PerPhalanx == 1 || !std::is_same<Field, PaperMode>::value,
+                "the paper mode gives one contact per phalanx");
+  static constexpr int contacts_per_phalanx = PerPhalanx;    ///< most hand contacts per phalanx
   const SphericalOctree<Scalar, Capacity>* octree{nullptr};  ///< the object's octree (body frame)
-  const Field* field{nullptr};  ///< the object's distance field (body frame; unused in the paper mode)
-  Obstacles<Scalar, MaxObstacles> obstacles{};                ///< obstacles in the world
-  SurfacePoints<Scalar, max_obstacle_contacts> surface{};     ///< where the object meets obstacles (body frame)
-  ContactSettings<Scalar> contact_settings{};                 ///< the narrow phase's settings
-  mutable HandCollisionModel<Scalar, Samples> model{};       ///< per-frame hand spheres (scratch)
+  const Field* field{nullptr};                  ///< the object's distance field (body frame; unused in the paper mode)
+  Obstacles<Scalar, MaxObstacles> obstacles{};  ///< obstacles in the world
+  SurfacePoints<Scalar, max_obstacle_contacts> surface{};  ///< where the object meets obstacles (body frame)
+  ContactSettings<Scalar> contact_settings{};              ///< the narrow phase's settings
+  mutable HandCollisionModel<Scalar, Samples> model{};     ///< per-frame hand spheres (scratch)
 
   /// Contacts between the posed hand and the object. Returns their count.
   int hand_contacts(const HandPosture<Scalar>& posture, const RigidBody<Scalar>& object,

@@ -64,7 +64,8 @@ class CoulombPassTable {
   using Pack = SimdPack<Scalar>;
   static constexpr int block = Pack::width;
   static constexpr int round_up(int n) { return (n + block - 1) / block * block; }
-  static constexpr int rows_at_compile_time = GraspT::fixed_size == Eigen::Dynamic ? Eigen::Dynamic : round_up(GraspT::fixed_size);
+  static constexpr int rows_at_compile_time =
+      GraspT::fixed_size == Eigen::Dynamic ? Eigen::Dynamic : round_up(GraspT::fixed_size);
   static constexpr int max_rows = round_up(GraspT::capacity);
   /// One coordinate of every contact (rows() entries).
   using Column = Eigen::Array<Scalar, rows_at_compile_time, 1, Eigen::ColMajor, max_rows, 1>;
@@ -267,8 +268,10 @@ class CoulombPassTable {
     S lanes[P::width > 1 ? sums : 1];
     if constexpr (P::width > 1) P::sum_each(acc, sums, lanes);
     const auto total = [&](int e) -> S {
-      if constexpr (P::width > 1) return lanes[e];
-      else return acc[e].v;
+      if constexpr (P::width > 1)
+        return lanes[e];
+      else
+        return acc[e].v;
     };
     ConstrainedPass<S> p;
     for (int r = 0; r < 6; ++r) p.residual(r) = w_ext(r) + total(r);

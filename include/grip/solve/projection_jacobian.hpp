@@ -83,8 +83,8 @@ namespace detail {
 /// where the cone has no interior in R^4 (coordinates off its plane are projected away).
 template <class Scalar>
 ProjectionJacobian<Scalar, 4> planar_cone_jacobian(const Eigen::Matrix<Scalar, 4, 1>& b1,
-                                                 const Eigen::Matrix<Scalar, 4, 1>& b2, Scalar c,
-                                                 const Eigen::Matrix<Scalar, 4, 1>& v) {
+                                                   const Eigen::Matrix<Scalar, 4, 1>& b2, Scalar c,
+                                                   const Eigen::Matrix<Scalar, 4, 1>& v) {
   using M4 = Eigen::Matrix<Scalar, 4, 4>;
   using R = ProjectionJacobian<Scalar, 4>;
   const Scalar s = v.dot(b1), y = v.dot(b2);
@@ -113,8 +113,8 @@ ProjectionJacobian<Scalar, 4> planar_cone_jacobian(const Eigen::Matrix<Scalar, 4
 /// - mu = 0 or mu_t = 0: the cone is planar (or a ray) in R^4; see detail::planar_cone_jacobian.
 template <class Scalar>
 ProjectionJacobian<Scalar, 4> projection_jacobian(const SoftFingerCone<Scalar, SoftFingerNorm::Elliptic>& cone,
-                                                const Eigen::Matrix<Scalar, 4, 1>& v,
-                                                const Eigen::Matrix<Scalar, 4, 1>& p) {
+                                                  const Eigen::Matrix<Scalar, 4, 1>& v,
+                                                  const Eigen::Matrix<Scalar, 4, 1>& p) {
   using V4 = Eigen::Matrix<Scalar, 4, 1>;
   using M4 = Eigen::Matrix<Scalar, 4, 4>;
   using R = ProjectionJacobian<Scalar, 4>;

@@ -102,9 +102,9 @@ struct ConstrainedSolution : Solution<GraspT> {
 /// A grasp matrix of rank < 6 is not an error here: the answer is Ok if the wrench can still be
 /// balanced inside the cones, Infeasible (with a certificate) otherwise.
 template <class GraspT>
-ConstrainedSolution<GraspT> solve_constrained(
-    const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
-    const ConstrainedSettings<typename GraspT::ScalarType>& settings = ConstrainedSettings<typename GraspT::ScalarType>{});
+ConstrainedSolution<GraspT> solve_constrained(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
+                                              const ConstrainedSettings<typename GraspT::ScalarType>& settings =
+                                                  ConstrainedSettings<typename GraspT::ScalarType>{});
 
 /// As above, warm-started from `warm_multipliers` (the previous frame's solution.multipliers).
 template <class GraspT>

@@ -18,8 +18,7 @@ namespace detail {
 
 /// Ok if the grasp is complete and w_ext valid; otherwise fills `sol` for InvalidInput.
 template <class GraspT>
-bool check_inputs(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
-                  Solution<GraspT>& sol) {
+bool check_inputs(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext, Solution<GraspT>& sol) {
   sol.forces.setZero(grasp.unknowns());
   sol.multipliers.setZero();
   sol.iterations = 0;
@@ -57,8 +56,10 @@ void balanced_columns(const Contact<S>& c, const Wrench<S>& balance, Eigen::Matr
     const S norm = stable_norm(q.col(j));
     const bool usable = norm > S(0) && std::isfinite(norm) && std::isfinite(S(1) / norm);
     s(j) = usable ? S(1) / norm : S(0);
-    if (usable) q.col(j) *= s(j);
-    else q.col(j).setZero();
+    if (usable)
+      q.col(j) *= s(j);
+    else
+      q.col(j).setZero();
   }
 }
 
@@ -327,8 +328,8 @@ bool range_space_solve(const GraspT& grasp, const Wrench<typename GraspT::Scalar
   // repairs it. The test costs three 6-vector dot products.
   const Wrench<S> balance = unit_balance(length);
   const S eps64 = S(64) * std::numeric_limits<S>::epsilon();
-  const S floor2 = S(2) * balance.cwiseProduct(w_ext).squaredNorm() +
-                   S(2) * eps64 * eps64 * balance.cwiseProduct(rhs).squaredNorm();
+  const S floor2 =
+      S(2) * balance.cwiseProduct(w_ext).squaredNorm() + S(2) * eps64 * eps64 * balance.cwiseProduct(rhs).squaredNorm();
   const auto worse_than_zero = [&] { return balance.cwiseProduct(res).squaredNorm() > floor2; };
   if constexpr (!least_squares) {
     if (sol.status != Status::Ok || worse_than_zero()) {

@@ -62,7 +62,7 @@ void ldlt_substitute(const Scalar (&a)[N][N], const Scalar (&inv_d)[N], const in
     for (int k = 0; k < i; ++k) z[i] -= a[i][k] * z[k];
   }
   for (int i = 0; i < N; ++i) z[i] *= inv_d[i];  // D v = w
-  for (int i = N - 1; i >= 0; --i) {  // L^T u = v
+  for (int i = N - 1; i >= 0; --i) {             // L^T u = v
     for (int k = i + 1; k < N; ++k) z[i] -= a[k][i] * z[k];
     x[perm[i]] = z[i];
   }
@@ -80,7 +80,7 @@ void ldlt_substitute(const Scalar (&a)[N][N], const Scalar (&inv_d)[N], const in
 /// tol * ref: it would accept too. Otherwise the pivoted factorisation decides.
 template <int N, class Scalar>
 struct SmallLdlt {
-  Scalar f[N][N];  ///< L below the diagonal, D on it
+  Scalar f[N][N];   ///< L below the diagonal, D on it
   Scalar inv_d[N];  ///< 1 / D
   int perm[N];      ///< row i of P^T A is row perm[i] of A
 
@@ -109,7 +109,7 @@ struct SmallLdlt {
   /// Factors the matrix `a` (full storage; not modified). False: rank deficient.
   bool factor(const Scalar (&a)[N][N], Scalar ref, Scalar tol) {
     return factor(
-        [&a](Scalar (&out)[N][N]) {
+        [&a](Scalar(&out)[N][N]) {
           for (int i = 0; i < N; ++i)
             for (int k = 0; k < N; ++k) out[i][k] = a[i][k];
         },
@@ -175,7 +175,8 @@ void symmetric_eigen_6x6(Matrix6<Scalar>& a, Wrench<Scalar>& ev, Matrix6<Scalar>
         // t^2 + 2 theta t - 1 = 0, theta = (a_qq - a_pp) / (2 a_pq).
         const Scalar theta = (a(q, q) - a(p, p)) / (Scalar(2) * apq);
         const Scalar at = std::abs(theta);
-        Scalar t = at > Scalar(1) / eps ? Scalar(1) / (Scalar(2) * at) : Scalar(1) / (at + std::sqrt(at * at + Scalar(1)));
+        Scalar t =
+            at > Scalar(1) / eps ? Scalar(1) / (Scalar(2) * at) : Scalar(1) / (at + std::sqrt(at * at + Scalar(1)));
         if (theta < Scalar(0)) t = -t;
         const Scalar c = Scalar(1) / std::sqrt(t * t + Scalar(1)), sn = t * c;
         for (int k = 0; k < 6; ++k) {  // a <- a J (columns p, q)
@@ -238,7 +239,7 @@ Wrench<Scalar> unit_balance(Scalar length) {
 /// finite: every answer is zero.
 template <class Scalar>
 struct PseudoInverse6 {
-  Wrench<Scalar> inv_ev{Wrench<Scalar>::Zero()};  ///< 1 / eigenvalue, 0 for those cut
+  Wrench<Scalar> inv_ev{Wrench<Scalar>::Zero()};      ///< 1 / eigenvalue, 0 for those cut
   Matrix6<Scalar> vecs{Matrix6<Scalar>::Identity()};  ///< orthonormal eigenvectors (columns)
 
   explicit PseudoInverse6(Matrix6<Scalar> a) {
@@ -333,8 +334,8 @@ Wrench<S> solve_newton_6x6(const Matrix6<S>& a, const Wrench<S>& b, S floor) {
   const S dt = ta.det;
   // T's diagonal must not have cancelled (t_ii against a_ii), nor its determinant against its
   // diagonal.
-  if (!(dt > hadamard * t00 * t11 * t22) || !(t00 > hadamard * a(3, 3) && t11 > hadamard * a(4, 4) &&
-                                               t22 > hadamard * a(5, 5)))
+  if (!(dt > hadamard * t00 * t11 * t22) ||
+      !(t00 > hadamard * a(3, 3) && t11 > hadamard * a(4, 4) && t22 > hadamard * a(5, 5)))
     return solve_floored_6x6(a, b, floor);
   const S it = S(1) / dt;
   // u = P^-1 b_1; y_2 = T^-1 (b_2 - Q^T u); y_1 = u - X y_2.
@@ -364,9 +365,9 @@ Wrench<S> solve_newton_6x6(const Matrix6<S>& a, const Wrench<S>& b, S floor) {
 ///
 /// The factorisation pivots on the diagonal (rank revealing, like LAPACK's pstrf; see
 /// detail::SmallLdlt). Ok: y solves the system. Singular: the largest remaining pivot fell below
-/// ScalarTraits::rank_tolerance times the largest diagonal entry of A (or L is not positive); y = D u is then given by the
-/// minimum-norm least-squares solution u = A^+ D r, so |D (M y - r)| is smallest, with
-/// eigenvalues of A below rank_tolerance times the largest treated as zero. y is finite.
+/// ScalarTraits::rank_tolerance times the largest diagonal entry of A (or L is not positive); y = D u is then given by
+/// the minimum-norm least-squares solution u = A^+ D r, so |D (M y - r)| is smallest, with eigenvalues of A below
+/// rank_tolerance times the largest treated as zero. y is finite.
 template <class Scalar>
 Status solve_symmetric_6x6(const Matrix6<Scalar>& m, const Wrench<Scalar>& r, Wrench<Scalar>& y,
                            Scalar length = Scalar(1)) {
@@ -376,7 +377,7 @@ Status solve_symmetric_6x6(const Matrix6<Scalar>& m, const Wrench<Scalar>& r, Wr
     Scalar ref(0);
     for (int k = 0; k < 6; ++k) ref = std::max(ref, d(k) * m(k, k) * d(k));
     detail::SmallLdlt<6, Scalar> ldlt;
-    const auto scaled = [&](Scalar (&a)[6][6]) {  // A = D M D
+    const auto scaled = [&](Scalar(&a)[6][6]) {  // A = D M D
       for (int k = 0; k < 6; ++k)
         for (int i = 0; i < 6; ++i) a[i][k] = d(i) * m(i, k) * d(k);
     };

@@ -336,9 +336,9 @@ class PolytopeFacets {
   Wrench<S> centre_;
   S flat_;
   int count_{0};
-  int nvis_{0};       // visible facets of the last find_visible()
-  int nh_{0};         // its horizon ridges
-  int stamp_{0};      // marks of the current search: stamp_ (tested) and stamp_ + 1 (visible)
+  int nvis_{0};   // visible facets of the last find_visible()
+  int nh_{0};     // its horizon ridges
+  int stamp_{0};  // marks of the current search: stamp_ (tested) and stamp_ + 1 (visible)
 };
 
 }  // namespace detail

@@ -23,7 +23,8 @@ struct field_parts {
   static constexpr int max = 1;
 };
 template <class Field>
-struct field_parts<Field, std::void_t<decltype(Field::max_parts), decltype(std::declval<const Field&>().part_count())>> {
+struct field_parts<Field,
+                   std::void_t<decltype(Field::max_parts), decltype(std::declval<const Field&>().part_count())>> {
   static constexpr int max = Field::max_parts;
 };
 
@@ -44,10 +45,11 @@ struct has_bounded_query<Field, Scalar,
 template <class Field, class Scalar, class = void>
 struct has_segment_query : std::false_type {};
 template <class Field, class Scalar>
-struct has_segment_query<Field, Scalar,
-                         std::void_t<decltype(std::declval<const Field&>().segment_distance2(
-                             0, std::declval<const Vector3<Scalar>&>(), std::declval<const Vector3<Scalar>&>(),
-                             std::declval<Scalar&>()))>> : std::true_type {};
+struct has_segment_query<
+    Field, Scalar,
+    std::void_t<decltype(std::declval<const Field&>().segment_distance2(
+        0, std::declval<const Vector3<Scalar>&>(), std::declval<const Vector3<Scalar>&>(), std::declval<Scalar&>()))>>
+    : std::true_type {};
 
 /// The field as the narrow phase queries it, per phalanx: exact(p) is the field's distance;
 /// within(p, limit) may answer false for a point farther than limit from the surface (only

@@ -46,9 +46,9 @@ template <class Scalar>
 struct JointSample {
   Vector3<Scalar> x{Vector3<Scalar>::Constant(std::numeric_limits<Scalar>::quiet_NaN())};
   Vector3<Scalar> normal{Vector3<Scalar>::UnitZ()};
-  Scalar phi{0};    // the exact distance, when found
-  Scalar limit{0};  // the band it was asked with
-  int place{-1};    // the probe's place() after it
+  Scalar phi{0};      // the exact distance, when found
+  Scalar limit{0};    // the band it was asked with
+  int place{-1};      // the probe's place() after it
   bool found{false};  // phi known; else no surface within limit
 };
 
@@ -74,12 +74,12 @@ Scalar band_of(const PhalanxAxis<Scalar>& ax, const ContactSettings<Scalar>& set
 /// (Plain data, filled before use: the candidate arrays are not initialised.)
 template <class Scalar>
 struct Penetration {
-  Scalar depth;             // r - phi
-  Scalar t;                 // axis parameter
-  Scalar phi;               // signed distance of the axis point
-  Vector3<Scalar> normal;   // outward
-  int sample;               // the sample it comes from
-  bool is_sample;           // a sample itself (counted in HandContact::samples)
+  Scalar depth;            // r - phi
+  Scalar t;                // axis parameter
+  Scalar phi;              // signed distance of the axis point
+  Vector3<Scalar> normal;  // outward
+  int sample;              // the sample it comes from
+  bool is_sample;          // a sample itself (counted in HandContact::samples)
 };
 
 /// Evaluates the field at the samples in reach; those with no surface within the band and
@@ -95,7 +95,7 @@ void evaluate_samples(Probe& probe, const PhalanxAxis<Scalar>& ax, Scalar band, 
                       Inside&& may_be_inside, JointSample<Scalar>& joint) {
   const Scalar spacing = (ax.b - ax.a).norm() / Scalar(Samples - 1);
   const Scalar skip = band + spacing;
-  bool far = false;  // the previous sample is at least a spacing beyond the band
+  bool far = false;                                         // the previous sample is at least a spacing beyond the band
   Scalar below = -std::numeric_limits<Scalar>::infinity();  // a lower bound of the previous phi
   for (int j = 0; j < Samples; ++j) {
     const auto sj = detail::idx(j);
@@ -255,8 +255,10 @@ Penetration<Scalar> refine(Probe& probe, const PhalanxAxis<Scalar>& ax, const Sa
       best.normal = n;
     }
     const End e{t, phi, n.dot(d)};
-    if (e.slope > Scalar(0)) hi = e;
-    else lo = e;
+    if (e.slope > Scalar(0))
+      hi = e;
+    else
+      lo = e;
   }
   best.depth = ax.radius - best.phi;
   return best;

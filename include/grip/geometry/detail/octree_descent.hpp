@@ -99,8 +99,10 @@ void descend_from_root(const SegmentQuery<Scalar>& seg, const SphericalOctree<Sc
   Scalar s;
   const Scalar reach = seg.radius + root.radius;
   if (segment_distance2(seg, v, s) > reach * reach) return;
-  if (root.child_count > 0) descend(seg, oct, 0, visit);
-  else if (oct.kind(0) != CellKind::Empty) visit_leaf(seg, 0, v, s, reach, visit);
+  if (root.child_count > 0)
+    descend(seg, oct, 0, visit);
+  else if (oct.kind(0) != CellKind::Empty)
+    visit_leaf(seg, 0, v, s, reach, visit);
 }
 
 }  // namespace detail

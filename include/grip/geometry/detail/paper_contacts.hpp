@@ -40,8 +40,8 @@ struct PlaneEstimates {
 
 /// Paper mode: the estimates of phalanx k into at most one contact (world frame out).
 template <class Scalar, int Samples, int Capacity>
-bool combine_planes(const PlaneEstimates<Scalar, Samples, Capacity>& q, Scalar radius, const Eigen::Transform<Scalar, 3, Eigen::Isometry>& pose,
-                    HandContact<Scalar>& out) {
+bool combine_planes(const PlaneEstimates<Scalar, Samples, Capacity>& q, Scalar radius,
+                    const Eigen::Transform<Scalar, 3, Eigen::Isometry>& pose, HandContact<Scalar>& out) {
   Scalar depth = Scalar(0), wsum = Scalar(0);
   int count = 0, deepest = -1;
   Vector3<Scalar> nsum = Vector3<Scalar>::Zero(), psum = Vector3<Scalar>::Zero();
@@ -62,9 +62,8 @@ bool combine_planes(const PlaneEstimates<Scalar, Samples, Capacity>& q, Scalar r
   }
   if (count == 0) return false;
   const Scalar nn = nsum.norm();
-  const Vector3<Scalar> n_out = nn > Scalar(1e-3) * wsum
-                                    ? Vector3<Scalar>(nsum / nn)
-                                    : q.oct->plane(q.leaf[detail::idx(deepest)]).normal;
+  const Vector3<Scalar> n_out =
+      nn > Scalar(1e-3) * wsum ? Vector3<Scalar>(nsum / nn) : q.oct->plane(q.leaf[detail::idx(deepest)]).normal;
   out.depth = depth;
   out.samples = count;
   out.sample = deepest;
@@ -78,8 +77,7 @@ bool combine_planes(const PlaneEstimates<Scalar, Samples, Capacity>& q, Scalar r
 template <class Scalar, int Samples, int Capacity>
 void reset_estimates(PlaneEstimates<Scalar, Samples, Capacity>& q, const HandCollisionModel<Scalar, Samples>& hand,
                      int k, const Eigen::Transform<Scalar, 3, Eigen::Isometry>& to_object) {
-  for (int j = 0; j < Samples; ++j)
-    q.x[detail::idx(j)] = to_object * hand.phalanx_node(k, Samples - 1 + j).center;
+  for (int j = 0; j < Samples; ++j) q.x[detail::idx(j)] = to_object * hand.phalanx_node(k, Samples - 1 + j).center;
   q.leaf.fill(-1);
 }
 

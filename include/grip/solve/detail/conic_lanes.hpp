@@ -294,7 +294,8 @@ class ConicLanes : public ConicStorage<S, D, Cap> {
       const int o = b * width;
       const Mask valid = P::first(this->n_ - o);
       const auto a = load_map(o);
-      const Vec p = load(this->p_, o), q = load(this->q_, o), u = load(this->u_, o), z = load(this->z_, o), rx = load(this->rx_, o);
+      const Vec p = load(this->p_, o), q = load(this->q_, o), u = load(this->u_, o), z = load(this->z_, o),
+                rx = load(this->rx_, o);
       Bound b0;
       if constexpr (Bounded) b0 = load_bound(o);
       const Sym bi = load_sym(o);
@@ -315,7 +316,8 @@ class ConicLanes : public ConicStorage<S, D, Cap> {
         }
         acc[23] = acc[23] + select(valid, sq, zero);
       }
-      Vec du = sym_apply(bi, minus_transpose(Block::template predictor_rhs<Bounded>(rx, z, b0.hb, b0.s, b0.rb), a, py1));
+      Vec du =
+          sym_apply(bi, minus_transpose(Block::template predictor_rhs<Bounded>(rx, z, b0.hb, b0.s, b0.rb), a, py1));
       for (int k = 0; k < D; ++k) du[k] = mul_add(pdt, u2[k], du[k]);
       // The bound's direction: dt = (t/s)(du_0 - c dtau + rb - s), ds = -s - (s/t) dt.
       P dt = zero, ds = zero;
@@ -397,7 +399,8 @@ class ConicLanes : public ConicStorage<S, D, Cap> {
       const int o = b * width;
       const Mask valid = P::first(this->n_ - o);
       const auto a = load_map(o);
-      const Vec p = load(this->p_, o), q = load(this->q_, o), u = load(this->u_, o), z = load(this->z_, o), rx = load(this->rx_, o);
+      const Vec p = load(this->p_, o), q = load(this->q_, o), u = load(this->u_, o), z = load(this->z_, o),
+                rx = load(this->rx_, o);
       const Vec u2 = load(this->u2_, o), cc = load(this->cc_, o), ce = load(this->ce_, o);
       Bound b0;
       P dsdt = zero;
@@ -425,8 +428,8 @@ class ConicLanes : public ConicStorage<S, D, Cap> {
       const Vec dz = Block::template dual_direction<Bounded>(a, p, q, du, pdy, pdt, krx, dt);
       store(this->du_, o, du);
       store(this->dz_, o, dz);
-      step = min(step, Block::template step_length<Bounded>(u, P::load(&this->detu_[idx(o)]), du, z, P::load(&this->detz_[idx(o)]), dz, b0, ds, dt,
-                                            valid));
+      step = min(step, Block::template step_length<Bounded>(u, P::load(&this->detu_[idx(o)]), du, z,
+                                                            P::load(&this->detz_[idx(o)]), dz, b0, ds, dt, valid));
     }
     return least(step);
   }

@@ -61,8 +61,8 @@ class ConicStorage : protected ConeBlock<typename ConicPackOf<S, Cap>::type, D> 
   using Vec = ConeVec<P, D>;
   static constexpr int width = P::width;
   static constexpr int stride = (Cap + width - 1) / width * width;  ///< lanes per component (whole packs)
-  static constexpr int tri = Block::tri;             ///< entries of a symmetric D x D matrix
-  using Field = std::array<S, static_cast<std::size_t>(D * stride)>;
+  static constexpr int tri = Block::tri;                            ///< entries of a symmetric D x D matrix
+  using Field = std::array<S, static_cast<std::size_t>(D* stride)>;
   using Column = std::array<S, static_cast<std::size_t>(stride)>;
   using Map = Eigen::Matrix<S, 6, D>;
   using ConeVector = Eigen::Matrix<S, D, 1>;
@@ -129,7 +129,6 @@ class ConicStorage : protected ConeBlock<typename ConicPackOf<S, Cap>::type, D> 
   ConeVector z(int i) const { return read(z_, i); }
   S bound_slack(int i) const { return s_[idx(i)]; }
   S bound_dual(int i) const { return t_[idx(i)]; }
-
 
  protected:
   Bound load_bound(int o) const {
@@ -234,7 +233,7 @@ class ConicStorage : protected ConeBlock<typename ConicPackOf<S, Cap>::type, D> 
   Column c_;
   // The iterate, its direction, and what the passes hand on to each other.
   Field u_, z_, du_, dz_, rx_, f_, lambda_, u2_, cc_, ce_;
-  std::array<S, static_cast<std::size_t>(tri * stride)> binv_;
+  std::array<S, static_cast<std::size_t>(tri* stride)> binv_;
   Column s_, t_, ds_, dt_, rb_, hb_, bc_, beta_, inv_beta_, dp_, dm_, detu_, detz_, detl_;
 };
 

@@ -54,7 +54,8 @@ Vector3<Scalar> project_onto(const CoulombCone<Scalar>& k, const Vector3<Scalar>
 /// W C W^T, W = [G_i a, G_i e] (6x2): two cross products and a rank-2 update instead of the
 /// 6x3 by 3x3 by 3x6 product of the generic path.
 template <class S>
-EIGEN_ALWAYS_INLINE Vector3<S> coulomb_project_accumulate(const Contact<S>& c, S k, const Vector3<S>& v, GramAccumulator<S>* acc) {
+EIGEN_ALWAYS_INLINE Vector3<S> coulomb_project_accumulate(const Contact<S>& c, S k, const Vector3<S>& v,
+                                                          GramAccumulator<S>* acc) {
   const Vector3<S>& a = c.normal;
   const Vector3<S>& r = c.position;
   const S mu = c.friction;
@@ -66,7 +67,7 @@ EIGEN_ALWAYS_INLINE Vector3<S> coulomb_project_accumulate(const Contact<S>& c, S
   const S n = v.dot(a);
   const Vector3<S> ftv = v - n * a;
   const S ft = ftv.norm();
-  const bool inside = ft < mu * n;                 // J = I
+  const bool inside = ft < mu * n;  // J = I
   // J = 0 (projection_jacobian's regions): for mu > 0 the polar cone, and v_t = 0 outside the
   // interior (v = 0, or mu n underflowing); for mu = 0 (the ray) n <= 0.
   const bool polar = mu > S(0) ? (n <= -mu * ft || !(ft > S(0))) : !(n > S(0));
@@ -181,12 +182,10 @@ typename GraspT::ContactVector project_accumulate_bounded(const typename GraspT:
 /// accepted line-search point needs no second pass for the next Newton step). `bounded`: P_i
 /// projects onto the cone truncated at the contact's max_normal_force (project_accumulate_bounded).
 template <class GraspT, class Vec>
-ConstrainedPass<typename GraspT::ScalarType> constrained_pass(const GraspT& grasp,
-                                                              const Wrench<typename GraspT::ScalarType>& w_ext,
-                                                              const Wrench<typename GraspT::ScalarType>& lambda,
-                                                              Vec& x,
-                                                              GramAccumulator<typename GraspT::ScalarType>* hessian = nullptr,
-                                                              bool bounded = false) {
+ConstrainedPass<typename GraspT::ScalarType> constrained_pass(
+    const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
+    const Wrench<typename GraspT::ScalarType>& lambda, Vec& x,
+    GramAccumulator<typename GraspT::ScalarType>* hessian = nullptr, bool bounded = false) {
   using S = typename GraspT::ScalarType;
   using M = typename GraspT::ModelType;
   using CV = typename GraspT::ContactVector;

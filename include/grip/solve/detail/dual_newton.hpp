@@ -48,8 +48,15 @@ class DualNewton {
   /// contact at a time; not for soft fingers).
   DualNewton(const GraspT& grasp, const Wrench<S>& w_ext, const Wrench<S>& gram_diagonal, S tolerance,
              bool bounded = false)
-      : grasp_(grasp), w_ext_(w_ext), passes_(grasp), norm_(EquilibriumNorm<S>::of(grasp)), tolerance_(tolerance),
-        bounded_(bounded), x_(passes_.make_forces()), xt_(passes_.make_forces()), best_x_(passes_.make_forces()) {
+      : grasp_(grasp),
+        w_ext_(w_ext),
+        passes_(grasp),
+        norm_(EquilibriumNorm<S>::of(grasp)),
+        tolerance_(tolerance),
+        bounded_(bounded),
+        x_(passes_.make_forces()),
+        xt_(passes_.make_forces()),
+        best_x_(passes_.make_forces()) {
     const Wrench<S> t2 = norm_.weights().cwiseAbs2();
     const Wrench<S> scaled = gram_diagonal.cwiseProduct(t2);
     const S floor = S(1e-6f) * scaled.maxCoeff();
@@ -140,7 +147,8 @@ class DualNewton {
       const Wrench<S> lt = lambda_ + alpha * d;
       if (lt == lambda_) return false;
       const ConstrainedPass<S> trial = pass(lt, xt_, ht_);
-      const S slack = S(16) * std::numeric_limits<S>::epsilon() * (std::abs(trial.dual) + std::abs(cur_.dual) + cur_.f2);
+      const S slack =
+          S(16) * std::numeric_limits<S>::epsilon() * (std::abs(trial.dual) + std::abs(cur_.dual) + cur_.f2);
       if (trial.dual >= cur_.dual + c * alpha * slope - slack || norm_(trial.residual) <= (S(1) - c * alpha) * rn) {
         lambda_ = lt;
         x_ = xt_;
@@ -160,7 +168,7 @@ class DualNewton {
   const S tolerance_;
   const bool bounded_;
   S w_norm_l_{0};
-  S squeeze_{0};  ///< max_i s_i
+  S squeeze_{0};                          ///< max_i s_i
   typename GraspT::ForceVector stacked_;  ///< the bounded pass's forces, stacked
   Wrench<S> jacobi_{Wrench<S>::Ones()};
   Wrench<S> lambda_{Wrench<S>::Zero()};

@@ -69,8 +69,8 @@ struct InteriorPointResult {
   S tau{1};                        ///< the embedding's tau: the solution is x / tau
   S kappa{1};                      ///< the embedding's kappa
   S alpha{0};                      ///< the last step's length, taken at the next iteration's start
-  S dual_cost{0};                  ///< the dual objective at the last iterate, cost_offset - (b^T y + x^T P x / 2 tau) / tau
-  int backtracks{0};               ///< steps halved back into the cones (one pass each, counted in iterations)
+  S dual_cost{0};     ///< the dual objective at the last iterate, cost_offset - (b^T y + x^T P x / 2 tau) / tau
+  int backtracks{0};  ///< steps halved back into the cones (one pass each, counted in iterations)
 };
 
 /// LDL^T of the symmetric positive (semi)definite 6 x 6 matrix m in natural order, with pivots
@@ -78,8 +78,8 @@ struct InteriorPointResult {
 /// it: the solve then stays finite and the iteration's next residuals correct the direction).
 template <class S>
 struct Ldlt6 {
-  S l[6][6];  ///< L below the diagonal (unit diagonal)
-  S d[6];     ///< D
+  S l[6][6];   ///< L below the diagonal (unit diagonal)
+  S d[6];      ///< D
   S inv_d[6];  ///< 1 / D
   /// Factors m (full storage). False if a pivot is not finite.
   bool factor(const Matrix6<S>& m, S floor) {
@@ -182,7 +182,8 @@ InteriorPointResult<S> interior_point(Lanes& k, const Wrench<S>& b, S q_norm, co
     const S res_d = std::sqrt(a.rx2 + rr.squaredNorm()) / tau / std::max(S(1), q_norm + xn + zn);
     // The gap relative to the objective itself (F2 >= 0, its constant counted: cost_offset), not
     // to max(1, objective): F2 in the problem's units spans many orders of magnitude.
-    const S gap = std::abs(pcost - dcost) / std::max(std::max(std::abs(pcost), std::abs(dcost)), std::max(st.objective_floor, eps));
+    const S gap = std::abs(pcost - dcost) /
+                  std::max(std::max(std::abs(pcost), std::abs(dcost)), std::max(st.objective_floor, eps));
     if (res_p <= st.feasibility_tolerance && res_d <= st.feasibility_tolerance && gap <= st.tolerance) {
       out.status = Status::Ok;
       break;
@@ -196,8 +197,7 @@ InteriorPointResult<S> interior_point(Lanes& k, const Wrench<S>& b, S q_norm, co
     // tolerance; in float, where the two meet, the tolerance).
     const S byc = by + a.ct;
     const S rho = std::min(st.certificate_tolerance, S(64) * eps / st.certificate_tolerance);
-    if (!st.soft && byc < S(0) && a.certificate >= st.certificate_tolerance * byc &&
-        -byc >= rho * b_norm * y.norm()) {
+    if (!st.soft && byc < S(0) && a.certificate >= st.certificate_tolerance * byc && -byc >= rho * b_norm * y.norm()) {
       out.status = Status::Infeasible;
       break;
     }
