@@ -22,7 +22,7 @@ radius|include/grip/contact/coulomb_cone.hpp|return CoulombCone{c.normal, c.fric
 projection|include/grip/solve/detail/constrained_passes.hpp|  return keep * v + sb * a + bb * ftv;|  return v + S(0) * (keep * v + sb * a + bb * ftv);|solve/solve_constrained\.
 tail|include/grip/contact/coulomb_kernel.hpp|x + 3 * b, n - b|x + 3 * b, n - b - (n - b > 1 ? 1 : 0)|contact/coulomb_kernel|core/simd
 jacobian|include/grip/solve/projection_jacobian.hpp|  j.noalias() += beta * (Matrix3<Scalar>::Identity() - a * a.transpose() - e * e.transpose());|  j.noalias() += beta * (Matrix3<Scalar>::Identity() - a * a.transpose());|solve/projection_jacobian|contact/coulomb_cone
-pipeline|include/grip/pipeline/haptic_pipeline.hpp|        const auto i = detail::idx(index_[detail::idx(j)]);|        const auto i = detail::idx(index_[detail::idx(j < 2 && grasp_.size() > 1 ? 1 - j : j)]);|pipeline/haptic_pipeline
+pipeline|include/grip/pipeline/haptic_stages.hpp|        const auto i = detail::idx(index_[detail::idx(j)]);|        const auto i = detail::idx(index_[detail::idx(j < 2 && grasp_.size() > 1 ? 1 - j : j)]);|pipeline/haptic_pipeline
 horizon|include/grip/analysis/detail/epsilon_polytope.hpp|            m = mg > threshold ? S(sees) : S(seen);|            m = mg > threshold + threshold ? S(sees) : S(seen);|analysis/epsilon
 corrector|include/grip/solve/detail/cone_packs.hpp|  for (int r = 1; r < D; ++r) ld = neg_mul_add(l[r], d[r], ld);|  for (int r = 1; r < D; ++r) ld = mul_add(l[r], d[r], ld);|solve/cone_packs|analysis/conic_reference
 lipschitz|include/grip/geometry/detail/narrow_phase.hpp|if (!(below - spacing > -band) && may_be_inside(x))|if (!(below + spacing > -band) && may_be_inside(x))|geometry/collision_bounds

@@ -254,4 +254,5 @@ WindingSignedDistance<Field> winding_signed(const Field& shape, bool exact = fal
 
 }  // namespace grip
 
-#include "grip/geometry/mesh_shape_impl.hpp"
+#include "grip/geometry/mesh_shape_build.hpp"
+#include "grip/geometry/mesh_shape_query.hpp"

@@ -2,7 +2,8 @@
 /// \file
 /// solve_constrained: the exact optimum of F2 with every contact force inside its exact cone
 /// (the paper's section 4 problem, eq. 3-5 with eq. 7), and below its bound where the contact
-/// has one. The API and its result type first, with their contract; the definitions at the end.
+/// has one. The API first, with its contract; the definitions at the end. Its settings are
+/// constrained_settings.hpp, its result constrained_solution.hpp.
 /// The method (docs/solve.md): a primal-dual interior-point method on a homogeneous embedding
 /// (detail/interior_point.hpp, the contacts in SIMD lanes: detail/conic_lanes.hpp), refined by
 /// Newton's method on the 6-dimensional dual (detail/dual_newton.hpp), which also takes a warm
@@ -22,6 +23,7 @@
 #include "grip/grasp/grasp.hpp"
 #include "grip/grasp/objective.hpp"
 #include "grip/solve/constrained_settings.hpp"
+#include "grip/solve/constrained_solution.hpp"
 #include "grip/solve/detail/dual_newton.hpp"
 #include "grip/solve/detail/equilibrium_norm.hpp"
 #include "grip/solve/detail/force_problem.hpp"
@@ -30,39 +32,6 @@
 #include "grip/solve/solve_range_space.hpp"
 
 namespace grip {
-
-/// What solve_constrained returns: a Solution plus the numbers that certify it.
-///
-/// Every number is finite whatever the status; `forces` always lie inside their cones and below
-/// their contacts' max_normal_force, except under InvalidInput, where everything is zero.
-template <class GraspT>
-struct ConstrainedSolution : Solution<GraspT> {
-  /// The grasp's scalar type (float or double).
-  using Scalar = typename GraspT::ScalarType;
-  /// Infeasible: a 6-vector y of dual norm |(y_f, L y_m)| = 1 (L the longest lever arm) with
-  /// y.w_ext > 0 and every G_i^T y in the dual cone K_i^* to within
-  /// ConstrainedSettings::certificate_tolerance (y.w_ext) / |w_ext|_L (for a contact with a
-  /// bound: G_i^T y + tau_i a_i in K_i^* for some tau_i >= 0 with sum_i tau_i c_i < y.w_ext). It
-  /// proves that no forces in the cones balance w_ext: for x_i in K_i, y.(G x) >= 0, so
-  /// y.(G x + w_ext) > 0 (with bounds, y.(G x) >= -sum_i tau_i c_i). Zero otherwise.
-  Wrench<Scalar> certificate{Wrench<Scalar>::Zero()};
-  /// F2 at `forces`: 1/2 sum_i w_i |x_i - t_i|^2.
-  Scalar objective{0};
-  /// Ok: the dual function q at `multipliers`, F2(x) - lambda.(G x + w_ext) (the optimum lies
-  /// between it and `objective`). Otherwise 0.
-  Scalar dual_objective{0};
-  /// True when the unconstrained optimum was inside every cone (f_n > 0, below its bound) and was
-  /// returned at once.
-  bool fast_path{false};
-  /// Ok: true when `forces` are the projections x_i(lambda) of `multipliers` (the fast path, or
-  /// Newton's refinement converged): every contact's KKT conditions then hold exactly; false when
-  /// they are the interior-point method's answer, strictly inside their cones and optimal to its
-  /// tolerance (ScalarTraits::interior_tolerance: the duality gap relative to F2). False otherwise.
-  bool refined{false};
-  /// O(n) passes over the contacts after the fast path: three per interior-point iteration, one
-  /// more per interior-point run, one per Newton trial.
-  int passes{0};
-};
 
 /// The exact optimum of min 1/2 sum_i w_i |x_i - t_i|^2 s.t. G x + w_ext = 0, x_i in K_i and
 /// f_n,i <= c_i (K_i = ExactConeT<Model, Scalar>, see exact_cone.hpp; c_i the contact's
