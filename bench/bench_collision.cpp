@@ -9,15 +9,15 @@
 //   BM_PaperMode<Object>/depth  detect_contacts without a field (leaf planes only)
 //   BM_PaperExhaustive<Object>/depth  the paper mode's all-leaf-pairs reference
 //   BM_BuildOctree<Object>/depth      the octree's set-up cost (once per object)
-// Target: at most 20 us per frame at the recommended depth, 3 (docs/geometry.md).
+// Target: at most 20 us per frame at the recommended depth, 3 (docs/collision.md).
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
 
 #include <Eigen/Geometry>
 
-#include <grip/geometry/collision.hpp>
-#include <grip/geometry/hand_closure.hpp>
+#include <grip/collision/collision.hpp>
+#include <grip/collision/hand_closure.hpp>
 #include <grip/geometry/mesh_io.hpp>
 #include <grip/geometry/mesh_shape.hpp>
 #include <grip/geometry/triangle.hpp>

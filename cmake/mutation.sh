@@ -25,7 +25,7 @@ jacobian|include/grip/solve/projection_jacobian.hpp|  j.noalias() += beta * (Mat
 pipeline|include/grip/pipeline/haptic_stages.hpp|        const auto i = detail::idx(index_[detail::idx(j)]);|        const auto i = detail::idx(index_[detail::idx(j < 2 && grasp_.size() > 1 ? 1 - j : j)]);|pipeline/haptic_pipeline
 horizon|include/grip/analysis/detail/epsilon_polytope.hpp|            m = mg > threshold ? S(sees) : S(seen);|            m = mg > threshold + threshold ? S(sees) : S(seen);|analysis/epsilon
 corrector|include/grip/solve/detail/cone_packs.hpp|  for (int r = 1; r < D; ++r) ld = neg_mul_add(l[r], d[r], ld);|  for (int r = 1; r < D; ++r) ld = mul_add(l[r], d[r], ld);|solve/cone_packs|analysis/conic_reference
-lipschitz|include/grip/geometry/detail/narrow_phase.hpp|if (!(below - spacing > -band) && may_be_inside(x))|if (!(below + spacing > -band) && may_be_inside(x))|geometry/collision_bounds
+lipschitz|include/grip/collision/detail/narrow_phase.hpp|if (!(below - spacing > -band) && may_be_inside(x))|if (!(below + spacing > -band) && may_be_inside(x))|collision/collision_bounds
 EOF
 )
 

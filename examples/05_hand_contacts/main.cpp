@@ -5,8 +5,8 @@
 
 #include <Eigen/Geometry>
 
-#include <grip/geometry/grasp_from_contacts.hpp>
-#include <grip/geometry/hand_closure.hpp>
+#include <grip/collision/grasp_from_contacts.hpp>
+#include <grip/collision/hand_closure.hpp>
 #include <grip/solve/solve_range_space.hpp>
 
 namespace {

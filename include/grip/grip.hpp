@@ -28,7 +28,6 @@
 #include "grip/solve/solve_kkt.hpp"
 #include "grip/solve/constrained_settings.hpp"
 #include "grip/solve/projection_jacobian.hpp"
-#include "grip/solve/coulomb_pass.hpp"
 #include "grip/solve/solve_constrained.hpp"
 
 #include "grip/monitor/grasp_state.hpp"
@@ -42,6 +41,7 @@
 #include "grip/analysis/epsilon.hpp"
 #include "grip/analysis/batch.hpp"
 
+#include "grip/hand/phalanx.hpp"
 #include "grip/hand/squeeze.hpp"
 #include "grip/hand/grasp_type.hpp"
 #include "grip/hand/hand_model.hpp"
@@ -57,11 +57,11 @@
 #include "grip/geometry/triangle_mesh.hpp"
 #include "grip/geometry/mesh_io.hpp"
 #include "grip/geometry/mesh_shape.hpp"
-#include "grip/geometry/hand_collision_model.hpp"
-#include "grip/geometry/hand_contact.hpp"
-#include "grip/geometry/collision.hpp"
-#include "grip/geometry/grasp_from_contacts.hpp"
-#include "grip/geometry/hand_closure.hpp"
+#include "grip/collision/hand_collision_model.hpp"
+#include "grip/collision/hand_contact.hpp"
+#include "grip/collision/collision.hpp"
+#include "grip/collision/grasp_from_contacts.hpp"
+#include "grip/collision/hand_closure.hpp"
 
 #include "grip/dynamics/rigid_body.hpp"
 #include "grip/dynamics/penalty_contact.hpp"

@@ -390,7 +390,7 @@ void bind_hand(py::module_& m) {
       "(identity by default), through `octree` (a SphericalOctree of the same field) when given, else directly: "
       "a dict of phalanx (m,) (0..13; 14..18 the palm's bodies with 20 joints), point (m, 3) on the surface and normal "
       "(m, 3) into the object (world), "
-      "depth (m,) (m, > 0), sample, axis_parameter and status. Exact at faces, edges and corners (docs/geometry.md).");
+      "depth (m,) (m, > 0), sample, axis_parameter and status. Exact at faces, edges and corners (docs/collision.md).");
   const grip::mujoco::HandMjcf mjcf_defaults{};
   m.def(
       "hand_mjcf",

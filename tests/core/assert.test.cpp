@@ -9,7 +9,7 @@
 
 #include <grip/core/assert.hpp>
 #include <grip/core/index.hpp>
-#include <grip/geometry/hand_contact.hpp>
+#include <grip/collision/hand_contact.hpp>
 #include <grip/geometry/shape.hpp>
 #include <grip/geometry/sphere_tree.hpp>
 #include <grip/geometry/triangle_mesh.hpp>

@@ -1,4 +1,4 @@
-// The SIMD packs of core/simd.hpp (what solve/coulomb_pass.hpp computes with), lane by lane
+// The SIMD packs of core/simd.hpp (what solve/detail/coulomb_pass.hpp computes with), lane by lane
 // against plain scalar arithmetic (and mul_add, neg_mul_add against std::fma): the pack this translation unit compiles
 // (CMake builds this file again with -march=native and with AVX2), and the scalar pack for float. Arithmetic and the
 // square root must match bit for bit (IEEE operations, correctly rounded), comparisons must be false for NaN (ordered),

@@ -228,7 +228,7 @@ TEST_CASE_TEMPLATE("several contacts per phalanx in the loop: statics hold, forc
 
 TEST_CASE_TEMPLATE("the paper mode in the loop: exact on faces, no heap per frame", S, double, float) {
   HeldCube<S> h;
-  static SphericalOctree<S, cap> deep;  // the paper mode needs small leaves (docs/geometry.md)
+  static SphericalOctree<S, cap> deep;  // the paper mode needs small leaves (docs/collision.md)
   REQUIRE(deep.build(cube_shape<S>(), 5) == Status::Ok);
   OctreeScene<S, cap> paper;
   paper.octree = &deep;
@@ -270,7 +270,7 @@ template <class S>
 using BlobShape = MeshShape<S, 4096, 8192>;
 
 // The bunny-like blob of tests/data/meshes (5 120 triangles, about 78 mm across), its field and
-// its octree at the depth docs/geometry.md recommends for the exact narrow phase.
+// its octree at the depth docs/collision.md recommends for the exact narrow phase.
 template <class S>
 struct BlobObject {
   Blob<S> mesh;

@@ -1,4 +1,4 @@
-// solve_constrained's hard-finger pass over columns (solve/coulomb_pass.hpp) against the
+// solve_constrained's hard-finger pass over columns (solve/detail/coulomb_pass.hpp) against the
 // contact-by-contact pass (detail::constrained_pass through coulomb_project_accumulate, itself
 // checked against CoulombCone::project and projection_jacobian in solve_constrained.test.cpp):
 // forces, every sum, and the Hessian, for every size from 1 to 40 (block tails), compile-time
@@ -11,7 +11,7 @@
 #include <random>
 #include <vector>
 
-#include <grip/solve/coulomb_pass.hpp>
+#include <grip/solve/detail/coulomb_pass.hpp>
 #include <grip/solve/projection_jacobian.hpp>
 #include <grip/solve/solve_constrained.hpp>
 

@@ -43,7 +43,7 @@ struct ScalarTraits<double> {
   static constexpr double least_residual_weight = 1e-6;
   /// The contact search's certified depth tolerance (m; ContactSettings::refine_tolerance):
   /// far below a micrometre, so that the contact's point and normal are those of the deepest
-  /// point to the precision docs/geometry.md states.
+  /// point to the precision docs/collision.md states.
   static constexpr double contact_tolerance = 1e-12;
   /// The scalar the offline conic analyses compute in (analysis/detail/conic_analysis.hpp).
   using Wide = double;

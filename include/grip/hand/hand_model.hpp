@@ -9,19 +9,7 @@
 /// - +x distal, along the long finger's metacarpal; +y radial (towards the thumb);
 ///   +z dorsal (the back of the hand), so the palm faces -z.
 ///
-/// Phalanx (and joint) order, the same for both: index k in [0, 14)
-///   0 thumb proximal, 1 thumb distal,
-///   2 index proximal, 3 index middle, 4 index distal,
-///   5 long  proximal, 6 long  middle, 7 long  distal,
-///   8 ring  proximal, 9 ring  middle, 10 ring  distal,
-///   11 little proximal, 12 little middle, 13 little distal.
-/// Joint k is the flexion joint at the proximal end of phalanx k: for a finger MCP, PIP, DIP;
-/// for the thumb MCP, IP (the glove's 14 joints; the thumb's CMC is a fixed posture).
-/// The thumb has no Phalanx::Middle.
-///
-/// Bodies: the 14 phalanges, then the palm as the five metacarpals (flesh included), index
-/// k = 14 + f for digit f: 14 the thumb's (the thenar eminence, moved by the CMC), 15 .. 18
-/// index to little (fixed in the hand). A body is a capsule like a phalanx.
+/// The order of the phalanges, joints and bodies, and their names: phalanx.hpp.
 
 #include <array>
 #include <cmath>
@@ -32,39 +20,10 @@
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
 #include "grip/hand/hand_joints.hpp"
+#include "grip/hand/phalanx.hpp"
 #include "grip/hand/squeeze.hpp"
 
 namespace grip {
-
-/// Number of phalanges of the hand model (and of measured joints).
-constexpr int hand_phalanx_count = 14;
-/// Number of bodies: the phalanges and the five metacarpals (the palm and the thenar).
-constexpr int hand_body_count = 19;
-/// Number of measured joint angles (three per finger, two for the thumb).
-constexpr int hand_joint_count = 14;
-
-/// Index in [0, 19) of a digit's body in the order of this file, or -1 for the thumb's
-/// (absent) middle phalanx.
-constexpr int phalanx_index(Finger f, Phalanx p) {
-  const int fi = static_cast<int>(f);
-  const int pi = static_cast<int>(p);
-  if (p == Phalanx::Metacarpal) return hand_phalanx_count + fi;
-  if (fi == 0) return pi == 0 ? 0 : (pi == 2 ? 1 : -1);
-  return 2 + 3 * (fi - 1) + pi;
-}
-
-/// The digit of body index k in [0, 19).
-constexpr Finger phalanx_finger(int k) {
-  return k >= hand_phalanx_count ? static_cast<Finger>(k - hand_phalanx_count)
-                                 : (k < 2 ? Finger::Thumb : static_cast<Finger>(1 + (k - 2) / 3));
-}
-
-/// The kind of body index k in [0, 19).
-constexpr Phalanx phalanx_kind(int k) {
-  return k >= hand_phalanx_count ? Phalanx::Metacarpal
-         : k < 2                 ? (k == 0 ? Phalanx::Proximal : Phalanx::Distal)
-                                 : static_cast<Phalanx>((k - 2) % 3);
-}
 
 /// Which hand a model is. A left hand is the mirror image of the right in the hand frame's
 /// x-z plane (y -> -y): its radial side is -y; every joint angle keeps its anatomical sign.

@@ -6,15 +6,9 @@
 #include <cmath>
 
 #include "grip/core/assert.hpp"
+#include "grip/hand/phalanx.hpp"
 
 namespace grip {
-
-/// Fingers of the human hand, thumb first.
-enum class Finger { Thumb = 0, Index = 1, Long = 2, Ring = 3, Little = 4 };
-/// Phalanges of a finger, from the palm outwards (the thumb's "middle" is its distal
-/// phalanx's neighbour; see the hand model for the thumb's two-phalanx convention), and the
-/// digit's metacarpal: a body of the palm (the thumb's, the thenar eminence; hand_model.hpp).
-enum class Phalanx { Proximal = 0, Middle = 1, Distal = 2, Metacarpal = 3 };
 
 /// Share d of each phalanx, and of the palm, in the grip force of one grasp type (eq. 8),
 /// indexed by finger and phalanx. Every share is a normal force as a fraction of the summed

@@ -31,7 +31,7 @@
 #include "grip/contact/contact.hpp"
 #include "grip/core/index.hpp"
 #include "grip/core/status.hpp"
-#include "grip/geometry/grasp_from_contacts.hpp"
+#include "grip/collision/grasp_from_contacts.hpp"
 #include "grip/grasp/grasp.hpp"
 #include "grip/mujoco/body_map.hpp"
 #include "grip/mujoco/object_wrench.hpp"

@@ -10,7 +10,8 @@
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
 #include "grip/dynamics/rigid_body.hpp"
-#include "grip/geometry/collision.hpp"
+#include "grip/collision/collision.hpp"
+#include "grip/collision/hand_closure.hpp"
 #include "grip/hand/hand_kinematics.hpp"
 #include "grip/hand/hand_model.hpp"
 #include "grip/pipeline/scene.hpp"
@@ -29,7 +30,7 @@ struct ClosedHand {
 /// joint by joint from the palm outwards, each joint flexes (in steps of `step` rad, then
 /// bisection) until some phalanx distal to it penetrates the object by `target_depth` (m),
 /// or the joint reaches its upper limit. Uses `scene.hand_contacts` (see HapticPipeline); the
-/// same procedure as geometry's close_hand(), for any scene. `start`: the posture closing
+/// procedure of collision's close_hand() (detail::close_digits), for any scene. `start`: the posture closing
 /// begins from, zero by default; with the whole hand's 20 joints (HandJoints) only the
 /// flexions close (the thumb's CMC and the abductions stay as in `start`), and the palm's
 /// contacts do not stop a digit. InvalidInput for invalid dimensions, pose, non-positive step
@@ -39,8 +40,6 @@ ClosedHand<Scalar, Joints> close_hand_in_scene(const Scene& scene, const HandDim
                                                const Eigen::Transform<Scalar, 3, Eigen::Isometry>& wrist,
                                                const RigidBody<Scalar>& object, Scalar target_depth,
                                                Scalar step = Scalar(0.01), const Joints& start = Joints::Zero()) {
-  constexpr bool whole = Joints::RowsAtCompileTime == hand_dof_count;
-  static_assert(whole || Joints::RowsAtCompileTime == hand_joint_count, "14 flexion angles or the 20 joints");
   ClosedHand<Scalar, Joints> out;
   if (validate(dims) != Status::Ok || !(step > Scalar(0)) || !(target_depth >= Scalar(0)) ||
       validate(object) != Status::Ok || !start.allFinite())
@@ -48,9 +47,9 @@ ClosedHand<Scalar, Joints> close_hand_in_scene(const Scene& scene, const HandDim
   HandPosture<Scalar> posture;
   HandContacts<Scalar, detail::scene_contacts_per_phalanx<Scene>::value> contacts;
   Joints q = start;
-  // Deepest penetration among phalanges [first, last] for angles q (-1 if none touch).
-  auto deepest = [&](int first, int last) {
-    if (forward_kinematics(dims, wrist, q, posture) != Status::Ok) return Scalar(-2);
+  // Deepest penetration among phalanges [first, last] for angles a (-1 if none touch).
+  auto deepest = [&](const Joints& a, int first, int last) {
+    if (forward_kinematics(dims, wrist, a, posture) != Status::Ok) return Scalar(-2);
     scene.hand_contacts(posture, object, contacts);
     Scalar d = Scalar(-1);
     for (int i = 0; i < contacts.count; ++i) {
@@ -60,38 +59,11 @@ ClosedHand<Scalar, Joints> close_hand_in_scene(const Scene& scene, const HandDim
     }
     return d;
   };
-  if (deepest(0, hand_phalanx_count - 1) < Scalar(-1)) return out;
-  for (int f = 0; f < 5; ++f) {
-    const int first = f == 0 ? 0 : 2 + 3 * (f - 1);
-    const int last = f == 0 ? 1 : first + 2;
-    for (int k = first; k <= last; ++k) {
-      const int j = whole ? phalanx_joint(k) : k;  // the joint at the phalanx's proximal end
-      const Scalar limit = whole ? dims.limits.upper[detail::idx(j)] : dims.joint_upper_limit[detail::idx(k)];
-      if (deepest(k, last) >= target_depth) continue;  // already blocked: keep it straight
-      Scalar lo = q(j), hi = q(j);
-      bool blocked = false;
-      while (hi < limit) {
-        lo = hi;
-        hi = std::min(limit, hi + step);
-        q(j) = hi;
-        if (deepest(k, last) >= target_depth) {
-          blocked = true;
-          break;
-        }
-      }
-      if (!blocked) continue;            // the joint reached its limit
-      for (int it = 0; it < 30; ++it) {  // bisection: smallest angle reaching target_depth
-        q(j) = Scalar(0.5) * (lo + hi);
-        if (deepest(k, last) >= target_depth)
-          hi = q(j);
-        else
-          lo = q(j);
-      }
-      q(j) = hi;  // the next joint then flexes the phalanges beyond this one
-    }
-  }
+  if (deepest(q, 0, hand_phalanx_count - 1) < Scalar(-1)) return out;
+  detail::close_digits(dims, target_depth, step, 30, q,
+                       [&](const Joints& trial, int k, int end) { return deepest(trial, k, end - 1); });
   out.angles = q;
-  (void)deepest(0, hand_phalanx_count - 1);
+  (void)deepest(q, 0, hand_phalanx_count - 1);
   out.touching = contacts.count;
   out.status = Status::Ok;
   return out;

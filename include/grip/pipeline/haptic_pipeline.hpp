@@ -23,7 +23,7 @@
 #include "grip/dynamics/external_wrench.hpp"
 #include "grip/dynamics/integrator.hpp"
 #include "grip/dynamics/rigid_body.hpp"
-#include "grip/geometry/collision.hpp"
+#include "grip/collision/collision.hpp"
 #include "grip/grasp/grasp.hpp"
 #include "grip/hand/hand_joints.hpp"
 #include "grip/hand/hand_kinematics.hpp"

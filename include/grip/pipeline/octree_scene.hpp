@@ -10,8 +10,8 @@
 
 #include "grip/core/types.hpp"
 #include "grip/dynamics/rigid_body.hpp"
-#include "grip/geometry/collision.hpp"
-#include "grip/geometry/hand_collision_model.hpp"
+#include "grip/collision/collision.hpp"
+#include "grip/collision/hand_collision_model.hpp"
 #include "grip/geometry/spherical_octree.hpp"
 #include "grip/hand/hand_kinematics.hpp"
 #include "grip/pipeline/obstacle_contacts.hpp"

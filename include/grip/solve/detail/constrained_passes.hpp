@@ -26,7 +26,7 @@
 #include "grip/contact/coulomb_cone.hpp"
 #include "grip/contact/exact_cone.hpp"
 #include "grip/core/types.hpp"
-#include "grip/solve/coulomb_pass.hpp"
+#include "grip/solve/detail/coulomb_pass.hpp"
 #include "grip/solve/projection_jacobian.hpp"
 
 namespace grip {

@@ -10,7 +10,7 @@
 #include "grip/core/index.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
-#include "grip/geometry/collision.hpp"
+#include "grip/collision/collision.hpp"
 #include "grip/grasp/grasp.hpp"
 #include "grip/hand/grasp_type.hpp"
 

@@ -7,7 +7,7 @@
 
 #include <Eigen/Geometry>
 
-#include <grip/geometry/collision.hpp>
+#include <grip/collision/collision.hpp>
 
 #include "support/allocation_counter.hpp"
 #include "support/hand_postures.hpp"

@@ -6,8 +6,8 @@
 
 #include <Eigen/Geometry>
 
-#include <grip/geometry/collision.hpp>
-#include <grip/geometry/hand_closure.hpp>
+#include <grip/collision/collision.hpp>
+#include <grip/collision/hand_closure.hpp>
 #include <grip/geometry/shape.hpp>
 
 #include "support/tolerance.hpp"

@@ -15,8 +15,8 @@
 #include "grip/core/index.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
-#include "grip/geometry/collision.hpp"
-#include "grip/geometry/hand_collision_model.hpp"
+#include "grip/collision/collision.hpp"
+#include "grip/collision/hand_collision_model.hpp"
 #include "grip/geometry/spherical_octree.hpp"
 #include "grip/hand/hand_kinematics.hpp"
 #include "grip/hand/hand_model.hpp"
@@ -44,28 +44,27 @@ Scalar digit_depth(const HandDimensions<Scalar>& dims, const Eigen::Transform<Sc
   return d;
 }
 
-// close_hand's loop over the joints, contacts from `detect` (see digit_depth). Joints: the 14
-// flexion angles or the 20 joints (whose flexions close; the rest stay as given).
-template <int Samples, class Scalar, class Joints, class Detect>
-Status close_hand_with(const HandDimensions<Scalar>& dims, const Eigen::Transform<Scalar, 3, Eigen::Isometry>& wrist,
-                       Scalar target_depth, Scalar step, Joints& angles, const Detect& detect) {
+/// The loop that closes a hand, shared by close_hand() and close_hand_in_scene()
+/// (pipeline/close_hand.hpp): digit by digit, joint by joint from the palm outwards, each joint
+/// flexes from its value in `angles` in steps of `step` (rad), then by `bisections` halvings,
+/// to the least angle at which depth(trial, k, end), the deepest penetration (m) of the digit's
+/// phalanges k .. end - 1 for the joint angles `trial`, reaches `target_depth`; or to its upper
+/// limit. A joint already blocked stays. Joints: the 14 flexion angles, or the 20 joints (whose
+/// flexions close; the rest stay as given).
+template <class Scalar, class Joints, class Depth>
+void close_digits(const HandDimensions<Scalar>& dims, Scalar target_depth, Scalar step, int bisections, Joints& angles,
+                  const Depth& depth) {
   constexpr bool whole = Joints::RowsAtCompileTime == hand_dof_count;
   static_assert(whole || Joints::RowsAtCompileTime == hand_joint_count, "14 flexion angles or the 20 joints");
-  HandPosture<Scalar> posture;
-  if (!(target_depth > Scalar(0)) || !(step > Scalar(0)) || !std::isfinite(target_depth) || !std::isfinite(step) ||
-      forward_kinematics(dims, wrist, angles, posture) != Status::Ok)
-    return Status::InvalidInput;
-  HandCollisionModel<Scalar, Samples> model;
-  HandContacts<Scalar> contacts;
   for (int f = 0; f < 5; ++f) {
-    const int first = HandCollisionModel<Scalar, Samples>::first_phalanx(f);
-    const int end = first + HandCollisionModel<Scalar, Samples>::phalanges_of(f);
+    const int first = f == 0 ? 0 : 2 + 3 * (f - 1);  // the thumb's two phalanges, then three a finger
+    const int end = f == 0 ? 2 : first + 3;
     for (int k = first; k < end; ++k) {
       const int j = whole ? phalanx_joint(k) : k;  // the joint at the phalanx's proximal end
       auto depth_at = [&](Scalar a) {
         Joints trial = angles;
         trial(j) = a;
-        return digit_depth(dims, wrist, trial, k, end, model, contacts, detect);
+        return depth(trial, k, end);
       };
       const Scalar limit = whole ? dims.limits.upper[detail::idx(j)] : dims.joint_upper_limit[detail::idx(k)];
       Scalar lo = angles(j);
@@ -81,7 +80,7 @@ Status close_hand_with(const HandDimensions<Scalar>& dims, const Eigen::Transfor
         lo = hi;
       }
       if (reached)
-        for (int it = 0; it < 10; ++it) {
+        for (int it = 0; it < bisections; ++it) {
           const Scalar mid = (lo + hi) / Scalar(2);
           if (depth_at(mid) >= target_depth)
             hi = mid;
@@ -91,6 +90,21 @@ Status close_hand_with(const HandDimensions<Scalar>& dims, const Eigen::Transfor
       angles(j) = hi;
     }
   }
+}
+
+// close_hand's set-up and loop, contacts from `detect` (see digit_depth).
+template <int Samples, class Scalar, class Joints, class Detect>
+Status close_hand_with(const HandDimensions<Scalar>& dims, const Eigen::Transform<Scalar, 3, Eigen::Isometry>& wrist,
+                       Scalar target_depth, Scalar step, Joints& angles, const Detect& detect) {
+  HandPosture<Scalar> posture;
+  if (!(target_depth > Scalar(0)) || !(step > Scalar(0)) || !std::isfinite(target_depth) || !std::isfinite(step) ||
+      forward_kinematics(dims, wrist, angles, posture) != Status::Ok)
+    return Status::InvalidInput;
+  HandCollisionModel<Scalar, Samples> model;
+  HandContacts<Scalar> contacts;
+  close_digits(dims, target_depth, step, 10, angles, [&](const Joints& trial, int k, int end) {
+    return digit_depth(dims, wrist, trial, k, end, model, contacts, detect);
+  });
   return Status::Ok;
 }
 }  // namespace detail

@@ -20,7 +20,7 @@
 /// dr = r - phi at the contact's axis point x, normal -n(x) (into the object), point
 /// x - phi(x) n(x), the surface point nearest x.
 ///
-/// Bounds (r the phalanx radius, s its sample spacing; tests/geometry/collision_bounds.test.cpp):
+/// Bounds (r the phalanx radius, s its sample spacing; tests/collision/collision_bounds.test.cpp):
 /// - Convex fields (sphere, box, cylinder, capsule; a union where the deepest point's
 ///   primitive is the only one within reach), with K = 1: the contact is the capsule's
 ///   deepest point, on faces, edges, rims, corners and for deep samples alike: depth
@@ -54,11 +54,11 @@
 #include "grip/core/index.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
-#include "grip/geometry/detail/narrow_phase.hpp"
+#include "grip/collision/detail/narrow_phase.hpp"
 #include "grip/geometry/detail/octree_descent.hpp"
-#include "grip/geometry/detail/paper_contacts.hpp"
-#include "grip/geometry/hand_collision_model.hpp"
-#include "grip/geometry/hand_contact.hpp"
+#include "grip/collision/detail/paper_contacts.hpp"
+#include "grip/collision/hand_collision_model.hpp"
+#include "grip/collision/hand_contact.hpp"
 #include "grip/geometry/spherical_octree.hpp"
 #include "grip/hand/hand_model.hpp"
 

@@ -24,7 +24,7 @@
 #include "grip/core/index.hpp"
 #include "grip/core/types.hpp"
 #include "grip/geometry/detail/field_probe.hpp"
-#include "grip/geometry/hand_contact.hpp"
+#include "grip/collision/hand_contact.hpp"
 
 namespace grip {
 namespace detail {

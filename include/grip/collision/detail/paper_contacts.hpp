@@ -10,8 +10,8 @@
 
 #include "grip/core/index.hpp"
 #include "grip/core/types.hpp"
-#include "grip/geometry/hand_collision_model.hpp"
-#include "grip/geometry/hand_contact.hpp"
+#include "grip/collision/hand_collision_model.hpp"
+#include "grip/collision/hand_contact.hpp"
 #include "grip/geometry/spherical_octree.hpp"
 
 namespace grip {

@@ -11,7 +11,7 @@
 
 #include <Eigen/Geometry>
 
-#include <grip/geometry/collision.hpp>
+#include <grip/collision/collision.hpp>
 #include <grip/geometry/mesh_io.hpp>
 #include <grip/geometry/mesh_shape.hpp>
 #include <grip/geometry/shape.hpp>
