@@ -269,6 +269,13 @@ py::dict solve_batch(const py::handle& positions, const py::handle& normals, con
   return out;
 }
 
+/// decompose_forces' answer, its parts as (n, dim) arrays.
+struct DecompositionPy {
+  RowMatrix external;
+  RowMatrix internal;
+  grip::Status status{grip::Status::InvalidInput};
+};
+
 /// Nanoseconds per call of solve_range_space on `g`, measured in C++ over `repeats` calls:
 /// the baseline of the Python call's overhead (bench/bench_python.py).
 double time_range_space(const PyGrasp& g, const py::handle& w_ext, int repeats) {
@@ -329,6 +336,14 @@ void bind_analysis(py::module_& m) {
       "Ferrari-Canny epsilon: 'L1' (normal forces summing to 1) or 'Linf' (each at most 1), the friction cones "
       "linearised with `sides` (4, 8 or 16) sides, moments divided by torque_scale (m).");
 
+  py::class_<DecompositionPy>(m, "ForceDecomposition",
+                              "forces = external + internal: G internal = 0, external the W-orthogonal part that "
+                              "balances G forces. Unpacks as (external, internal, status).")
+      .def_readonly("external", &DecompositionPy::external, "(n, dim) the part that G maps to G forces")
+      .def_readonly("internal", &DecompositionPy::internal, "(n, dim) the internal forces: G internal = 0")
+      .def_readonly("status", &DecompositionPy::status)
+      .def("__iter__",
+           [](const DecompositionPy& d) { return py::iter(py::make_tuple(d.external, d.internal, d.status)); });
   m.def(
       "decompose_forces",
       [](const PyGrasp& g, const py::handle& forces) {
@@ -341,12 +356,13 @@ void bind_analysis(py::module_& m) {
           using GT = std::decay_t<decltype(gr)>;
           const typename GT::ForceVector xv = x;
           const auto d = grip::decompose_forces(gr, xv);
-          return py::make_tuple(per_contact_rows(d.external, g.dim()), per_contact_rows(d.internal, g.dim()), d.status);
+          return DecompositionPy{per_contact_rows(d.external, g.dim()), per_contact_rows(d.internal, g.dim()),
+                                 d.status};
         });
       },
       py::arg("grasp"), py::arg("forces"),
-      "(external, internal, status): forces = external + internal, G internal = 0, external the W-orthogonal "
-      "part that balances G forces.");
+      "A ForceDecomposition: forces = external + internal, G internal = 0, external the W-orthogonal part that "
+      "balances G forces.");
 
   m.def("_evaluate_batch", &evaluate_batch);
   m.def("_solve_batch", &solve_batch);

@@ -40,8 +40,12 @@ def test_force_split_is_internal_plus_the_weighted_projection(model):
     c = random_contacts(rng, 8)
     g = make(c, model)
     x = rng.normal(size=(8, DIM[model]))
-    ext, inn, status = grip.decompose_forces(g, x)
+    d = grip.decompose_forces(g, x)
+    ext, inn, status = d.external, d.internal, d.status
+    assert isinstance(d, grip.ForceDecomposition)
     assert status == grip.Status.Ok
+    unpacked = tuple(d)  # unpacks as (external, internal, status), as before
+    assert np.array_equal(unpacked[0], ext) and np.array_equal(unpacked[1], inn) and unpacked[2] == status
     G = grasp_matrix(c, model)
     W = np.repeat(c["weights"], DIM[model])
     assert np.allclose(ext + inn, x, atol=1e-13)
