@@ -136,7 +136,7 @@ class HapticPipeline {
 
  private:
   /// What the later stages of a frame read from the earlier ones, rewritten every frame.
-  struct Forces {
+  struct StageOutputs {
     Wrench<Scalar> w_ext{Wrench<Scalar>::Zero()};  ///< by object_wrench: the external wrench
     /// By solve_forces, per hand contact (hand_'s order): the force it transmits to the
     /// object (N, world; zero if dropped as separating or if resolve() failed).
@@ -159,14 +159,14 @@ class HapticPipeline {
   void find_contacts(HapticFrame<Scalar>& frame);
   /// 4. External wrench: gravity, obstacles, and the inertial terms of the motion the wrist
   /// would impose on object_. Reads `wrist`, object_, obstacles_, settings_; writes
-  /// frame.external and forces_.w_ext. False if external_wrench() fails.
+  /// frame.external and outputs_.w_ext. False if external_wrench() fails.
   bool object_wrench(const WristState<Scalar>& wrist, HapticFrame<Scalar>& frame);
   /// 5-6. Forces: build_grasp() of the contacts kept, solved by solver_, checked by
   /// monitor_cones(); separating contacts dropped and the rest solved again, up to
   /// max_resolves times (never when Solver::enforces_cones: its separating forces are exactly
   /// zero and the rest are the reduced problem's answer, so one solve per frame, within its
   /// deadline); the last solve resolve()d into what the fingers transmit. Reads
-  /// hand_, object_, forces_.w_ext; writes grasp_, index_, forces_'s other fields, and
+  /// hand_, object_, outputs_.w_ext; writes grasp_, index_, outputs_'s other fields, and
   /// frame.solve_status, solves, iterations, sliding, separating and min_margin.
   void solve_forces(HapticFrame<Scalar>& frame);
   /// 6. Monitor: the state of grasp_ under `sol`'s forces (StabilityMonitor, exact cones).
@@ -174,11 +174,11 @@ class HapticPipeline {
   /// monitor rejects its input (the state's status says so).
   GraspState<GraspType> monitor_cones(const Solution<GraspType>& sol, HapticFrame<Scalar>& frame) const;
   /// 7. Object: stable, it becomes (or stays) held; else frame.unbalanced = w_ext + G f' and
-  /// step_free moves object_ by dt. Reads forces_, hand_, `wrist`; writes held_, offset_,
+  /// step_free moves object_ by dt. Reads outputs_, hand_, `wrist`; writes held_, offset_,
   /// object_, frame.unbalanced and frame.held.
   void move_object(const WristState<Scalar>& wrist, HapticFrame<Scalar>& frame);
   /// 8. Feedback: each phalanx feels -f_i summed over its contacts (command: see Device), the
-  /// palm frame.palm_force. Reads forces_, hand_, posture_, settings_; writes frame, felt_.
+  /// palm frame.palm_force. Reads outputs_, hand_, posture_, settings_; writes frame, felt_.
   void phalanx_feedback(HapticFrame<Scalar>& frame);
   /// 9. Device: device_ renders felt_ (posture_, joint_velocity_) into command_; writes
   /// frame.device_clipped (PhalanxActuators: each phalanx's command and frame.clamped).
@@ -260,7 +260,7 @@ class HapticPipeline {
   ObstacleContactSet<Scalar> obstacles_{};
   GraspType grasp_{};
   std::array<int, max_contacts> index_{};
-  Forces forces_{};
+  StageOutputs outputs_{};
 };
 
 }  // namespace grip

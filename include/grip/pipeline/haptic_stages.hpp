@@ -65,7 +65,7 @@ bool HapticPipeline<Scalar, Scene, Solver, Device>::object_wrench(const WristSta
   frame.external = external_wrench(imposed, settings_.gravity, a, wrist.angular_acceleration, obstacles_.items.data(),
                                    obstacles_.count, settings_.obstacle_material);
   if (frame.external.status != Status::Ok) return false;
-  forces_.w_ext = frame.external.total();
+  outputs_.w_ext = frame.external.total();
   return true;
 }
 
@@ -73,17 +73,17 @@ template <class Scalar, class Scene, class Solver, class Device>
 void HapticPipeline<Scalar, Scene, Solver, Device>::solve_forces(HapticFrame<Scalar>& frame) {
   std::array<bool, max_contacts> keep{};
   for (int i = 0; i < hand_.count; ++i) keep[detail::idx(i)] = true;
-  forces_.stable = false;
+  outputs_.stable = false;
   const int rounds = std::max(0, settings_.max_resolves);
   for (int round = 0; round <= rounds; ++round) {
     build_grasp(keep);
-    forces_.transmitted.fill(Vector3<Scalar>::Zero());
-    forces_.sliding.fill(false);
+    outputs_.transmitted.fill(Vector3<Scalar>::Zero());
+    outputs_.sliding.fill(false);
     if (grasp_.size() == 0) {
       frame.solve_status = Status::Singular;
       return;
     }
-    const Solution<GraspType> sol = solver_(grasp_, forces_.w_ext);
+    const Solution<GraspType> sol = solver_(grasp_, outputs_.w_ext);
     ++frame.solves;
     frame.iterations += sol.iterations;
     frame.solve_status = sol.status;
@@ -94,14 +94,14 @@ void HapticPipeline<Scalar, Scene, Solver, Device>::solve_forces(HapticFrame<Sca
     // exactly zero, and the other forces are already the answer without it (zero is feasible
     // for that contact and costs F2 a constant): solving again would only repeat the solve.
     if (state.separating_count == 0 || round == rounds || Solver::enforces_cones) {  // the last solve
-      forces_.stable = sol.status == Status::Ok && state.sliding_count == 0 && state.sticking_count > 0 &&
-                       (Solver::enforces_cones || state.separating_count == 0);
-      const Resolution<GraspType> res = resolve(grasp_, sol.forces, state, forces_.w_ext);
+      outputs_.stable = sol.status == Status::Ok && state.sliding_count == 0 && state.sticking_count > 0 &&
+                        (Solver::enforces_cones || state.separating_count == 0);
+      const Resolution<GraspType> res = resolve(grasp_, sol.forces, state, outputs_.w_ext);
       for (int j = 0; j < grasp_.size(); ++j) {
         const auto i = detail::idx(index_[detail::idx(j)]);
-        forces_.transmitted[i] = res.status == Status::Ok ? Vector3<Scalar>(res.transmitted.template segment<3>(3 * j))
-                                                          : Vector3<Scalar>::Zero();
-        forces_.sliding[i] = state.is_sliding(j);
+        outputs_.transmitted[i] = res.status == Status::Ok ? Vector3<Scalar>(res.transmitted.template segment<3>(3 * j))
+                                                           : Vector3<Scalar>::Zero();
+        outputs_.sliding[i] = state.is_sliding(j);
       }
       return;
     }
@@ -129,17 +129,17 @@ void HapticPipeline<Scalar, Scene, Solver, Device>::move_object(const WristState
                                                                 HapticFrame<Scalar>& frame) {
   Wrench<Scalar> transmitted = Wrench<Scalar>::Zero();
   for (int i = 0; i < hand_.count; ++i) {
-    const Vector3<Scalar>& f = forces_.transmitted[detail::idx(i)];
+    const Vector3<Scalar>& f = outputs_.transmitted[detail::idx(i)];
     const Vector3<Scalar> p = hand_.items[detail::idx(i)].point - object_.position;
     transmitted.template head<3>() += f;
     transmitted.template tail<3>() += p.cross(f);
   }
-  if (forces_.stable) {
+  if (outputs_.stable) {
     if (!held_) offset_ = wrist.pose.inverse() * object_pose();
     held_ = true;
   } else {
     held_ = false;
-    frame.unbalanced = forces_.w_ext + transmitted;
+    frame.unbalanced = outputs_.w_ext + transmitted;
     (void)step_free(object_, Wrench<Scalar>(frame.external.applied() + transmitted), settings_.dt);
   }
   frame.held = held_;
@@ -152,7 +152,7 @@ void HapticPipeline<Scalar, Scene, Solver, Device>::phalanx_feedback(HapticFrame
     const HandContact<Scalar>& hc = hand_.items[detail::idx(i)];
     const int k = phalanx_index(hc.finger, hc.phalanx);
     if (k < 0 || k >= hand_body_count) continue;
-    const Vector3<Scalar>& f = forces_.transmitted[detail::idx(i)];
+    const Vector3<Scalar>& f = outputs_.transmitted[detail::idx(i)];
     felt_.add(k, -f, hc.point);
     if (k >= hand_phalanx_count) {
       frame.palm_force -= f;
@@ -161,7 +161,7 @@ void HapticPipeline<Scalar, Scene, Solver, Device>::phalanx_feedback(HapticFrame
     PhalanxFeedback<Scalar>& fb = frame.phalanges[detail::idx(k)];
     fb.force -= f;
     fb.in_contact = true;
-    fb.sliding = fb.sliding || forces_.sliding[detail::idx(i)];
+    fb.sliding = fb.sliding || outputs_.sliding[detail::idx(i)];
   }
   felt_.finish(posture_);
   for (int k = 0; k < hand_phalanx_count; ++k) {

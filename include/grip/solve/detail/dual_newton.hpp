@@ -54,16 +54,16 @@ class DualNewton {
         norm_(EquilibriumNorm<S>::of(grasp)),
         tolerance_(tolerance),
         bounded_(bounded),
-        x_(passes_.make_forces()),
-        xt_(passes_.make_forces()),
-        best_x_(passes_.make_forces()) {
+        forces_(passes_.make_forces()),
+        trial_forces_(passes_.make_forces()),
+        best_forces_(passes_.make_forces()) {
     const Wrench<S> t2 = norm_.weights().cwiseAbs2();
     const Wrench<S> scaled = gram_diagonal.cwiseProduct(t2);
     const S floor = S(1e-6f) * scaled.maxCoeff();
-    for (int k = 0; k < 6; ++k) jacobi_(k) = (scaled(k) > floor ? scaled(k) : floor) / t2(k);
-    if (!jacobi_.allFinite() || !(jacobi_.minCoeff() > S(0))) jacobi_.setOnes();
+    for (int k = 0; k < 6; ++k) gram_scale_(k) = (scaled(k) > floor ? scaled(k) : floor) / t2(k);
+    if (!gram_scale_.allFinite() || !(gram_scale_.minCoeff() > S(0))) gram_scale_.setOnes();
     if (bounded_) stacked_.setZero(grasp.unknowns());
-    w_norm_l_ = norm_(w_ext);
+    load_norm_ = norm_(w_ext);
     for (int i = 0; i < grasp.size(); ++i) squeeze_ = std::max(squeeze_, grasp.contact(i).squeeze);
   }
 
@@ -72,7 +72,7 @@ class DualNewton {
   /// answer).
   bool run(const Wrench<S>& lambda, int max_passes) {
     lambda_ = lambda;
-    cur_ = pass(lambda_, x_, h_);
+    current_ = pass(lambda_, forces_, hessian_);
     keep_best();
     while (!converged()) {
       if (passes_made_ >= max_passes) return false;
@@ -84,19 +84,19 @@ class DualNewton {
   /// True when the current iterate meets the tolerance: |G x + w_ext|_L <= tolerance scale, scale
   /// = |w_ext|_L + |x| + max_i s_i. The forces x(lambda) are projections, so they are then the exact optimum
   /// for the wrench w_ext - (G x + w_ext).
-  bool converged() const { return norm_(cur_.residual) <= tolerance_ * scale_of(cur_); }
+  bool converged() const { return norm_(current_.residual) <= tolerance_ * scale_of(current_); }
 
   const Wrench<S>& lambda() const { return lambda_; }
-  const Forces& forces() const { return x_; }
-  const ConstrainedPass<S>& sums() const { return cur_; }
+  const Forces& forces() const { return forces_; }
+  const ConstrainedPass<S>& sums() const { return current_; }
   int passes() const { return passes_made_; }
   const Passes& engine() const { return passes_; }
 
   /// The iterate of least residual met (in |.|_L) becomes the current one.
   void restore_best() {
     lambda_ = best_lambda_;
-    x_ = best_x_;
-    cur_ = best_;
+    forces_ = best_forces_;
+    current_ = best_sums_;
   }
 
  private:
@@ -113,29 +113,29 @@ class DualNewton {
     }
     return passes_.pass(w_ext_, l, x, h);
   }
-  S scale_of(const ConstrainedPass<S>& p) const { return p.scale + w_norm_l_ - w_ext_.norm() + squeeze_; }
+  S scale_of(const ConstrainedPass<S>& p) const { return p.scale + load_norm_ - w_ext_.norm() + squeeze_; }
   void keep_best() {
-    const S rn = norm_(cur_.residual);
-    if (rn < best_rn_) {
-      best_rn_ = rn;
+    const S rn = norm_(current_.residual);
+    if (rn < best_residual_) {
+      best_residual_ = rn;
       best_lambda_ = lambda_;
-      best_x_ = x_;
-      best_ = cur_;
+      best_forces_ = forces_;
+      best_sums_ = current_;
     }
   }
 
   /// One Newton step with its line search; false if no trial is accepted within the passes left.
   bool step(int max_passes) {
-    const S scale = scale_of(cur_);
-    const S rn = norm_(cur_.residual);
+    const S scale = scale_of(current_);
+    const S rn = norm_(current_.residual);
     const S rel = scale > S(0) ? std::min(rn / scale, S(1)) : S(1);
     const S mu = rel * rel + S(16) * std::numeric_limits<S>::epsilon();
-    Matrix6<S> m = h_;
-    m.diagonal() += mu * jacobi_;
+    Matrix6<S> m = hessian_;
+    m.diagonal() += mu * gram_scale_;
     const Wrench<S> dinv = m.diagonal().cwiseSqrt().cwiseInverse();
     scale_symmetric(m, dinv);
-    const Wrench<S> d = dinv.cwiseProduct(solve_newton_6x6(m, Wrench<S>(-dinv.cwiseProduct(cur_.residual)), mu));
-    const S slope = -cur_.residual.dot(d);
+    const Wrench<S> d = dinv.cwiseProduct(solve_newton_6x6(m, Wrench<S>(-dinv.cwiseProduct(current_.residual)), mu));
+    const S slope = -current_.residual.dot(d);
     if (!(slope > S(0)) || !d.allFinite()) return false;
     const S c = S(1e-4f);
     int trial_count = 0;
@@ -146,14 +146,14 @@ class DualNewton {
       if (trial_count == 1) alpha = second_trial(passes_, lambda_, d, alpha);
       const Wrench<S> lt = lambda_ + alpha * d;
       if (lt == lambda_) return false;
-      const ConstrainedPass<S> trial = pass(lt, xt_, ht_);
+      const ConstrainedPass<S> trial = pass(lt, trial_forces_, trial_hessian_);
       const S slack =
-          S(16) * std::numeric_limits<S>::epsilon() * (std::abs(trial.dual) + std::abs(cur_.dual) + cur_.f2);
-      if (trial.dual >= cur_.dual + c * alpha * slope - slack || norm_(trial.residual) <= (S(1) - c * alpha) * rn) {
+          S(16) * std::numeric_limits<S>::epsilon() * (std::abs(trial.dual) + std::abs(current_.dual) + current_.f2);
+      if (trial.dual >= current_.dual + c * alpha * slope - slack || norm_(trial.residual) <= (S(1) - c * alpha) * rn) {
         lambda_ = lt;
-        x_ = xt_;
-        h_ = ht_;
-        cur_ = trial;
+        forces_ = trial_forces_;
+        hessian_ = trial_hessian_;
+        current_ = trial;
         keep_best();
         return true;
       }
@@ -167,16 +167,16 @@ class DualNewton {
   const EquilibriumNorm<S> norm_;
   const S tolerance_;
   const bool bounded_;
-  S w_norm_l_{0};
-  S squeeze_{0};                          ///< max_i s_i
-  typename GraspT::ForceVector stacked_;  ///< the bounded pass's forces, stacked
-  Wrench<S> jacobi_{Wrench<S>::Ones()};
-  Wrench<S> lambda_{Wrench<S>::Zero()};
-  Forces x_, xt_, best_x_;
-  Matrix6<S> h_, ht_;
-  ConstrainedPass<S> cur_, best_;
-  Wrench<S> best_lambda_{Wrench<S>::Zero()};
-  S best_rn_{std::numeric_limits<S>::infinity()};
+  S load_norm_{0};                              ///< |w_ext|_L
+  S squeeze_{0};                                ///< max_i s_i
+  typename GraspT::ForceVector stacked_;        ///< the bounded pass's forces, stacked
+  Wrench<S> gram_scale_{Wrench<S>::Ones()};     ///< the Levenberg-Marquardt scaling D (the Gram diagonal, floored)
+  Wrench<S> lambda_{Wrench<S>::Zero()};         ///< the current multipliers
+  Forces forces_, trial_forces_, best_forces_;  ///< x(lambda) at the current, trial and best iterates
+  Matrix6<S> hessian_, trial_hessian_;          ///< minus the dual's generalised Hessian at current and trial
+  ConstrainedPass<S> current_, best_sums_;      ///< the pass sums at the current and best iterates
+  Wrench<S> best_lambda_{Wrench<S>::Zero()};    ///< the multipliers of least residual met
+  S best_residual_{std::numeric_limits<S>::infinity()};  ///< their residual, |G x + w_ext|_L
   int passes_made_{0};
 };
 
