@@ -74,6 +74,7 @@
 #include "grip/pipeline/octree_scene.hpp"
 #include "grip/pipeline/frame_solver.hpp"
 #include "grip/pipeline/device_policy.hpp"
+#include "grip/pipeline/net_wrench_command.hpp"
 #include "grip/pipeline/channel_guard.hpp"
 #include "grip/pipeline/haptic_frame.hpp"
 #include "grip/pipeline/haptic_pipeline.hpp"

@@ -30,6 +30,7 @@
 #include "grip/hand/hand_joints.hpp"
 #include "grip/hand/hand_kinematics.hpp"
 #include "grip/hand/hand_model.hpp"
+#include "grip/pipeline/net_wrench_command.hpp"
 
 namespace grip {
 
@@ -102,18 +103,27 @@ Scalar push_command(Scalar wanted, Scalar limit) {
 }  // namespace detail
 
 /// (a) One actuator per phalanx along its actuation direction (FeltForces::direction),
-/// pushing only: command in [0, limit]. Clipped: beyond the limit, or pulling while in contact.
+/// pushing only: command in [0, limit]. By default each phalanx is clipped on its own; with
+/// net_wrench, the pushes are net_wrench_command's: those whose net wrench on the hand comes
+/// closest to the felt one (net_wrench_command.hpp). Clipped: phalanges in contact whose push
+/// differs from their own F . direction.
 template <class Scalar>
 struct PhalanxActuators {
   std::array<Scalar, hand_phalanx_count> limit{};  ///< Largest push (N) per phalanx, >= 0.
+  bool net_wrench{false};                          ///< render the closest net wrench, not clips
   PhalanxActuators() { limit.fill(Scalar(10)); }
 
   /// What the actuators render in one frame.
   struct Command {
     std::array<Scalar, hand_phalanx_count> wanted{};  ///< F . direction (N)
     std::array<Scalar, hand_phalanx_count> force{};   ///< rendered (N)
-    int clipped{0};                                   ///< phalanges in contact whose force != wanted
-    Status status{Status::InvalidInput};              ///< Ok, or InvalidInput (command zeroed)
+    /// The felt net wrench that the pushes do not render (N; N m about `point`, the mean of the
+    /// contact bodies' points): the palm's share, pulls, and what the limits cut.
+    Wrench<Scalar> unrendered{Wrench<Scalar>::Zero()};
+    Vector3<Scalar> point{Vector3<Scalar>::Zero()};  ///< unrendered's moment point (m, world)
+    int clipped{0};                                  ///< phalanges in contact whose force != wanted
+    /// Ok, or InvalidInput (command zeroed); with net_wrench, IterationLimit if its bound was met.
+    Status status{Status::InvalidInput};
   };
 
   /// Renders `in` (its force and direction per phalanx) into `out`; see the file comment.
@@ -121,13 +131,24 @@ struct PhalanxActuators {
                 Command& out) const {
     out = Command{};
     if (!detail::phalanx_inputs_ok(in, limit)) return out.status;
+    NetWrenchCommand<Scalar> best;
+    if (net_wrench) {
+      best = net_wrench_command(in.force, in.point, in.in_contact, in.direction, limit);
+      if (best.status == Status::InvalidInput) return out.status;
+    }
     for (int k = 0; k < hand_phalanx_count; ++k) {
       const auto i = detail::idx(k);
       out.wanted[i] = in.force[i].dot(in.direction[i]);
-      out.force[i] = detail::push_command(out.wanted[i], limit[i]);
+      out.force[i] = net_wrench ? best.force[i] : detail::push_command(out.wanted[i], limit[i]);
       out.clipped += in.in_contact[i] && out.force[i] != out.wanted[i] ? 1 : 0;
     }
-    out.status = Status::Ok;
+    const FeltNetWrench<Scalar> felt = felt_net_wrench(in.force, in.point, in.in_contact);
+    std::array<Scalar, hand_phalanx_count> rendered = out.force;  // a phalanx out of contact renders nothing
+    for (int k = 0; k < hand_phalanx_count; ++k)
+      if (!in.in_contact[detail::idx(k)]) rendered[detail::idx(k)] = Scalar(0);
+    out.unrendered = unrendered_wrench(felt, in.point, in.direction, rendered);
+    out.point = felt.point;
+    out.status = net_wrench ? best.status : Status::Ok;
     return out.status;
   }
 };
