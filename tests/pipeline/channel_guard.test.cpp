@@ -53,7 +53,7 @@ TEST_CASE("the slew bound holds exactly between updates, and the target is reach
     const double t = k * dt;
     REQUIRE(g.update(t, want, true) == Status::Ok);
     const Commands& c = g.command_exact();
-    for (int i = 0; i < 3; ++i) CHECK(std::abs(c[i] - prev[i]) <= s.slew_rate * (t - t_prev) * (1 + 1e-12));
+    for (std::size_t i = 0; i < 3; ++i) CHECK(std::abs(c[i] - prev[i]) <= s.slew_rate * (t - t_prev) * (1 + 1e-12));
     if (c != prev) {
       prev = c;
       t_prev = t;
@@ -76,7 +76,7 @@ TEST_CASE("an onset ramps a channel in from rest: |c| <= |target| (t - t0) / ons
     const double t = k * dt;
     REQUIRE(g.update(t, want, true) == Status::Ok);
     const double ramp = std::min(1.0, (t - t0) / s.onset_time);
-    for (int i = 0; i < 3; ++i) {
+    for (std::size_t i = 0; i < 3; ++i) {
       CHECK(std::abs(g.command_exact()[i]) <= std::abs(want[i]) * ramp * (1 + 1e-12));
       CHECK(g.command_exact()[i] * want[i] >= 0.0);  // never against the target's sign
     }
@@ -102,7 +102,7 @@ TEST_CASE("stale input: the command falls to zero at the slew rate, without a ju
     const bool expect_stale = t - last_fresh > s.stale_after;
     CHECK(g.stale() == expect_stale);
     seen_stale = seen_stale || expect_stale;
-    for (int i = 0; i < 3; ++i) {
+    for (std::size_t i = 0; i < 3; ++i) {
       CHECK(std::abs(g.command_exact()[i] - prev[i]) <= s.slew_rate * dt * (1 + 1e-12));
       if (!expect_stale) CHECK(g.command_exact()[i] == want[i]);   // the last good target held
       CHECK(std::abs(g.command_exact()[i]) <= std::abs(prev[i]));  // only down once stale
@@ -139,7 +139,7 @@ TEST_CASE("bad input gives InvalidInput and takes every command to zero at the s
       if (kind == 2) bad[0] = 11.0;  // beyond max_command
       if (kind == 3) t = nan;        // a bad clock: time stands at the last good one
       CHECK(g.update(t, bad, true) == Status::InvalidInput);
-      for (int i = 0; i < 3; ++i) {
+      for (std::size_t i = 0; i < 3; ++i) {
         CHECK(std::isfinite(g.command()[i]));
         CHECK(std::abs(g.command_exact()[i] - prev[i]) <= s.slew_rate * dt * (1 + 1e-12));
       }
@@ -149,7 +149,7 @@ TEST_CASE("bad input gives InvalidInput and takes every command to zero at the s
   }
 }
 
-TEST_CASE("time going back is bad input; bad settings zero the command") {
+TEST_CASE("time going back is bad input, and bad settings zero the command") {
   Guard g;
   REQUIRE(g.update(1.0, Commands{1, 1, 1}, true) == Status::Ok);
   CHECK(g.update(0.5, Commands{1, 1, 1}, true) == Status::InvalidInput);
@@ -180,7 +180,7 @@ TEST_CASE("steps: every rendered value a multiple of the step, within it of c, t
       continue;
     }
     ++updates;
-    for (int i = 0; i < 3; ++i) {
+    for (std::size_t i = 0; i < 3; ++i) {
       const double q = g.command()[i] / s.step;
       CHECK(std::abs(q - std::round(q)) <= 1e-9);
       CHECK(std::abs(g.command()[i] - g.command_exact()[i]) <= s.step * (1 + 1e-9));
@@ -189,7 +189,7 @@ TEST_CASE("steps: every rendered value a multiple of the step, within it of c, t
     last = g.command();
   }
   // The carried error stays within half a step, so the mean is off by at most step / (2 N).
-  for (int i = 0; i < 3; ++i) CHECK(std::abs(sum[i] / updates - want[i]) <= s.step / (2.0 * updates) + 1e-12);
+  for (std::size_t i = 0; i < 3; ++i) CHECK(std::abs(sum[i] / updates - want[i]) <= s.step / (2.0 * updates) + 1e-12);
 }
 
 TEST_CASE("a guard's update allocates nothing") {
@@ -214,9 +214,9 @@ TEST_CASE("a guard's update allocates nothing") {
   }
   CHECK(scope.allocations() == 0);
   // float keeps the same contract: the command reaches its target and stays a multiple of step.
-  for (int i = 0; i < 14; ++i) {
-    CHECK(gf.command_exact()[static_cast<std::size_t>(i)] == 3.0f);
-    CHECK(std::abs(gf.command()[static_cast<std::size_t>(i)] - 3.0f) <= 0.1f * 1.0001f);
+  for (std::size_t i = 0; i < 14; ++i) {
+    CHECK(gf.command_exact()[i] == 3.0f);
+    CHECK(std::abs(gf.command()[i] - 3.0f) <= 0.1f * 1.0001f);
   }
 }
 

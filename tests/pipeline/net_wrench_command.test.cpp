@@ -114,7 +114,7 @@ TEST_CASE("two phalanges at one point: the one below its limit takes what the ot
     if (k != 2 && k != 3) CHECK(c.force[size_t(k)] == 0.0);  // out of contact: nothing
 }
 
-TEST_CASE("one phalanx within its limit renders its force; beyond it, the rest is reported") {
+TEST_CASE("one phalanx within its limit renders its force, and beyond it the rest is reported") {
   Input in;
   in.touch[4] = true;
   in.point[4] = V3(0.1, 0.02, 0);
@@ -168,7 +168,7 @@ TEST_CASE("random hands: the optimality conditions hold, and no method does bett
   CHECK(best_total < clip_total);
 }
 
-TEST_CASE("bad input: InvalidInput and zero pushes; no heap") {
+TEST_CASE("bad input gives InvalidInput and zero pushes, with no heap") {
   Input in;
   in.touch[2] = true;
   in.force[2] = V3(0, 0, std::nan(""));

@@ -55,8 +55,10 @@ struct ChannelGuardSettings {
 template <class Scalar, int Channels>
 class ChannelGuard {
  public:
+  /// One command per channel (the device's units, e.g. N).
   using Commands = std::array<Scalar, Channels>;
 
+  /// A guard at rest (commands 0) with `settings`, checked at each update().
   explicit ChannelGuard(const ChannelGuardSettings<Scalar>& settings = {}) : settings_(settings) {}
 
   /// One frame at time `now` (s); see the file comment. Returns Ok, or InvalidInput for bad

@@ -123,9 +123,9 @@ int box_quadratic(const Eigen::Matrix<Scalar, M, M>& h, const Eigen::Matrix<Scal
 /// touches), and `lever` L, the largest distance of one from o (at least 1 cm).
 template <class Scalar>
 struct FeltNetWrench {
-  Wrench<Scalar> wrench{Wrench<Scalar>::Zero()};
-  Vector3<Scalar> point{Vector3<Scalar>::Zero()};
-  Scalar lever{Scalar(0.01)};
+  Wrench<Scalar> wrench{Wrench<Scalar>::Zero()};   ///< w* (N; N m about `point`)
+  Vector3<Scalar> point{Vector3<Scalar>::Zero()};  ///< o (m, world)
+  Scalar lever{Scalar(0.01)};                      ///< L (m)
 };
 
 /// w*, o and L of `force` and `point` with contacts `in_contact` (see FeltNetWrench).
