@@ -142,12 +142,17 @@ struct PhalanxActuators {
       out.force[i] = net_wrench ? best.force[i] : detail::push_command(out.wanted[i], limit[i]);
       out.clipped += in.in_contact[i] && out.force[i] != out.wanted[i] ? 1 : 0;
     }
-    const FeltNetWrench<Scalar> felt = felt_net_wrench(in.force, in.point, in.in_contact);
-    std::array<Scalar, hand_phalanx_count> rendered = out.force;  // a phalanx out of contact renders nothing
-    for (int k = 0; k < hand_phalanx_count; ++k)
-      if (!in.in_contact[detail::idx(k)]) rendered[detail::idx(k)] = Scalar(0);
-    out.unrendered = unrendered_wrench(felt, in.point, in.direction, rendered);
-    out.point = felt.point;
+    if (net_wrench) {  // net_wrench_command reported what its pushes leave unrendered
+      out.unrendered = best.unrendered;
+      out.point = best.point;
+    } else {
+      const FeltNetWrench<Scalar> felt = felt_net_wrench(in.force, in.point, in.in_contact);
+      std::array<Scalar, hand_phalanx_count> rendered = out.force;  // a phalanx out of contact renders nothing
+      for (int k = 0; k < hand_phalanx_count; ++k)
+        if (!in.in_contact[detail::idx(k)]) rendered[detail::idx(k)] = Scalar(0);
+      out.unrendered = unrendered_wrench(felt, in.point, in.direction, rendered);
+      out.point = felt.point;
+    }
     out.status = net_wrench ? best.status : Status::Ok;
     return out.status;
   }
