@@ -4,6 +4,7 @@
 //   Actuators/clip       PhalanxActuators::render, each phalanx clipped on its own (the default)
 //   Actuators/net_wrench the same with net_wrench: the bounded least-squares command
 //   Guard                ChannelGuard<double, 14>::update at 1 kHz, 200 Hz device updates
+//   Passivity            PassivityController<double, 14>::update, every channel short of energy
 //
 // 256 random felt-force sets (about 60 % of the 19 bodies in contact, forces of up to 14 N,
 // limits of 0 to 6 N, random actuation directions) in a loop; the time per call. Counter
@@ -18,6 +19,7 @@
 
 #include <grip/pipeline/channel_guard.hpp>
 #include <grip/pipeline/device_policy.hpp>
+#include <grip/pipeline/passivity_controller.hpp>
 
 namespace {
 using grip::FeltForces;
@@ -97,5 +99,19 @@ void Guard(benchmark::State& state) {
   }
 }
 BENCHMARK(Guard);
+
+void Passivity(benchmark::State& state) {
+  grip::PassivityController<double, 14> pc;
+  std::array<double, 14> force{}, position{};
+  force.fill(2.0);  // along the motion below: every channel gives energy, the damper works
+  std::size_t k = 0;
+  for (auto _ : state) {
+    for (std::size_t c = 0; c < 14; ++c) position[c] = 1e-5 * double(k % 64);
+    benchmark::DoNotOptimize(pc.update(1e-3, force, position));
+    benchmark::DoNotOptimize(pc.command().data());
+    ++k;
+  }
+}
+BENCHMARK(Passivity);
 
 }  // namespace

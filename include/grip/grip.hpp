@@ -76,6 +76,8 @@
 #include "grip/pipeline/device_policy.hpp"
 #include "grip/pipeline/net_wrench_command.hpp"
 #include "grip/pipeline/channel_guard.hpp"
+#include "grip/pipeline/passivity_controller.hpp"
+#include "grip/pipeline/device_model.hpp"
 #include "grip/pipeline/haptic_frame.hpp"
 #include "grip/pipeline/haptic_pipeline.hpp"
 #include "grip/pipeline/close_hand.hpp"
