@@ -5,6 +5,9 @@
 //   Actuators/net_wrench the same with net_wrench: the bounded least-squares command
 //   Guard                ChannelGuard<double, 14>::update at 1 kHz, 200 Hz device updates
 //   Passivity            PassivityController<double, 14>::update, every channel short of energy
+//   GloveSession/...     example 10's glove (one 20 N cable per finger) on example 6's session:
+//                        the felt forces of its 6500 frames recorded once, then rendered by
+//                        clipping or by net_wrench; counter net_error_ratio over the session
 //
 // 256 random felt-force sets (about 60 % of the 19 bodies in contact, forces of up to 14 N,
 // limits of 0 to 6 N, random actuation directions) in a loop; the time per call. Counter
@@ -17,7 +20,10 @@
 #include <random>
 #include <vector>
 
+#include "../examples/06_haptic_loop/session.hpp"
+
 #include <grip/pipeline/channel_guard.hpp>
+#include <grip/pipeline/frame_solver.hpp>
 #include <grip/pipeline/device_policy.hpp>
 #include <grip/pipeline/passivity_controller.hpp>
 
@@ -113,5 +119,62 @@ void Passivity(benchmark::State& state) {
   }
 }
 BENCHMARK(Passivity);
+
+// Example 10's glove: 20 N on each distal phalanx, nothing elsewhere.
+grip::PhalanxActuators<double> cable_glove(bool net) {
+  grip::PhalanxActuators<double> g;
+  g.limit.fill(0.0);
+  for (int f = 0; f < 5; ++f)
+    g.limit[static_cast<std::size_t>(grip::phalanx_index(static_cast<grip::Finger>(f), grip::Phalanx::Distal))] = 20;
+  g.net_wrench = net;
+  return g;
+}
+
+// The felt forces of example 6's session, frames with contact only (run once).
+const std::vector<FeltForces<double>>& session_felt() {
+  static const std::vector<FeltForces<double>> frames = [] {
+    using namespace haptic_session;
+    const Script script;
+    grip::HapticSettings<S> st = settings();
+    st.bound_by_device = false;
+    grip::HapticPipeline<S, grip::CylinderScene<S>, grip::ConstrainedFrameSolver<S>> pipeline(st, scene(), object());
+    grip::HapticFrame<S> frame;
+    std::vector<FeltForces<double>> out;
+    for (int i = 0; i < static_cast<int>(duration * rate); ++i) {
+      (void)pipeline.step(script.wrist(i / rate), script.angles(i / rate), frame);
+      if (frame.contacts > 0) out.push_back(pipeline.felt());
+    }
+    return out;
+  }();
+  return frames;
+}
+
+void GloveSession(benchmark::State& state) {
+  const bool net = state.range(0) != 0;
+  const auto& frames = session_felt();
+  const auto dev = cable_glove(net);
+  const grip::HandPosture<double> posture{};
+  const grip::HandJoints<double> velocity = grip::HandJoints<double>::Zero();
+  grip::PhalanxActuators<double>::Command out;
+  std::size_t k = 0;
+  for (auto _ : state) {
+    dev.render(frames[k], posture, velocity, out);
+    benchmark::DoNotOptimize(out.force.data());
+    k = (k + 1) % frames.size();
+  }
+  double clip = 0, best = 0;
+  const auto clipper = cable_glove(false), fitter = cable_glove(true);
+  grip::PhalanxActuators<double>::Command c, b;
+  for (const auto& f : frames) {
+    clipper.render(f, posture, velocity, c);
+    fitter.render(f, posture, velocity, b);
+    const double lever = grip::felt_net_wrench(f.force, f.point, f.in_contact).lever;
+    clip += weighted(c.unrendered, lever);
+    best += weighted(b.unrendered, lever);
+  }
+  state.counters["net_error_ratio"] = clip / best;
+  state.counters["frames"] = double(frames.size());
+}
+BENCHMARK(GloveSession)->Arg(0)->Arg(1)->ArgName("net_wrench");
 
 }  // namespace

@@ -128,6 +128,9 @@ class HapticPipeline {
   Device& device() { return device_; }
   /// The device policy's command of the last frame.
   const typename Device::Command& device_command() const { return command_; }
+  /// What every body of the hand felt in the last frame (the device policy's input): forces,
+  /// points and contacts per body, actuation directions per phalanx.
+  const FeltForces<Scalar>& felt() const { return felt_; }
   /// The joint velocities of the last frame (rad/s): the difference of the last two frames'
   /// joints over dt (zero at the first frame; the 14 angles fill the 20 joints' flexions).
   const HandJoints<Scalar>& joint_velocity() const { return joint_velocity_; }
