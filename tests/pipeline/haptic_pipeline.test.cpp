@@ -340,3 +340,60 @@ TEST_CASE_TEMPLATE("a whole frame does not touch the heap", S, double, float) {
   CHECK(ok == 20);
   CHECK(held == 10);
 }
+
+TEST_CASE_TEMPLATE("the command guard passes the device's commands through at its neutral settings", S, double, float) {
+  grip_test::HeldCylinder<S> h;
+  h.settings.guard_commands = true;
+  h.settings.guard.update_rate = S(1) / h.settings.dt;  // every frame an update; no slew, ramp or steps
+  auto p = h.pipeline();
+  HapticFrame<S> f;
+  WristState<S> w = h.wrist;
+  int touching = 0;
+  for (int i = 0; i < 40; ++i) {
+    w.linear_acceleration.z() = S(i % 7);
+    REQUIRE(p.step(w, h.closed, f) == Status::Ok);
+    for (int k = 0; k < hand_phalanx_count; ++k) {
+      CHECK(f.phalanges[detail::idx(k)].command == p.device_command().force[detail::idx(k)]);
+      touching += f.phalanges[detail::idx(k)].command > S(0) ? 1 : 0;
+    }
+  }
+  CHECK(touching > 0);  // the check compared commands that push
+}
+
+TEST_CASE_TEMPLATE("the command guard: slew-limited, to zero without a jump on bad or stale input", S, double, float) {
+  grip_test::HeldCylinder<S> h;
+  h.settings.guard_commands = true;
+  h.settings.guard.update_rate = S(1) / h.settings.dt;
+  h.settings.guard.slew_rate = S(1000);    // N/s: 1 N per 1 ms frame
+  h.settings.guard.stale_after = S(0.01);  // s: 10 frames
+  const S per_frame = h.settings.guard.slew_rate * h.settings.dt;
+  const S slack = S(64) * std::numeric_limits<S>::epsilon() * S(100);  // the time's round-off
+  auto p = h.pipeline();
+  HapticFrame<S> f;
+  WristState<S> bad = h.wrist;
+  bad.linear_velocity.x() = std::numeric_limits<S>::quiet_NaN();
+  std::array<S, hand_phalanx_count> last{};
+  S peak(0);
+  // 0-199: good input, fresh; 200-299: bad input; 300-399: good; 400-499: good but stale.
+  for (int i = 0; i < 500; ++i) {
+    const bool is_bad = i >= 200 && i < 300;
+    const Status st = p.step(is_bad ? bad : h.wrist, h.closed, f, i < 400);
+    CHECK(st == (is_bad ? Status::InvalidInput : Status::Ok));
+    for (int k = 0; k < hand_phalanx_count; ++k) {
+      const auto j = detail::idx(k);
+      const S c = f.phalanges[j].command;
+      CHECK(std::abs(c - last[j]) <= per_frame + slack);  // no jump, whatever the input
+      last[j] = c;
+      peak = std::max(peak, c);
+    }
+    S most(0);
+    for (const S c : last) most = std::max(most, c);
+    // From the bad input's first frame the commands fall by the slew per frame, so they reach
+    // zero within 100 frames of commands below 80 N (checked when the input turns bad); likewise
+    // once the input is stale (after 10 frames).
+    if (i == 299 || i == 499) CHECK(most == S(0));
+    if (i == 199 || i == 399) CHECK(most < S(80) * per_frame);  // what the 100 frames allow
+  }
+  CHECK(peak > S(1));  // the guard had something to hold back
+  CHECK(p.guard().stale());
+}

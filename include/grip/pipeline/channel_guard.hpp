@@ -30,6 +30,7 @@
 /// updates; with stale or bad input |c| falls by slew_rate per second to 0. The rendered
 /// command() differs from c by at most step.
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -64,6 +65,13 @@ class ChannelGuard {
   /// One frame at time `now` (s); see the file comment. Returns Ok, or InvalidInput for bad
   /// input or settings (targets 0; with bad settings the commands are zeroed at once).
   Status update(Scalar now, const Commands& wanted, bool fresh);
+  /// A frame at time `now` whose input was bad (the caller's own check failed): update() with
+  /// every target 0; returns InvalidInput (or that of a bad `now` or bad settings).
+  Status reject(Scalar now) {
+    Commands bad;
+    bad.fill(std::numeric_limits<Scalar>::quiet_NaN());
+    return update(now, bad, true);
+  }
 
   const Commands& command() const { return rendered_; }     ///< what the device renders
   const Commands& command_exact() const { return exact_; }  ///< before rounding to steps
@@ -126,9 +134,12 @@ Status ChannelGuard<Scalar, Channels>::update(Scalar now, const Commands& wanted
   if (!good || stale_) target_.fill(Scalar(0));
   const Status status = good ? Status::Ok : Status::InvalidInput;
   // Held between the device's updates; the first call is an update. An update is due once a
-  // period less a millionth of it has passed, so that a loop's rounded clock skips none.
+  // period has passed, less a millionth of it or the clock's rounding (8 units in the last
+  // place of t), so that a loop's rounded clock skips none.
   const Scalar since = t - last_update_;
-  if (updated_ && since < (Scalar(1) - Scalar(1e-6)) / settings_.update_rate) return status;
+  const Scalar period = Scalar(1) / settings_.update_rate;
+  const Scalar rounding = Scalar(8) * std::numeric_limits<Scalar>::epsilon() * std::abs(t);
+  if (updated_ && since < period - std::max(Scalar(1e-6) * period, rounding)) return status;
   updated_ = true;
   last_update_ = t;
   // The slew allowance of this update: none at the first (no interval yet), unlimited for an

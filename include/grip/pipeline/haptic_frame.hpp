@@ -14,6 +14,7 @@
 #include "grip/dynamics/penalty_contact.hpp"
 #include "grip/hand/hand_model.hpp"
 #include "grip/hand/grasp_type.hpp"
+#include "grip/pipeline/channel_guard.hpp"
 
 namespace grip {
 
@@ -67,6 +68,11 @@ struct HapticSettings {
   /// the most friction to spare, carry the load (the grip's Table 1 distribution).
   bool weight_by_squeeze{true};
   Scalar weight_floor{Scalar(0.5)};  ///< s floor (N) of weight_by_squeeze, > 0
+  /// With the default device (PhalanxActuators): true passes its 14 commands through a
+  /// ChannelGuard (channel_guard.hpp) with `guard`, whose output is then each
+  /// PhalanxFeedback::command; frame k's time is k dt. False: the device's command as it is.
+  bool guard_commands{false};
+  ChannelGuardSettings<Scalar> guard{};  ///< the guard's settings (guard_commands)
 
   HapticSettings() {
     stiffness.fill(Scalar(3e4));

@@ -80,22 +80,28 @@ class HapticPipeline {
   }
 
   /// Runs one frame. `angles`: the 14 flexion angles (JointAngles) or the 20 joints
-  /// (HandJoints), rad. InvalidInput (object unchanged, frame zeroed but for the status) for a
+  /// (HandJoints), rad. `fresh`: whether the glove and tracker gave new data for this frame
+  /// (false: the last data again), read by the command guard's stale-input watchdog
+  /// (settings.guard_commands). InvalidInput (object unchanged, frame zeroed but for the status
+  /// and, with the guard, each phalanx's command, the guard's on its way to zero) for a
   /// non-finite wrist state or angles, a non-orthonormal wrist rotation, invalid hand
   /// dimensions or an invalid object; Ok otherwise (whether the object is held or not:
   /// see HapticFrame).
   template <class Derived>
-  Status step(const WristState<Scalar>& wrist, const Eigen::MatrixBase<Derived>& angles, HapticFrame<Scalar>& frame) {
+  Status step(const WristState<Scalar>& wrist, const Eigen::MatrixBase<Derived>& angles, HapticFrame<Scalar>& frame,
+              bool fresh = true) {
     frame = HapticFrame<Scalar>{};
     frame.status = Status::InvalidInput;
-    if (!pose_hand(wrist, angles)) return frame.status;
-    carry_held_object(wrist);
-    find_contacts(frame);
-    if (!object_wrench(wrist, frame)) return frame.status;
+    const Scalar now = Scalar(frames_++) * settings_.dt;
+    if (!pose_hand(wrist, angles) || !object_wrench_ready(wrist, frame)) {
+      guard_commands(now, nullptr, fresh, frame);
+      return frame.status;
+    }
     solve_forces(frame);
     move_object(wrist, frame);
     phalanx_feedback(frame);
     render_device(frame);
+    guard_commands(now, &command_, fresh, frame);
     frame.status = Status::Ok;
     return frame.status;
   }
@@ -128,6 +134,8 @@ class HapticPipeline {
   Device& device() { return device_; }
   /// The device policy's command of the last frame.
   const typename Device::Command& device_command() const { return command_; }
+  /// The guard of the default device's commands (settings.guard_commands; at rest otherwise).
+  const ChannelGuard<Scalar, hand_phalanx_count>& guard() const { return guard_; }
   /// What every body of the hand felt in the last frame (the device policy's input): forces,
   /// points and contacts per body, actuation directions per phalanx.
   const FeltForces<Scalar>& felt() const { return felt_; }
@@ -191,6 +199,29 @@ class HapticPipeline {
     if constexpr (phalanx_device)
       for (int k = 0; k < hand_phalanx_count; ++k)
         detail::set_phalanx_command(frame, k, command_.force[detail::idx(k)]);
+  }
+  /// 2-4 of a frame whose inputs pose_hand accepted: carry_held_object, find_contacts and
+  /// object_wrench; false if object_wrench fails.
+  bool object_wrench_ready(const WristState<Scalar>& wrist, HapticFrame<Scalar>& frame) {
+    carry_held_object(wrist);
+    find_contacts(frame);
+    return object_wrench(wrist, frame);
+  }
+  /// 10. Guard (settings_.guard_commands, PhalanxActuators only): guard_ takes `command`'s
+  /// forces at time `now` (nullptr: the frame's input was bad, every target 0) and each
+  /// phalanx's command becomes the guard's.
+  void guard_commands(Scalar now, const typename Device::Command* command, bool fresh, HapticFrame<Scalar>& frame) {
+    if constexpr (phalanx_device) {
+      if (!settings_.guard_commands) return;
+      if (command != nullptr)
+        (void)guard_.update(now, command->force, fresh);
+      else
+        (void)guard_.reject(now);
+      for (int k = 0; k < hand_phalanx_count; ++k)
+        frame.phalanges[detail::idx(k)].command = guard_.command()[detail::idx(k)];
+    } else {
+      (void)now, (void)command, (void)fresh, (void)frame;
+    }
   }
   /// Whether Device is the default PhalanxActuators, whose command is PhalanxFeedback::command.
   static constexpr bool phalanx_device = std::is_same<Device, PhalanxActuators<Scalar>>::value;
@@ -259,6 +290,8 @@ class HapticPipeline {
   Device device_{};
   typename Device::Command command_{};
   FeltForces<Scalar> felt_{};
+  ChannelGuard<Scalar, hand_phalanx_count> guard_{settings_.guard};  ///< settings_.guard_commands
+  long long frames_{0};                                              ///< frames stepped (the guard's clock)
   HandContacts<Scalar, contacts_per_phalanx> hand_{};
   ObstacleContactSet<Scalar> obstacles_{};
   GraspType grasp_{};
