@@ -3,6 +3,7 @@
 //
 //   Actuators/clip       PhalanxActuators::render, each phalanx clipped on its own (the default)
 //   Actuators/net_wrench the same with net_wrench: the bounded least-squares command
+//   Vectors/...          VectorForces::render, scaling each phalanx or net_wrench (net_wrench_vector.hpp)
 //   Guard                ChannelGuard<double, 14>::update at 1 kHz, 200 Hz device updates
 //   Passivity            PassivityController<double, 14>::update, every channel short of energy
 //   GloveSession/...     example 10's glove (one 20 N cable per finger) on example 6's session:
@@ -88,6 +89,38 @@ void Actuators(benchmark::State& state) {
   state.counters["net_error_ratio"] = clip / best;
 }
 BENCHMARK(Actuators)->Arg(0)->Arg(1)->ArgName("net_wrench");
+
+void Vectors(benchmark::State& state) {
+  const bool net = state.range(0) != 0;
+  const auto sets = felt_sets();
+  grip::VectorForces<double> dev;
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> p(0, 6);
+  for (auto& l : dev.limit) l = p(rng);
+  dev.net_wrench = net;
+  const grip::HandPosture<double> posture{};
+  const grip::HandJoints<double> velocity = grip::HandJoints<double>::Zero();
+  grip::VectorForces<double>::Command out;
+  std::size_t k = 0;
+  for (auto _ : state) {
+    dev.render(sets[k], posture, velocity, out);
+    benchmark::DoNotOptimize(out.force.data());
+    k = (k + 1) % sets.size();
+  }
+  double scaled = 0, best = 0;
+  grip::VectorForces<double>::Command c;
+  for (const auto& f : sets) {
+    const double lever = grip::felt_net_wrench(f.force, f.point, f.in_contact).lever;
+    dev.net_wrench = false;
+    dev.render(f, posture, velocity, c);
+    scaled += weighted(c.unrendered, lever);
+    dev.net_wrench = true;
+    dev.render(f, posture, velocity, c);
+    best += weighted(c.unrendered, lever);
+  }
+  state.counters["net_error_ratio"] = scaled / best;
+}
+BENCHMARK(Vectors)->Arg(0)->Arg(1)->ArgName("net_wrench");
 
 void Guard(benchmark::State& state) {
   grip::ChannelGuardSettings<double> s;

@@ -75,6 +75,7 @@
 #include "grip/pipeline/frame_solver.hpp"
 #include "grip/pipeline/device_policy.hpp"
 #include "grip/pipeline/net_wrench_command.hpp"
+#include "grip/pipeline/net_wrench_vector.hpp"
 #include "grip/pipeline/channel_guard.hpp"
 #include "grip/pipeline/passivity_controller.hpp"
 #include "grip/pipeline/device_model.hpp"

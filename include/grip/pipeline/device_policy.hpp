@@ -31,6 +31,7 @@
 #include "grip/hand/hand_kinematics.hpp"
 #include "grip/hand/hand_model.hpp"
 #include "grip/pipeline/net_wrench_command.hpp"
+#include "grip/pipeline/net_wrench_vector.hpp"
 
 namespace grip {
 
@@ -159,19 +160,29 @@ struct PhalanxActuators {
 };
 
 /// (b) A 3-D force per phalanx (fingertips_only: per distal phalanx, the others rendering
-/// nothing), scaled down as a whole to at most `limit` in norm.
+/// nothing), at most `limit` in norm: each phalanx's own force scaled down as a whole (the
+/// default), or with net_wrench the forces whose net wrench on the hand comes closest to the felt
+/// one (net_wrench_vector.hpp).
 template <class Scalar>
 struct VectorForces {
   std::array<Scalar, hand_phalanx_count> limit{};  ///< Largest |force| (N) per phalanx, >= 0.
   bool fingertips_only{false};                     ///< Only the distal phalanges have a device.
+  bool net_wrench{false};  ///< Render the closest net wrench (net_wrench_vector_command), not each phalanx scaled.
   VectorForces() { limit.fill(Scalar(10)); }
 
   /// What the device renders in one frame.
   struct Command {
     std::array<Vector3<Scalar>, hand_phalanx_count> force{};  ///< rendered (N, world)
-    std::array<Scalar, hand_phalanx_count> scale{};           ///< rendered / wanted, in [0, 1]
-    int clipped{0};                                           ///< phalanges scaled down (or off)
-    Status status{Status::InvalidInput};                      ///< Ok, or InvalidInput (command zeroed)
+    /// |rendered| / |wanted|: in [0, 1] when scaling; with net_wrench a phalanx may render more
+    /// than its own (0 where nothing is wanted).
+    std::array<Scalar, hand_phalanx_count> scale{};
+    int clipped{0};  ///< phalanges whose rendered force differs from their own
+    /// The felt net wrench that the forces do not render (N; N m about `point`, the mean of the
+    /// contact bodies' points): the palm's share and what the limits cut.
+    Wrench<Scalar> unrendered{Wrench<Scalar>::Zero()};
+    Vector3<Scalar> point{Vector3<Scalar>::Zero()};  ///< unrendered's moment point (m, world)
+    /// Ok, or InvalidInput (command zeroed); with net_wrench, IterationLimit if its bound was met.
+    Status status{Status::InvalidInput};
     Command() { force.fill(Vector3<Scalar>::Zero()); }
   };
 
@@ -180,16 +191,43 @@ struct VectorForces {
                 Command& out) const {
     out = Command{};
     if (!detail::phalanx_inputs_ok(in, limit)) return out.status;
+    std::array<Scalar, hand_phalanx_count> reach = limit;  // the devices' limits, 0 where none
+    for (int k = 0; k < hand_phalanx_count; ++k)
+      if (fingertips_only && phalanx_kind(k) != Phalanx::Distal) reach[detail::idx(k)] = Scalar(0);
+    NetWrenchVectorCommand<Scalar> best;
+    if (net_wrench) {
+      best = net_wrench_vector_command(in.force, in.point, in.in_contact, reach);
+      if (best.status == Status::InvalidInput) return out.status;
+    }
     for (int k = 0; k < hand_phalanx_count; ++k) {
       const auto i = detail::idx(k);
-      const bool has = !fingertips_only || phalanx_kind(k) == Phalanx::Distal;
       const Scalar n = in.force[i].norm();
-      const Scalar s = !has ? Scalar(0) : (n > limit[i] ? limit[i] / n : Scalar(1));
-      out.scale[i] = s;
-      out.force[i] = s * in.force[i];
-      out.clipped += n > Scalar(0) && s < Scalar(1) ? 1 : 0;
+      if (net_wrench) {
+        out.force[i] = best.force[i];
+        out.scale[i] = n > Scalar(0) ? best.force[i].norm() / n : Scalar(0);
+        out.clipped += in.in_contact[i] && best.force[i] != in.force[i] ? 1 : 0;
+      } else {
+        const Scalar s = n > reach[i] ? reach[i] / n : Scalar(1);
+        out.scale[i] = s;
+        out.force[i] = s * in.force[i];
+        out.clipped += n > Scalar(0) && s < Scalar(1) ? 1 : 0;
+      }
     }
-    out.status = Status::Ok;
+    if (net_wrench) {
+      out.unrendered = best.unrendered;
+      out.point = best.point;
+    } else {
+      const FeltNetWrench<Scalar> felt = felt_net_wrench(in.force, in.point, in.in_contact);
+      out.unrendered = felt.wrench;
+      for (int k = 0; k < hand_phalanx_count; ++k) {
+        const auto i = detail::idx(k);
+        const Vector3<Scalar> f = in.in_contact[i] ? out.force[i] : Vector3<Scalar>(Vector3<Scalar>::Zero());
+        out.unrendered.template head<3>() -= f;
+        out.unrendered.template tail<3>() -= (in.point[i] - felt.point).cross(f);
+      }
+      out.point = felt.point;
+    }
+    out.status = net_wrench ? best.status : Status::Ok;
     return out.status;
   }
 };
