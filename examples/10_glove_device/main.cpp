@@ -178,8 +178,8 @@ void write_svg(const std::string& path, const std::vector<Sample>& s, const Ener
     estep /= 2;
   const double emin = -std::ceil(span / estep) * estep;
   const Panel bottom{70, 470, 720, 160, 0, duration, emin, estep / 2};
-  axes(f, bottom, "Index finger on a surface 5 times stiffer than the channel renders stably: the channel's energy", "J", estep,
-       0.5);
+  axes(f, bottom, "Index finger on a surface 5 times stiffer than the channel renders stably: the channel's energy",
+       "J", estep, 0.5);
   std::vector<double> te, eoff(off.energy.begin(), off.energy.end()), eon(on.energy.begin(), on.energy.end());
   for (std::size_t i = 0; i < off.energy.size(); ++i) te.push_back(double(i) / rate);
   polyline(f, bottom, te, eoff, "#d62728", 1.5);

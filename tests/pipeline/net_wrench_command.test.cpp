@@ -154,11 +154,22 @@ TEST_CASE("random hands: the optimality conditions hold, and no method does bett
       if (f(k) == 0.0) CHECK(g(k) >= -tol);
       if (f(k) == p.hi(k)) CHECK(g(k) <= tol);
     }
-    // A second method: projected gradient from the clipped pushes, many steps.
-    Eigen::Matrix<double, hand_phalanx_count, 1> x = p.f0;
-    const double step = 1.0 / ((p.ta.transpose() * p.ta).norm() + p.eps);
-    for (int it = 0; it < 20000; ++it) x = (x - step * p.gradient(x)).cwiseMax(0.0).cwiseMin(p.hi);
-    CHECK(p.cost(f) <= p.cost(x) + 1e-10 * (1 + p.cost(x)));
+    // A second method on every 20th hand: accelerated projected gradient (FISTA) from the
+    // clipped pushes.
+    if (trial % 20 == 0) {
+      using Xc = Eigen::Matrix<double, hand_phalanx_count, 1>;
+      const double step = 1.0 / ((p.ta.transpose() * p.ta).norm() + p.eps);
+      Xc x = p.f0, y = x;
+      double t = 1;
+      for (int it = 0; it < 2000; ++it) {
+        const Xc next = (y - step * p.gradient(y)).cwiseMax(0.0).cwiseMin(p.hi);
+        const double tn = 0.5 * (1 + std::sqrt(1 + 4 * t * t));
+        y = next + ((t - 1) / tn) * (next - x);
+        x = next;
+        t = tn;
+      }
+      CHECK(p.cost(f) <= p.cost(x) + 1e-10 * (1 + p.cost(x)));
+    }
     // Never worse than clipping each phalanx on its own.
     CHECK(p.cost(f) <= p.cost(p.f0) + 1e-12);
     clip_total += (p.ta * p.f0 - p.tw).norm();
