@@ -69,7 +69,7 @@ void BM_Batch(benchmark::State& st) {
   const auto v = grasps(6, 512, 4);
   std::vector<grip::GraspMetrics<double>> out(v.size());
   grip::BatchSettings<double> s;
-  s.torque_scale = 0.04;
+  s.lever_length = 0.04;
   s.threads = static_cast<int>(st.range(0));
   for (auto _ : st) {
     grip::evaluate_batch<8>(v.data(), static_cast<int>(v.size()), out.data(), s);

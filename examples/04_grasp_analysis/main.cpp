@@ -27,7 +27,7 @@ grip::Contact<double> contact(const grip::Vector3<double>& r, const grip::Vector
 template <class GraspT>
 void row(const char* name, const GraspT& g, double rho) {
   grip::BatchSettings<double> s;
-  s.torque_scale = rho;
+  s.lever_length = rho;
   s.epsilon_linf = true;
   static grip::EpsilonWorkspace<double> ws;  // 10.6 MB: off the stack
   const auto m = grip::evaluate_grasp<8>(g, s, ws);

@@ -49,18 +49,18 @@ def _arrays(positions, normals, friction, torsional_friction, squeeze, weights):
 
 
 def evaluate_batch(positions, normals, friction, *, torsional_friction=0.0, squeeze=0.0, weights=1.0,
-                   model=Model.HardFinger, torque_scale=1.0, force_closure=True, epsilon_l1=True,
+                   model=Model.HardFinger, lever_length=1.0, force_closure=True, epsilon_l1=True,
                    epsilon_linf=False, sides=8, threads=0, _first=0):
     """Quality metrics of k candidate grasps: positions and normals (k, n, 3).
 
     Returns a dict of arrays: singular_values (k, 6), volume and isotropy (k,) (grasp_quality
-    with torque_scale, m), closure (k,) bool and closure_margin (k,) (force_closure, if
+    with lever_length, m), closure (k,) bool and closure_margin (k,) (force_closure, if
     force_closure), epsilon_l1 and epsilon_linf (k,) (epsilon with `sides`-sided cones, if
     requested; 0 otherwise), status (k,) int: Status values, Ok when every metric was Ok.
     threads: 0 for every core. Invalid input raises ValueError naming the grasp and contact.
     """
     args = _arrays(positions, normals, friction, torsional_friction, squeeze, weights)
-    return _grip._evaluate_batch(*args, model, _scalar(torque_scale, "torque_scale", float), bool(force_closure),
+    return _grip._evaluate_batch(*args, model, _scalar(lever_length, "lever_length", float), bool(force_closure),
                                  bool(epsilon_l1), bool(epsilon_linf), _scalar(sides, "sides", int),
                                  _scalar(threads, "threads", int), int(_first))
 

@@ -76,7 +76,7 @@ def _solve_chunk(first, p, a, mu, mut, s, w, fmax, w_ext, kwargs):
 def evaluate_batch(positions, normals, friction, *, torsional_friction=0.0, squeeze=0.0, weights=1.0,
                    model=Model.HardFinger, client=None, chunk_size=20000, threads=1, **metrics):
     """grip.evaluate_batch as Dask tasks of chunk_size candidates each, on `client`'s cluster
-    (or Dask's default scheduler). `metrics`: torque_scale, force_closure, epsilon_l1,
+    (or Dask's default scheduler). `metrics`: lever_length, force_closure, epsilon_l1,
     epsilon_linf, sides, as in grip.evaluate_batch. Returns its dict of NumPy arrays."""
     numbers = dict(friction=friction, torsional_friction=torsional_friction, squeeze=squeeze, weights=weights)
     kwargs = dict(model=model, threads=threads, **metrics)

@@ -153,11 +153,11 @@ G build(const Batch& b, py::ssize_t j) {
 
 py::dict evaluate_batch(const py::handle& positions, const py::handle& normals, const py::handle& friction,
                         const py::handle& torsional_friction, const py::handle& squeeze, const py::handle& weights,
-                        Model model, Real torque_scale, bool closure, bool eps_l1, bool eps_linf, Integer sides,
+                        Model model, Real lever_length, bool closure, bool eps_l1, bool eps_linf, Integer sides,
                         Integer threads, py::ssize_t first) {
   const Batch b = batch(positions, normals, friction, torsional_friction, squeeze, weights, py::none(), first);
   grip::BatchSettings<double> settings;
-  settings.torque_scale = positive(torque_scale.get("torque_scale"), "torque_scale");
+  settings.lever_length = positive(lever_length.get("lever_length"), "lever_length");
   settings.force_closure = closure;
   settings.epsilon_l1 = eps_l1;
   settings.epsilon_linf = eps_linf;
@@ -293,7 +293,7 @@ double time_range_space(const PyGrasp& g, const py::handle& w_ext, int repeats) 
 }  // namespace
 
 void bind_analysis(py::module_& m) {
-  py::class_<grip::GraspQuality<double>>(m, "GraspQuality", "Singular-value measures of G (torque scale rho).")
+  py::class_<grip::GraspQuality<double>>(m, "GraspQuality", "Singular-value measures of G (lever length L).")
       .def_readonly("singular_values", &grip::GraspQuality<double>::singular_values, "(6,), descending")
       .def_readonly("sigma_min", &grip::GraspQuality<double>::sigma_min)
       .def_readonly("sigma_max", &grip::GraspQuality<double>::sigma_max)
@@ -302,39 +302,40 @@ void bind_analysis(py::module_& m) {
       .def_readonly("status", &grip::GraspQuality<double>::status);
   m.def(
       "grasp_quality",
-      [](const PyGrasp& g, Real torque_scale) {
-        const double rho = positive(torque_scale.get("torque_scale"), "torque_scale");
-        return g.visit([rho](const auto& x) { return grip::grasp_quality(x, rho); });
+      [](const PyGrasp& g, Real lever_length) {
+        const double lever = positive(lever_length.get("lever_length"), "lever_length");
+        return g.visit([lever](const auto& x) { return grip::grasp_quality(x, lever); });
       },
-      py::arg("grasp"), py::arg("torque_scale") = 1.0,
-      "The singular values of G with moments divided by torque_scale (m), their product volume and isotropy.");
+      py::arg("grasp"), py::arg("lever_length") = 1.0,
+      "The singular values of G with moments divided by lever_length (m), their product volume and isotropy.");
 
   py::class_<EpsilonPy>(m, "Epsilon", "The Ferrari-Canny measure with linearised cones.")
       .def_readonly("epsilon", &EpsilonPy::epsilon, "radius of the largest ball in the wrench set (N per N of budget)")
       .def_readonly("upper", &EpsilonPy::upper, "an upper bound on epsilon")
-      .def_readonly("direction", &EpsilonPy::direction, "(6,) the weakest unit wrench direction (moments / rho)")
+      .def_readonly("direction", &EpsilonPy::direction,
+                    "(6,) the weakest unit wrench direction (moments / lever_length)")
       .def_readonly("closure", &EpsilonPy::closure)
       .def_readonly("vertices", &EpsilonPy::vertices)
       .def_readonly("facets", &EpsilonPy::facets)
       .def_readonly("status", &EpsilonPy::status);
   m.def(
       "epsilon",
-      [](const PyGrasp& g, const std::string& norm, Real torque_scale, Integer sides) {
+      [](const PyGrasp& g, const std::string& norm, Real lever_length, Integer sides) {
         const grip::EpsilonNorm nm = epsilon_norm(norm);
-        const double rho = positive(torque_scale.get("torque_scale"), "torque_scale");
+        const double lever = positive(lever_length.get("lever_length"), "lever_length");
         EpsilonPy out;
         with_sides(sides.get("sides"), [&](auto kk) {
           py::gil_scoped_release release;
           g.visit([&](const auto& x) {
-            const auto e = grip::ferrari_canny_epsilon<decltype(kk)::value>(x, nm, rho, workspace());
+            const auto e = grip::ferrari_canny_epsilon<decltype(kk)::value>(x, nm, lever, workspace());
             out = EpsilonPy{e.epsilon, e.upper, e.direction, e.closure, e.vertices, e.facets, e.status};
           });
         });
         return out;
       },
-      py::arg("grasp"), py::arg("norm") = "L1", py::arg("torque_scale") = 1.0, py::arg("sides") = 8,
+      py::arg("grasp"), py::arg("norm") = "L1", py::arg("lever_length") = 1.0, py::arg("sides") = 8,
       "Ferrari-Canny epsilon: 'L1' (normal forces summing to 1) or 'Linf' (each at most 1), the friction cones "
-      "linearised with `sides` (4, 8 or 16) sides, moments divided by torque_scale (m).");
+      "linearised with `sides` (4, 8 or 16) sides, moments divided by lever_length (m).");
 
   py::class_<DecompositionPy>(m, "ForceDecomposition",
                               "forces = external + internal: G internal = 0, external the W-orthogonal part that "

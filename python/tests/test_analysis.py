@@ -25,7 +25,7 @@ def test_grasp_quality_is_the_svd_of_the_scaled_grasp_matrix(model):
         rho = 0.04
         s = np.linalg.svd(scaled(grasp_matrix(c, model), rho), compute_uv=False)
         s = np.concatenate([s, np.zeros(6 - len(s))])
-        q = grip.grasp_quality(g, torque_scale=rho)
+        q = grip.grasp_quality(g, lever_length=rho)
         assert q.status == grip.Status.Ok
         # From the eigenvalues of the 6x6 Gram matrix: sqrt(eps) of sigma_max absolute.
         assert np.allclose(q.singular_values, s, rtol=1e-12, atol=1e-7 * s[0])
@@ -94,7 +94,7 @@ def test_epsilon_equals_the_hull_distance_from_qhull(model):
         rho = 0.04
         prim = primitives(c, model, 8, rho)
         l1 = hull_epsilon(np.vstack([np.zeros((1, 6))] + prim))
-        e = grip.epsilon(g, "L1", torque_scale=rho, sides=8)
+        e = grip.epsilon(g, "L1", lever_length=rho, sides=8)
         assert e.status == grip.Status.Ok
         assert e.epsilon == pytest.approx(l1, rel=1e-7, abs=1e-12)
         # L-infinity: the Minkowski sum of the contacts' hulls, every sum of one point of each
@@ -102,7 +102,7 @@ def test_epsilon_equals_the_hull_distance_from_qhull(model):
         prim = primitives(c, model, 4, rho)
         sums = [np.sum(choice, axis=0) for choice in itertools.product(*[np.vstack([np.zeros((1, 6)), p]) for p in prim])]
         linf = hull_epsilon(np.array(sums))
-        e = grip.epsilon(g, "Linf", torque_scale=rho, sides=4)
+        e = grip.epsilon(g, "Linf", lever_length=rho, sides=4)
         assert e.status == grip.Status.Ok
         assert e.epsilon == pytest.approx(linf, rel=1e-7, abs=1e-12)
 
@@ -117,7 +117,7 @@ def test_evaluate_batch_equals_the_single_calls_on_any_number_of_threads(model):
     rng = np.random.default_rng(8)
     b = batch_contacts(rng, 24, 7)
     args = dict(torsional_friction=b["torsional_friction"], squeeze=b["squeeze"], weights=b["weights"], model=model,
-                torque_scale=0.04, epsilon_linf=model != grip.Model.SoftFinger, sides=4)
+                lever_length=0.04, epsilon_linf=model != grip.Model.SoftFinger, sides=4)
     runs = [grip.evaluate_batch(b["positions"], b["normals"], b["friction"], threads=t, **args) for t in (1, 2, 5)]
     for r in runs[1:]:
         for key in r:

@@ -180,15 +180,15 @@ CASES = (
     + case(monitor, dict(forces=np.zeros((3, 4)), relative_tolerance=1e-9, absolute_tolerance=0.0),
            "forces", "relative_tolerance", "absolute_tolerance")
     + case(decompose_forces, dict(forces=np.ones((3, 3))), "forces")
-    + case(grasp_quality, dict(torque_scale=0.05), "torque_scale")
-    + case(epsilon, dict(torque_scale=0.05, sides=8), "torque_scale", "sides")
+    + case(grasp_quality, dict(lever_length=0.05), "lever_length")
+    + case(epsilon, dict(lever_length=0.05, sides=8), "lever_length", "sides")
     + case(constrained_settings, dict(tolerance=1e-7, certificate_tolerance=1e-7, least_residual_weight=1e-8,
                                       max_iterations=30, newton_passes=4),
            "tolerance", "certificate_tolerance", "least_residual_weight", "max_iterations", "newton_passes")
     + case(analysis_settings, dict(tolerance=1e-5, max_iterations=30), "tolerance", "max_iterations")
     + case(evaluate_batch, dict(positions=BP, normals=BA, friction=np.full((K, N), 0.5), torsional_friction=0.01,
-                                squeeze=np.full(N, 1.0), weights=1.0, torque_scale=0.05, sides=8, threads=1),
-           "positions", "normals", "friction", "torsional_friction", "squeeze", "weights", "torque_scale", "sides",
+                                squeeze=np.full(N, 1.0), weights=1.0, lever_length=0.05, sides=8, threads=1),
+           "positions", "normals", "friction", "torsional_friction", "squeeze", "weights", "lever_length", "sides",
            "threads")
     + case(solve_batch, dict(positions=BP, normals=BA, friction=0.5, w_ext=np.tile(W, (K, 1)),
                              max_normal_force=np.full(N, 50.0), method="constrained", threads=1),
@@ -259,7 +259,7 @@ def test_complex_values_with_zero_imaginary_parts_are_refused_too():
         grip.Grasp(P.astype(complex), A, 0.5)
     with refused("w_ext"):
         grip.solve_range_space(GRASP, W + 0j)
-    with refused("torque_scale"):
+    with refused("lever_length"):
         grip.grasp_quality(GRASP, np.complex128(0.05))
 
 
@@ -294,7 +294,7 @@ def test_the_modules_batch_functions_refuse_complex_arrays_themselves():
         grip._grip._solve_batch(*real, None, grip.Model.HardFinger, w + 0.5j, "kkt", settings, 1, 0)
     with refused("max_normal_force"):
         grip._grip._solve_batch(*real, np.full((K, N), 50.0 + 1j), grip.Model.HardFinger, w, "kkt", settings, 1, 0)
-    with refused("torque_scale"):
+    with refused("lever_length"):
         grip._grip._evaluate_batch(*real, grip.Model.HardFinger, np.complex128(1.0), True, True, False, 8, 1, 0)
 
 

@@ -19,7 +19,7 @@ TEST_CASE("evaluate_batch on 2 and 3 threads equals the serial evaluate_grasp, b
   const int count = grip_test::scaled(24, 6);  // at least two grasps per thread and a remainder
   for (int i = 0; i < count; ++i) grasps.push_back(grip_test::random_grasp<G>(rng, 3 + i % 4));
   BatchSettings<double> s;
-  s.torque_scale = 0.05;
+  s.lever_length = 0.05;
   s.epsilon_linf = true;
   auto ws = std::make_unique<EpsilonWorkspace<double>>();
   std::vector<GraspMetrics<double>> serial;

@@ -33,7 +33,7 @@ namespace grip {
 /// What evaluate_grasp() computes and how.
 template <class Scalar>
 struct BatchSettings {
-  Scalar torque_scale{Scalar(1)};         ///< rho (m) for the singular values and epsilon.
+  Scalar lever_length{Scalar(1)};         ///< L (m) for the singular values and epsilon.
   bool force_closure{true};               ///< Run the exact-cone force-closure test.
   bool epsilon_l1{true};                  ///< Compute the L1 Ferrari-Canny epsilon.
   bool epsilon_linf{false};               ///< Compute the L-infinity Ferrari-Canny epsilon.
@@ -61,7 +61,7 @@ GraspMetrics<typename GraspT::ScalarType> evaluate_grasp(const GraspT& grasp,
                                                          const BatchSettings<typename GraspT::ScalarType>& settings,
                                                          Workspace& ws) {
   GraspMetrics<typename GraspT::ScalarType> m;
-  m.quality = grasp_quality(grasp, settings.torque_scale);
+  m.quality = grasp_quality(grasp, settings.lever_length);
   Status st = m.quality.status;
   auto note = [&st](Status s) {
     if (st == Status::Ok && s != Status::Ok) st = s;
@@ -73,11 +73,11 @@ GraspMetrics<typename GraspT::ScalarType> evaluate_grasp(const GraspT& grasp,
     note(fc.status);
   }
   if (settings.epsilon_l1) {
-    m.epsilon_l1 = ferrari_canny_epsilon<K>(grasp, EpsilonNorm::L1, settings.torque_scale, ws);
+    m.epsilon_l1 = ferrari_canny_epsilon<K>(grasp, EpsilonNorm::L1, settings.lever_length, ws);
     note(m.epsilon_l1.status);
   }
   if (settings.epsilon_linf) {
-    m.epsilon_linf = ferrari_canny_epsilon<K>(grasp, EpsilonNorm::LInfinity, settings.torque_scale, ws);
+    m.epsilon_linf = ferrari_canny_epsilon<K>(grasp, EpsilonNorm::LInfinity, settings.lever_length, ws);
     note(m.epsilon_linf.status);
   }
   m.status = st;

@@ -10,9 +10,9 @@
 /// sin th_k t2), th_k = 2 pi k / K, with (t1, t2) the tangent basis of detail::tangent_basis(). A
 /// soft finger adds the two torsion primitives (a_i, +-mu_t,i); a frictionless point has
 /// the single primitive a_i. The primitive wrenches are
-///     w_ik = [d_ik ; (r_i x d_ik + m_ik a_i) / rho]
-/// with rho the explicit torque scale (m): moments are compared with forces as a force at
-/// lever arm rho (Ferrari-Canny's "lambda", Roa-Suarez's unit-conversion factor).
+///     w_ik = [d_ik ; (r_i x d_ik + m_ik a_i) / L]
+/// with L the explicit lever length (m): moments are compared with forces as a force at
+/// lever arm L (Ferrari-Canny's "lambda", Roa-Suarez's unit-conversion factor).
 /// - L1 (sum of normal forces <= 1): W_1 = conv({0} U {w_ik});
 /// - L-infinity (each normal force <= 1): W_inf = sum_i conv({0} U {w_ik : k}) (Minkowski).
 /// epsilon = the radius of the largest ball about the origin inside W = min over unit u of
@@ -119,9 +119,9 @@ struct EpsilonWorkspace {
 /// torque scale or tolerance not finite and > 0; zeros.
 template <class Scalar>
 struct Epsilon {
-  Scalar epsilon{0};  ///< Ferrari-Canny epsilon (N per N of budget, moments / rho); 0 if no closure.
+  Scalar epsilon{0};  ///< Ferrari-Canny epsilon (N per N of budget, moments / L); 0 if no closure.
   Scalar upper{0};    ///< The smallest support value h_W(u) found: epsilon <= upper.
-  /// Unit wrench direction u (moment part scaled by 1/rho) of the nearest facet: the
+  /// Unit wrench direction u (moment part scaled by 1/L) of the nearest facet: the
   /// weakest direction. When not in closure, every wrench of W has u . w <= ~0.
   Wrench<Scalar> direction{Wrench<Scalar>::Zero()};
   bool closure{false};                  ///< epsilon > tolerance * scale: linearised force closure.
@@ -131,12 +131,12 @@ struct Epsilon {
 };
 
 /// Ferrari-Canny epsilon of `grasp` with K-sided linearised cones, the given norm and
-/// torque scale rho (m), using `ws` for storage. No heap. Cost: each step one support query
+/// lever length L (m), using `ws` for storage. No heap. Cost: each step one support query
 /// (O(n K)), work in proportion to the facets the added point sees and their neighbours
 /// (detail/epsilon_polytope.hpp), and a pass over the facets' offsets for the nearest one.
 template <int K, class GraspT, class Workspace>
 Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(
-    const GraspT& grasp, EpsilonNorm norm, typename GraspT::ScalarType torque_scale, Workspace& ws,
+    const GraspT& grasp, EpsilonNorm norm, typename GraspT::ScalarType lever_length, Workspace& ws,
     typename GraspT::ScalarType tolerance = ScalarTraits<typename GraspT::ScalarType>::is_single_precision
                                                 ? typename GraspT::ScalarType(1e-4)
                                                 : typename GraspT::ScalarType(1e-10)) {
@@ -145,14 +145,14 @@ Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(
   using M = typename GraspT::ModelType;
   constexpr int P = detail::primitives_per_contact<M, K>();
   Epsilon<S> out;
-  if (!grasp.complete() || !std::isfinite(torque_scale) || !(torque_scale > S(0)) || !std::isfinite(tolerance) ||
+  if (!grasp.complete() || !std::isfinite(lever_length) || !(lever_length > S(0)) || !std::isfinite(tolerance) ||
       !(tolerance > S(0)))
     return out;
   const int n = grasp.size();
   std::array<Wrench<S>, detail::idx(GraspT::capacity * P)> prim;
   S scale(0);
   for (int i = 0; i < n; ++i) {
-    detail::contact_primitives<M, K>(grasp.contact(i), torque_scale, &prim[detail::idx(i * P)]);
+    detail::contact_primitives<M, K>(grasp.contact(i), lever_length, &prim[detail::idx(i * P)]);
     for (int k = 0; k < P; ++k) scale = std::max(scale, prim[detail::idx(i * P + k)].norm());
   }
   if (!std::isfinite(scale)) return out;
@@ -286,7 +286,7 @@ Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(
 /// with epsilon 0 (a lower bound) and upper the largest finite value.
 template <int K, class GraspT>
 Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, EpsilonNorm norm,
-                                                           typename GraspT::ScalarType torque_scale) {
+                                                           typename GraspT::ScalarType lever_length) {
   using S = typename GraspT::ScalarType;
   const std::unique_ptr<EpsilonWorkspace<S>> ws(new (std::nothrow) EpsilonWorkspace<S>);
   if (ws == nullptr) {
@@ -295,7 +295,7 @@ Epsilon<typename GraspT::ScalarType> ferrari_canny_epsilon(const GraspT& grasp, 
     out.status = Status::IterationLimit;
     return out;
   }
-  return ferrari_canny_epsilon<K>(grasp, norm, torque_scale, *ws);
+  return ferrari_canny_epsilon<K>(grasp, norm, lever_length, *ws);
 }
 
 }  // namespace grip

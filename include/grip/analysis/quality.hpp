@@ -16,8 +16,8 @@
 /// - Isotropy index sigma_6 / sigma_1 in [0, 1] (Kim, Oh et al. 2001; Roa & Suarez
 ///   2015 "Q_IIG"): 1 when every wrench direction is equally easy.
 ///
-/// Torque scale rho (m): the moment rows of G are divided by rho, so moments are compared
-/// with forces as "force at lever arm rho" (rho = 1 m leaves G as is). The same convention
+/// Lever length L (m): the moment rows of G are divided by L, so moments are compared
+/// with forces as "force at lever arm L" (L = 1 m leaves G as is). The same convention
 /// is used by the Ferrari-Canny epsilon (see epsilon.hpp).
 ///
 /// The singular values come from a fixed-size 6x6 self-adjoint eigen-decomposition of
@@ -36,7 +36,7 @@ namespace grip {
 
 /// Singular-value quality measures of a grasp.
 ///
-/// Ok: computed. InvalidInput: incomplete grasp or torque_scale not finite and > 0; every
+/// Ok: computed. InvalidInput: incomplete grasp or lever_length not finite and > 0; every
 /// number is 0 then. A rank-deficient G is not an error: sigma_min (and volume, isotropy)
 /// are then 0 up to round-off.
 template <class Scalar>
@@ -55,26 +55,26 @@ constexpr Scalar unit_ball_volume_6() {
   return Scalar(3.14159265358979323846L * 3.14159265358979323846L * 3.14159265358979323846L / 6.0L);
 }
 
-/// G G^T with G's moment rows divided by rho: D (G G^T) D, D = diag(1, 1, 1, 1/rho x 3).
+/// G G^T with G's moment rows divided by L: D (G G^T) D, D = diag(1, 1, 1, 1/L x 3).
 template <class GraspT>
-Matrix6<typename GraspT::ScalarType> scaled_gram(const GraspT& grasp, typename GraspT::ScalarType rho) {
+Matrix6<typename GraspT::ScalarType> scaled_gram(const GraspT& grasp, typename GraspT::ScalarType lever) {
   using S = typename GraspT::ScalarType;
   GramAccumulator<S> acc;
   for (int i = 0; i < grasp.size(); ++i) GraspT::ModelType::accumulate(acc, grasp.contact(i), S(1));
   Wrench<S> d;
-  d << S(1), S(1), S(1), S(1) / rho, S(1) / rho, S(1) / rho;
+  d << S(1), S(1), S(1), S(1) / lever, S(1) / lever, S(1) / lever;
   return d.asDiagonal() * acc.matrix() * d.asDiagonal();
 }
 
-/// Singular values of G (moment rows scaled by 1/torque_scale) and the measures derived
+/// Singular values of G (moment rows scaled by 1/lever_length) and the measures derived
 /// from them. O(n) plus one 6x6 eigen-decomposition. No heap.
 template <class GraspT>
 GraspQuality<typename GraspT::ScalarType> grasp_quality(
-    const GraspT& grasp, typename GraspT::ScalarType torque_scale = typename GraspT::ScalarType(1)) {
+    const GraspT& grasp, typename GraspT::ScalarType lever_length = typename GraspT::ScalarType(1)) {
   using S = typename GraspT::ScalarType;
   GraspQuality<S> q;
-  if (!grasp.complete() || !std::isfinite(torque_scale) || !(torque_scale > S(0))) return q;
-  const Matrix6<S> m = scaled_gram(grasp, torque_scale);
+  if (!grasp.complete() || !std::isfinite(lever_length) || !(lever_length > S(0))) return q;
+  const Matrix6<S> m = scaled_gram(grasp, lever_length);
   if (!m.allFinite()) return q;
   Wrench<S> evs;
   Matrix6<S> vecs;

@@ -33,11 +33,11 @@ constexpr int primitives_per_contact() {
 /// Writes the primitive wrenches of contact c (see epsilon.hpp's file comment) into
 /// out[0..count) and returns count, primitives_per_contact<Model, K>().
 template <class Model, int K, class S>
-int contact_primitives(const Contact<S>& c, S rho, Wrench<S>* out) {
+int contact_primitives(const Contact<S>& c, S lever, Wrench<S>* out) {
   const Vector3<S> a = c.normal;
   auto put = [&](int j, const Vector3<S>& d, S m) {
     out[j].template head<3>() = d;
-    out[j].template tail<3>() = (c.position.cross(d) + m * a) / rho;
+    out[j].template tail<3>() = (c.position.cross(d) + m * a) / lever;
   };
   if constexpr (Model::dim == 1) {
     put(0, a, S(0));
