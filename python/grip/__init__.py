@@ -12,6 +12,7 @@ Complex input raises TypeError naming the argument. __version__ is the C++ libra
 
 from ._grip import (
     __version__,
+    ChannelGuardSettings,
     ConicAnalysisSettings,
     ConstrainedSettings,
     ConstrainedSolution,
@@ -29,6 +30,7 @@ from ._grip import (
     Mesh,
     Model,
     MonitorReport,
+    NetWrenchVectorCommand,
     Primitive,
     Shape,
     Solution,
@@ -51,6 +53,7 @@ from ._grip import (
     max_mesh_triangles,
     max_mesh_vertices,
     monitor,
+    net_wrench_vector_command,
     point_jacobian,
     solve_constrained,
     solve_kkt,
@@ -60,6 +63,7 @@ from ._grip import (
 from .batch import evaluate_batch, solve_batch
 
 __all__ = [
+    "ChannelGuardSettings",
     "ConicAnalysisSettings",
     "ConstrainedSettings",
     "ConstrainedSolution",
@@ -77,6 +81,7 @@ __all__ = [
     "Mesh",
     "Model",
     "MonitorReport",
+    "NetWrenchVectorCommand",
     "Primitive",
     "Shape",
     "Solution",
@@ -100,6 +105,7 @@ __all__ = [
     "max_mesh_triangles",
     "max_mesh_vertices",
     "monitor",
+    "net_wrench_vector_command",
     "point_jacobian",
     "solve_batch",
     "solve_constrained",

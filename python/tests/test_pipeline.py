@@ -126,3 +126,79 @@ def test_the_python_session_matches_the_cpp_example(run, tmp_path):
         near = slice(max(0, i - 3), i + 4)
         assert (cpp_contacts[near] != py_contacts[near]).any() or len(set(cpp_contacts[near])) > 1, i
     assert np.mean(cpp_held == np.array([f.held for f in frames])) >= 0.995
+
+
+@pytest.fixture(scope="module")
+def clipped_and_closest():
+    # Unbounded forces, so that the solver's frames, and what each phalanx feels, are the same
+    # in both sessions whatever the device does with them.
+    return (haptic_forces.session(bound_by_device=False),
+            haptic_forces.session(bound_by_device=False, net_wrench=True))
+
+
+def test_the_closest_net_wrench_leaves_less_unrendered_than_clipping(clipped_and_closest):
+    (times, clipped), (_, closest) = clipped_and_closest
+    for a, b in zip(clipped, closest):
+        assert np.array_equal(a.force, b.force)  # the same felt forces
+        assert np.all(b.command >= 0) and np.all(b.command <= LIMIT * (1 + 1e-12))
+    # What the device leaves unrendered of the felt net force, over the frames with contacts:
+    # at least 3 times less with the closest net wrench than with clipping.
+    contact = np.array([f.contacts > 0 for f in clipped])
+    clip = sum(np.linalg.norm(f.unrendered[:3]) for f, c in zip(clipped, contact) if c)
+    best = sum(np.linalg.norm(f.unrendered[:3]) for f, c in zip(closest, contact) if c)
+    assert best * 3 < clip, (best, clip)
+    # Clipping's unrendered force is the felt force less the pushes along the directions.
+    for f in clipped:
+        if f.contacts > 0:
+            rendered = (f.command[:, None] * f.actuation_direction).sum(axis=0)
+            palm_and_rest = f.force.sum(axis=0) - rendered
+            assert np.linalg.norm(f.unrendered[:3] - palm_and_rest) <= 1e-9 * (1 + np.abs(f.force).sum())
+
+
+def test_the_guard_bounds_each_change_and_zeroes_stale_input():
+    slew, rate = 40.0, 200.0
+    guard = grip.ChannelGuardSettings(update_rate=rate, slew_rate=slew, stale_after=0.05)
+    loop = grip.HapticLoop(position=(0.0, 0.0, 0.0), guard=guard)
+    wrist = np.eye(4)
+    wrist[:3, 3] = (-0.1, 0.0, -0.06)
+    closed, touching, status = loop.close_hand(wrist, 0.002)
+    assert status == grip.Status.Ok and touching > 0
+    commands = [loop.step(wrist, closed).command for _ in range(300)]
+    commands += [loop.step(wrist, closed, fresh=False).command for _ in range(600)]
+    c = np.array(commands)
+    assert c[:300].max() > 0.5  # the grasp is felt
+    # Held between the device's updates (every 5th frame at 1 kHz) and slew-limited at each.
+    assert np.all(np.abs(np.diff(c, axis=0)) <= slew / rate * (1 + 1e-12))
+    assert np.count_nonzero(np.abs(np.diff(c, axis=0)).sum(axis=1)) <= len(c) / 5 + 1
+    # Stale from frame 300: after stale_after (50 frames) the commands ramp down, never up, to 0.
+    stale = c[300 + 51:]
+    assert np.all(np.diff(stale, axis=0) <= 0) and np.all(c[-1] == 0)
+
+
+def test_the_guard_settings_are_checked_by_name():
+    for member, value in (("update_rate", 0.0), ("step", -1.0), ("slew_rate", 0.0), ("onset_time", np.nan),
+                          ("stale_after", -1.0), ("max_command", 0.0)):
+        guard = grip.ChannelGuardSettings()
+        setattr(guard, member, value)
+        with pytest.raises(ValueError, match="guard." + member):
+            grip.HapticLoop(position=(0, 0, 0), guard=guard)
+
+
+def test_vector_forces_render_the_hand_solved_case():
+    # Two phalanges at one point (the index's proximal and middle), 8 N wanted of the first, each
+    # limited to 5 N: their forces sum to the 8 N, the first at 5 N along it (ties toward its
+    # own), the second the remaining 3 N.
+    bodies = 19
+    force, point, touch = np.zeros((bodies, 3)), np.zeros((bodies, 3)), np.zeros(bodies, bool)
+    touch[2] = touch[3] = True
+    force[2] = (0.0, 6.4, 4.8)
+    c = grip.net_wrench_vector_command(force, point, touch, 5.0)
+    assert c.status == grip.Status.Ok
+    assert np.allclose(c.force[2], (0.0, 4.0, 3.0), atol=1e-5)
+    assert np.allclose(c.force[3], (0.0, 2.4, 1.8), atol=1e-5)
+    assert np.linalg.norm(c.unrendered) <= 1e-5
+    assert np.all(np.delete(c.force, [2, 3], axis=0) == 0)
+    with pytest.raises(ValueError, match=r"force must have shape \(19, 3\)"):
+        grip.net_wrench_vector_command(force[:14], point, touch, 5.0)
+    with pytest.raises(ValueError, match=r"limit\[1\] must be >= 0"):
+        grip.net_wrench_vector_command(force, point, touch, np.r_[1.0, -1.0, np.ones(12)])
