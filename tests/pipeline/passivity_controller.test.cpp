@@ -105,22 +105,23 @@ TEST_CASE("bad input gives zero force and InvalidInput, the energies kept") {
 }
 
 // A virtual wall at x > 0 (force -K x), computed by the host at 1 kHz from the finger's position
-// and sent through a channel of delay d updated at 1 kHz; the finger's rest 5 mm inside the
-// wall. Returns the largest |x - x_eq| over the last half second of four, and the least energy
-// the channel held (J).
+// and sent through a channel of delay d whose device updates (and runs its controller) at
+// `device_rate`; the finger's rest 5 mm inside the wall. Returns the largest |x - x_eq| over the
+// last half second of four, and the least energy the channel held (J).
 struct WallRun {
   double late{0};
   double least_energy{0};
   double x_eq{0};
 };
 
-WallRun wall(double stiffness, double delay, bool passivity) {
+WallRun wall(double stiffness, double delay, bool passivity, double device_rate = 1000) {
   FingerImpedance<double> finger;
   finger.rest = 0.005;
   DeviceChannelSettings<double> channel;
   channel.delay = delay;
   channel.passivity = passivity;
-  channel.max_damping = 15;  // 0.75 of 2 m / T for m = 10 g, T = 1 ms
+  channel.update_rate = device_rate;
+  channel.max_damping = 0.75 * 2 * finger.mass * device_rate;  // 0.75 of 2 m / T, T the device's period
   DeviceChannelModel<double> model(finger, channel, -0.002, 0.0);
   WallRun run;
   run.x_eq = finger.stiffness * finger.rest / (finger.stiffness + stiffness);
@@ -135,7 +136,7 @@ WallRun wall(double stiffness, double delay, bool passivity) {
 }
 
 TEST_CASE("a stiff delayed wall: it oscillates without the controller and settles with it") {
-  const double b = 2, period = 1e-3;  // the finger's damping (FingerImpedance's), the hold
+  const double b = 2, period = 1e-3;  // the finger's damping (FingerImpedance's), the commands' hold
   for (const double delay : {1e-3, 2e-3, 3e-3, 4e-3, 5e-3}) {
     CAPTURE(delay);
     // The stable stiffness of a held virtual spring on a damped mass: Colgate and Brown's
@@ -143,15 +144,20 @@ TEST_CASE("a stiff delayed wall: it oscillates without the controller and settle
     const double stable = 2 * b / (period + 2 * delay);
     const WallRun below = wall(0.5 * stable, delay, false);
     CHECK(below.late < 1e-3 * below.x_eq);  // the model itself settles below the bound
-    // Ten times the stable stiffness where the damper's range allows (d >= 2 ms), five at 1 ms.
-    const double factor = delay < 1.5e-3 ? 5 : 10;
-    CAPTURE(factor);
-    const WallRun without = wall(factor * stable, delay, false);
-    const WallRun with = wall(factor * stable, delay, true);
-    CHECK(without.late > 10 * without.x_eq);  // the oscillation persists
-    CHECK(without.least_energy < -0.5);       // the channel gives energy it never took
-    CHECK(with.late < 1e-3 * with.x_eq);      // it settles at the wall's equilibrium
-    CHECK(with.least_energy > -0.01);         // the energy given stays bounded
+    // Ten times the stable stiffness. The device updating at the commands' 1 kHz: its damper's
+    // range (2 m / T) settles the wall from 2 ms of delay on, and five times at 1 ms; at twice
+    // the commands' rate (the commands still held for 1 ms), at every delay.
+    for (const double rate : {1000.0, 2000.0}) {
+      const double factor = rate == 1000.0 && delay < 1.5e-3 ? 5 : 10;
+      CAPTURE(rate);
+      CAPTURE(factor);
+      const WallRun without = wall(factor * stable, delay, false, rate);
+      const WallRun with = wall(factor * stable, delay, true, rate);
+      CHECK(without.late > 10 * without.x_eq);  // the oscillation persists
+      CHECK(without.least_energy < -0.5);       // the channel gives energy it never took
+      CHECK(with.late < 1e-3 * with.x_eq);      // it settles at the wall's equilibrium
+      CHECK(with.least_energy > -0.01);         // the energy given stays bounded
+    }
   }
 }
 

@@ -22,8 +22,10 @@
 /// really dissipates at the next update. The output is then clipped to [min_force, max_force].
 /// max_damping bounds the damper: a held damper of alpha on a moving mass m updated every dt is
 /// stable only for alpha < 2 m / dt, so max_damping should stay below that (half of it is a safe
-/// choice). The energy the controller cannot dissipate within the bound or the force limits
-/// stays in E_k, and it goes on dissipating at the next updates.
+/// choice). The range grows with the update rate: run the controller at the device's own rate,
+/// faster than the commands arrive where the device can. The energy the controller cannot
+/// dissipate within the bound or the force limits stays in E_k, and it goes on dissipating at
+/// the next updates.
 ///
 /// Source: B. Hannaford and J.-H. Ryu, "Time-domain passivity control of haptic interfaces",
 /// IEEE Trans. Robot. Autom. 18(1), 2002 (the observer and the series damper); J.-H. Ryu,
