@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """grip beside its peers (issue #49): the same friction-constrained instances through grip
-(its Python binding, and in C++ by the private hook grip._grip._time_constrained), QOCO,
+(its Python binding, and in C++ by the benchmarks' hook grip._grip_bench), QOCO,
 Clarabel and ECOS (exact Coulomb cones), OSQP and proxsuite (friction pyramids), in one run.
 
 The problem: min F2 = 1/2 sum_i w_i |x_i - s_i a_i|^2 over the contact forces x_i (3-vectors)
@@ -42,10 +42,10 @@ reference. Output only is silenced (verbose off). OSQP has no warm start between
 (fresh set-up). Iteration limits are the defaults.
 
 Run (the grip module built as in .ci/run's job_python, then):
-    cmake -S . -B build/peers -DCMAKE_BUILD_TYPE=Release -DGRIP_BUILD_PYTHON=ON \\
+    cmake -S . -B build/peers -DCMAKE_BUILD_TYPE=Release -DGRIP_BUILD_PYTHON=ON -DGRIP_BUILD_BENCH=ON \\
       -DGRIP_BUILD_EXAMPLES=OFF -DGRIP_BUILD_TESTS=OFF -DGRIP_BUILD_DOCS=OFF \\
       -DPython3_EXECUTABLE=/usr/bin/python3 -DCMAKE_CXX_FLAGS_RELEASE="-O3 -march=native -DNDEBUG"
-    cmake --build build/peers -j2 --target grip_python
+    cmake --build build/peers -j2 --target grip_python grip_python_bench
     PYTHONPATH=build/peers/python /usr/bin/python3 bench/bench_peers.py [--quick] [--count N] [--out build/peers.md]
 Run by /usr/bin/python3 it creates (or reuses) the venv build/peers-venv (python3 -m venv) with
 numpy, scipy, qoco, clarabel, ecos, osqp and proxsuite from PyPI and runs itself again inside it;
@@ -94,7 +94,7 @@ try:
 except ImportError:
     sys.path.insert(0, os.path.join(ROOT, "build", "peers", "python"))
     import grip  # noqa: E402
-from grip import _grip  # noqa: E402
+from grip import _grip_bench  # noqa: E402
 
 import clarabel  # noqa: E402
 import ecos  # noqa: E402
@@ -229,7 +229,7 @@ def run_grip_py(pr, g):
 
 
 def run_grip_cpp(pr, g):
-    t, status, iterations, pr.grip_passes = _grip._time_constrained(g, pr.w, REPEATS)
+    t, status, iterations, pr.grip_passes = _grip_bench.time_constrained(g, pr.w, REPEATS)
     cls = {grip.Status.Ok: "solved", grip.Status.Infeasible: "infeasible"}.get(status, "other")
     return t, cls, status.name, iterations, None
 

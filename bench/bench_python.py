@@ -3,11 +3,12 @@
 same run:
 
 1. the call overhead of solve_range_space at n = 20: a Python call (timeit, least of 7 runs)
-   against the same solve timed in C++ (grip._grip._time_range_space);
+   against the same solve timed in C++ (grip._grip_bench, built with -DGRIP_BUILD_BENCH=ON);
 2. batch throughput, grasps per second, on 1 and 2 threads, of solve_batch (range space) and
    evaluate_batch (force closure only), against a Python loop of single calls.
 
-Run after building the module: PYTHONPATH=build/py/python /usr/bin/python3 bench/bench_python.py
+Run after building the module and the hooks (-DGRIP_BUILD_BENCH=ON, targets grip_python and
+grip_python_bench): PYTHONPATH=build/py/python /usr/bin/python3 bench/bench_python.py
 """
 
 import os
@@ -17,7 +18,7 @@ import timeit
 import numpy as np
 
 import grip
-from grip import _grip
+from grip import _grip_bench
 
 
 def candidates(k, n, seed=1):
@@ -39,7 +40,7 @@ def main():
     g = grip.Grasp(p[0], a[0], mu[0], squeeze=1.0)
     w = np.array([0.0, 0.0, -9.81, 0.1, 0.0, 0.0])
     py = best(lambda: grip.solve_range_space(g, w), 20000) * 1e9
-    cpp = min(_grip._time_range_space(g, w, 200000) for _ in range(7))
+    cpp = min(_grip_bench.time_range_space(g, w, 200000) for _ in range(7))
     print("| n | C++ call (ns) | Python call (ns) | overhead (ns) |")
     print("| ---: | ---: | ---: | ---: |")
     print(f"| 20 | {cpp:.0f} | {py:.0f} | {py - cpp:.0f} |")

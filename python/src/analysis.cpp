@@ -3,7 +3,6 @@
 // candidate grasps given as arrays, on all cores, with no Python loop.
 
 #include <algorithm>
-#include <chrono>
 #include <limits>
 #include <memory>
 #include <string>
@@ -276,20 +275,6 @@ struct DecompositionPy {
   grip::Status status{grip::Status::InvalidInput};
 };
 
-/// Nanoseconds per call of solve_range_space on `g`, measured in C++ over `repeats` calls:
-/// the baseline of the Python call's overhead (bench/bench_python.py).
-double time_range_space(const PyGrasp& g, const py::handle& w_ext, int repeats) {
-  const auto w = wrench(w_ext, "w_ext");
-  py::gil_scoped_release release;
-  double sink = 0;
-  const auto t0 = std::chrono::steady_clock::now();
-  for (int r = 0; r < repeats; ++r) g.visit([&](const auto& x) { sink += grip::solve_range_space(x, w).residual; });
-  const auto t1 = std::chrono::steady_clock::now();
-  volatile double keep = sink;
-  (void)keep;
-  return std::chrono::duration<double, std::nano>(t1 - t0).count() / std::max(1, repeats);
-}
-
 }  // namespace
 
 void bind_analysis(py::module_& m) {
@@ -367,7 +352,6 @@ void bind_analysis(py::module_& m) {
 
   m.def("_evaluate_batch", &evaluate_batch);
   m.def("_solve_batch", &solve_batch);
-  m.def("_time_range_space", &time_range_space);
 }
 
 }  // namespace grip_python

@@ -3,7 +3,6 @@
 // with a run-time count of 1 to max_contacts contacts. Every solve releases the GIL.
 
 #include <algorithm>
-#include <chrono>
 #include <limits>
 #include <string>
 #include <utility>
@@ -75,34 +74,6 @@ RowMatrix vectors(const PyGrasp& g, bool normals) {
     for (int i = 0; i < x.size(); ++i) m.row(i) = (normals ? x.contact(i).normal : x.contact(i).position).transpose();
     return m;
   });
-}
-
-/// The least of `repeats` solve_constrained calls on `g` at the default settings, each timed in
-/// C++ (steady_clock, GIL released), in seconds, with the last call's status, iterations and
-/// passes: grip's C++ mode beside its Python call on the same instance (bench/bench_peers.py).
-py::tuple time_constrained(const PyGrasp& g, const py::handle& w_ext, int repeats) {
-  const auto w = wrench(w_ext, "w_ext");
-  double least = std::numeric_limits<double>::infinity();
-  grip::Status status = grip::Status::InvalidInput;
-  int iterations = 0, passes = 0;
-  {
-    py::gil_scoped_release release;
-    g.visit([&](const auto& x) {
-      for (int r = 0; r < std::max(1, repeats); ++r) {
-        const auto t0 = std::chrono::steady_clock::now();
-        const auto s = grip::solve_constrained(x, w);
-#if defined(__GNUC__)
-        asm volatile("" : : "g"(s.forces.data()) : "memory");  // the solve stays inside the clock reads
-#endif
-        const auto t1 = std::chrono::steady_clock::now();
-        least = std::min(least, std::chrono::duration<double>(t1 - t0).count());
-        status = s.status;
-        iterations = s.iterations;
-        passes = s.passes;
-      }
-    });
-  }
-  return py::make_tuple(least, status, iterations, passes);
 }
 
 /// cls.name: `member` read and written like def_readwrite, but a complex number raises
@@ -298,7 +269,6 @@ PYBIND11_MODULE(_grip, m) {
       "The forces nearest the targets inside the exact friction cones (and below each contact's "
       "max_normal_force) with G x + w_ext = 0; Infeasible with a certificate when the grasp cannot hold. "
       "warm_start: the previous solution's multipliers (6,).");
-  m.def("_time_constrained", &time_constrained, py::arg("grasp"), py::arg("w_ext"), py::arg("repeats"));
   m.def(
       "force_closure",
       [](const PyGrasp& g, const AS* settings) {
