@@ -31,20 +31,6 @@ std::array<double, phalanges> per_phalanx(const py::handle& obj, const char* nam
   return out;
 }
 
-/// The guard's settings, checked member by member (ChannelGuardSettings' ranges): ValueError
-/// naming the member.
-void check_guard(const grip::ChannelGuardSettings<double>& g) {
-  const auto fail = [](const char* member, const char* range) {
-    invalid(std::string("guard.") + member + " must be " + range);
-  };
-  if (!(std::isfinite(g.update_rate) && g.update_rate > 0)) fail("update_rate", "finite and > 0");
-  if (!(std::isfinite(g.step) && g.step >= 0)) fail("step", "finite and >= 0");
-  if (!(g.slew_rate > 0)) fail("slew_rate", "> 0 (inf: no limit)");
-  if (!(std::isfinite(g.onset_time) && g.onset_time >= 0)) fail("onset_time", "finite and >= 0");
-  if (!(g.stale_after > 0)) fail("stale_after", "> 0 (inf: no watchdog)");
-  if (!(g.max_command > 0)) fail("max_command", "> 0 (inf: no bound)");
-}
-
 struct FramePy {
   RowMatrix force, actuation_direction;  ///< (14, 3)
   Eigen::VectorXd actuated, command;     ///< (14,)
@@ -99,7 +85,8 @@ class PyHapticLoop {
     s.dt = dt;
     s.bound_by_device = bound_by_device;
     if (guard) {
-      check_guard(*guard);
+      const grip::InvalidMember bad = grip::invalid_member(*guard);
+      if (bad.member != nullptr) invalid(std::string("guard.") + bad.member + " must be " + bad.range);
       s.guard_commands = true;
       s.guard = *guard;
     }

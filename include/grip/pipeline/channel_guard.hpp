@@ -52,6 +52,24 @@ struct ChannelGuardSettings {
   Scalar max_command{std::numeric_limits<Scalar>::infinity()};  ///< larger |wanted| is bad input (units, > 0)
 };
 
+/// A member of ChannelGuardSettings outside its range: its name and its range, or both nullptr.
+struct InvalidMember {
+  const char* member{nullptr};  ///< e.g. "update_rate"; nullptr when every member is in range
+  const char* range{nullptr};   ///< e.g. "finite and > 0"
+};
+
+/// The first member of `s` outside its range (see ChannelGuardSettings), or {} when none is.
+template <class Scalar>
+InvalidMember invalid_member(const ChannelGuardSettings<Scalar>& s) {
+  if (!(std::isfinite(s.update_rate) && s.update_rate > Scalar(0))) return {"update_rate", "finite and > 0"};
+  if (!(std::isfinite(s.step) && s.step >= Scalar(0))) return {"step", "finite and >= 0"};
+  if (!(s.slew_rate > Scalar(0))) return {"slew_rate", "> 0 (inf: no limit)"};
+  if (!(std::isfinite(s.onset_time) && s.onset_time >= Scalar(0))) return {"onset_time", "finite and >= 0"};
+  if (!(s.stale_after > Scalar(0))) return {"stale_after", "> 0 (inf: no watchdog)"};
+  if (!(s.max_command > Scalar(0))) return {"max_command", "> 0 (inf: no bound)"};
+  return {};
+}
+
 /// The guard of `Channels` command channels (see the file comment).
 template <class Scalar, int Channels>
 class ChannelGuard {
@@ -102,10 +120,7 @@ class ChannelGuard {
 
 template <class Scalar, int Channels>
 bool ChannelGuard<Scalar, Channels>::settings_ok() const {
-  const ChannelGuardSettings<Scalar>& s = settings_;
-  return std::isfinite(s.update_rate) && s.update_rate > Scalar(0) && std::isfinite(s.step) && s.step >= Scalar(0) &&
-         s.slew_rate > Scalar(0) && std::isfinite(s.onset_time) && s.onset_time >= Scalar(0) &&
-         s.stale_after > Scalar(0) && s.max_command > Scalar(0);
+  return invalid_member(settings_).member == nullptr;
 }
 
 template <class Scalar, int Channels>
