@@ -7,6 +7,7 @@
 #include "grip/core/types.hpp"
 #include "grip/core/version.hpp"
 #include "grip/core/simd.hpp"
+#include "grip/core/simd_rows.hpp"
 
 #include "grip/contact/contact.hpp"
 #include "grip/contact/contact_model.hpp"

@@ -79,9 +79,11 @@ void check_pass(std::mt19937& rng, int n, int trials, typename G::ScalarType abs
               .template cast<S>();
     std::array<ContactMode, G::capacity> fast{}, portable{};
     grip_test::NoHeapScope scope;
-    const detail::CoulombCounts cf = detail::classify_coulomb<fixed>(g.cone_table().data(), G::padded_capacity,
+    const detail::CoulombCounts cf = detail::classify_coulomb<fixed>(detail::cone_rows(g.contacts()),
+                                                                     detail::cone_row_stride<typename G::ScalarType>,
                                                                      x.data(), n, abs_tol, rel_tol, fast.data());
-    const detail::CoulombCounts cp = detail::classify_coulomb_portable(g.cone_table().data(), G::padded_capacity,
+    const detail::CoulombCounts cp = detail::classify_coulomb_portable(detail::cone_rows(g.contacts()),
+                                                                       detail::cone_row_stride<typename G::ScalarType>,
                                                                        x.data(), n, abs_tol, rel_tol, portable.data());
     CHECK(scope.allocations() == 0);
     CHECK(cf.invalid == 0);
@@ -168,7 +170,8 @@ TEST_CASE_TEMPLATE("Coulomb kernel: NaN, Inf and huge components are found at ev
       const Vector3<S> keep = x.template segment<3>(3 * i);
       x.template segment<3>(3 * i) = Vector3<S>(S(0.9) * big, -S(0.9) * big, S(0.9) * big);
       std::array<ContactMode, G::capacity> m{};
-      CHECK(detail::classify_coulomb<0>(g.cone_table().data(), G::padded_capacity, x.data(), n, S(0),
+      CHECK(detail::classify_coulomb<0>(detail::cone_rows(g.contacts()),
+                                        detail::cone_row_stride<typename G::ScalarType>, x.data(), n, S(0),
                                         ScalarTraits<S>::default_tolerance, m.data())
                 .invalid == 0);
       monitor.classify(g, x, modes);
@@ -189,10 +192,12 @@ TEST_CASE_TEMPLATE("Coulomb kernel: NaN, Inf and huge components are found at ev
         const S keep = x(k);
         x(k) = bad;
         std::array<ContactMode, G::capacity> m{};
-        CHECK(detail::classify_coulomb<0>(g.cone_table().data(), G::padded_capacity, x.data(), n, S(0),
+        CHECK(detail::classify_coulomb<0>(detail::cone_rows(g.contacts()),
+                                          detail::cone_row_stride<typename G::ScalarType>, x.data(), n, S(0),
                                           ScalarTraits<S>::default_tolerance, m.data())
                   .invalid > 0);
-        CHECK(detail::classify_coulomb_portable(g.cone_table().data(), G::padded_capacity, x.data(), n, S(0),
+        CHECK(detail::classify_coulomb_portable(detail::cone_rows(g.contacts()),
+                                                detail::cone_row_stride<typename G::ScalarType>, x.data(), n, S(0),
                                                 ScalarTraits<S>::default_tolerance, m.data())
                   .invalid > 0);
         monitor.classify(g, x, modes);
@@ -221,7 +226,8 @@ TEST_CASE("Coulomb kernel: values past the last contact are never read as forces
     std::array<ContactMode, 24> m{};
     m.fill(ContactMode::Sliding);
     const detail::CoulombCounts c =
-        detail::classify_coulomb<0>(g.cone_table().data(), G::padded_capacity, buffer.data(), n, 0.0, 1e-9, m.data());
+        detail::classify_coulomb<0>(detail::cone_rows(g.contacts()), detail::cone_row_stride<typename G::ScalarType>,
+                                    buffer.data(), n, 0.0, 1e-9, m.data());
     CHECK(c.invalid == 0);
     for (int i = n; i < 24; ++i) CHECK(m[static_cast<std::size_t>(i)] == ContactMode::Sliding);  // untouched
   }
@@ -252,10 +258,12 @@ void check_all_inside(std::mt19937& rng, int n) {
     return all;
   };
   const auto fast = [&](const typename G::ForceVector& f) {
-    return detail::coulomb_all_inside<fixed>(g.cone_table().data(), G::padded_capacity, f.data(), n);
+    return detail::coulomb_all_inside<fixed>(detail::cone_rows(g.contacts()),
+                                             detail::cone_row_stride<typename G::ScalarType>, f.data(), n);
   };
   const auto portable = [&](const typename G::ForceVector& f) {
-    return detail::coulomb_all_inside_portable(g.cone_table().data(), G::padded_capacity, f.data(), n);
+    return detail::coulomb_all_inside_portable(detail::cone_rows(g.contacts()),
+                                               detail::cone_row_stride<typename G::ScalarType>, f.data(), n);
   };
   REQUIRE(rule(x));
   CHECK(fast(x));

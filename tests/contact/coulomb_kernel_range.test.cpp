@@ -38,16 +38,19 @@ void check_short_normal(std::mt19937& rng, int n) {
     x.template segment<3>(3 * i) = Vector3<S>((S(1) + S(0.5) * tol) * big, S(0), S(0));
     REQUIRE(x(3 * i) > big);
     std::array<ContactMode, G::capacity> m{};
-    CHECK(detail::classify_coulomb<fixed>(g.cone_table().data(), G::padded_capacity, x.data(), n, S(0),
+    CHECK(detail::classify_coulomb<fixed>(detail::cone_rows(g.contacts()),
+                                          detail::cone_row_stride<typename G::ScalarType>, x.data(), n, S(0),
                                           ScalarTraits<S>::default_tolerance, m.data())
               .invalid == 1);
-    CHECK(detail::classify_coulomb_portable(g.cone_table().data(), G::padded_capacity, x.data(), n, S(0),
+    CHECK(detail::classify_coulomb_portable(detail::cone_rows(g.contacts()),
+                                            detail::cone_row_stride<typename G::ScalarType>, x.data(), n, S(0),
                                             ScalarTraits<S>::default_tolerance, m.data())
               .invalid == 1);
     CHECK(monitor.classify(g, x).status == Status::InvalidInput);
     // Exactly max_magnitude along the same normal is valid.
     x(3 * i) = big;
-    CHECK(detail::classify_coulomb<fixed>(g.cone_table().data(), G::padded_capacity, x.data(), n, S(0),
+    CHECK(detail::classify_coulomb<fixed>(detail::cone_rows(g.contacts()),
+                                          detail::cone_row_stride<typename G::ScalarType>, x.data(), n, S(0),
                                           ScalarTraits<S>::default_tolerance, m.data())
               .invalid == 0);
     CHECK(monitor.classify(g, x).ok());

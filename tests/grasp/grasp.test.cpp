@@ -172,36 +172,30 @@ TEST_CASE("building G, H and b allocates nothing, fixed or bounded") {
   CHECK(g1.cols() + h1.cols() + b1.size() + g2.cols() + h2.cols() + b2.size() == 20 + 26 + 26 + 27 + 33 + 33);
 }
 
-TEST_CASE_TEMPLATE("cone_table() mirrors every stored contact's normal and friction", S, double, float) {
+TEST_CASE_TEMPLATE("contacts() is the array of the stored contacts, kept in step", S, double, float) {
   using G = Grasp<Dynamic, HardFinger, S, 11>;
-  static_assert(G::padded_capacity == (std::is_same<S, double>::value ? 16 : 11), "double: whole blocks of 8");
-  static_assert(Grasp<8, SoftFinger, S>::padded_capacity == 8, "a whole block is not padded");
   std::mt19937 rng(5);
   G g;
   const auto mirrors = [](const G& grasp) {
     bool ok = true;
-    for (int i = 0; i < grasp.size(); ++i) {
-      const Contact<S>& c = grasp.contact(i);
-      for (int k = 0; k < 3; ++k) ok = ok && grasp.cone_table()(i, k) == c.normal(k);
-      ok = ok && grasp.cone_table()(i, 3) == c.friction;
-    }
-    return ok && grasp.cone_table().allFinite();
+    for (int i = 0; i < grasp.size(); ++i) ok = ok && grasp.contacts() + i == &grasp.contact(i);
+    return ok;
   };
   for (int i = 0; i < 11; ++i) {
-    REQUIRE(g.add(grip_test::random_contact<S>(rng)) == Status::Ok);
+    const Contact<S> c = grip_test::random_contact<S>(rng);
+    REQUIRE(g.add(c) == Status::Ok);
     CHECK(mirrors(g));
+    CHECK(g.contacts()[i].friction == c.friction);
   }
-  // A rejected contact changes nothing; set() and clear() keep the table in step.
+  // A rejected contact changes nothing; set() replaces in place.
   Contact<S> bad = grip_test::random_contact<S>(rng);
   bad.friction = S(-1);
-  const typename G::ConeTable before = g.cone_table();
+  const S before = g.contacts()[3].friction;
   CHECK(g.set(3, bad) == Status::InvalidInput);
-  CHECK(g.cone_table() == before);
-  REQUIRE(g.set(3, grip_test::random_contact<S>(rng)) == Status::Ok);
-  CHECK(g.cone_table()(3, 3) == g.contact(3).friction);
-  CHECK(mirrors(g));
-  g.clear();
-  REQUIRE(g.add(grip_test::random_contact<S>(rng)) == Status::Ok);
+  CHECK(g.contacts()[3].friction == before);
+  const Contact<S> c = grip_test::random_contact<S>(rng);
+  REQUIRE(g.set(3, c) == Status::Ok);
+  CHECK(g.contacts()[3].friction == c.friction);
   CHECK(mirrors(g));
 }
 
@@ -222,6 +216,5 @@ TEST_CASE_TEMPLATE("a normal within its tolerance is stored unit, a unit one bit
     if (i % 2 == 0) CHECK(g.contact(i).normal == unit);
     // The direction is the caller's: the part across it is round-off.
     CHECK(stored.cross(c.normal.template cast<double>().normalized()).norm() <= 4 * eps);
-    CHECK(g.cone_table().row(i).template head<3>().transpose() == g.contact(i).normal);
   }
 }

@@ -19,8 +19,9 @@
 /// P::width contacts per step, and only the schedule of blocks depends on the instruction set:
 /// ScalarPack for float and the portable passes, PackD4 (whole blocks, the rest one by one)
 /// with AVX2 + FMA, PackD8 from 8 contacts on with AVX-512F and VL. The SIMD passes are taken
-/// for double unless GRIP_NO_SIMD is defined. They read the normals and mu from
-/// Grasp::cone_table() (a structure of arrays) and deinterleave the stacked forces in registers.
+/// for double unless GRIP_NO_SIMD is defined. They read each contact's normal and mu in place,
+/// as one row of four (core/simd_rows.hpp transposes a block's rows into packs), and
+/// deinterleave the stacked forces in registers.
 /// The range check adds up the contacts' |x|^2 (size_bound) and falls back to the
 /// component-by-component check only when a force comes near max_magnitude or holds a NaN.
 /// Nothing depends on the CPU at run time: the choice is made by the compiler flags, so a binary
@@ -28,12 +29,15 @@
 /// the same SIMD flags.
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <type_traits>
 
-#include "grip/core/scalar_traits.hpp"
+#include "grip/contact/contact.hpp"
 #include "grip/contact/contact_mode.hpp"
+#include "grip/core/scalar_traits.hpp"
 #include "grip/core/simd.hpp"
+#include "grip/core/simd_rows.hpp"
 
 namespace grip {
 
@@ -52,57 +56,74 @@ struct CoulombCounts {
   int separating{0};  ///< contacts in ContactMode::Separating
 };
 
+/// The cone rows of contacts stored one after another: contact i's normal a_i and friction
+/// mu_i, (a_x, a_y, a_z, mu), are the four scalars at cone_rows(contacts) + i *
+/// cone_row_stride<Scalar> (Contact keeps them as adjacent members; checked below).
+template <class Scalar>
+constexpr int cone_row_stride = static_cast<int>(sizeof(Contact<Scalar>) / sizeof(Scalar));
+template <class Scalar>
+const Scalar* cone_rows(const Contact<Scalar>* contacts) {
+  return contacts->normal.data();
+}
+static_assert(std::is_standard_layout<Contact<double>>::value && std::is_standard_layout<Contact<float>>::value &&
+                  offsetof(Contact<double>, friction) == offsetof(Contact<double>, normal) + 3 * sizeof(double) &&
+                  offsetof(Contact<float>, friction) == offsetof(Contact<float>, normal) + 3 * sizeof(float) &&
+                  sizeof(Contact<double>) % sizeof(double) == 0 && sizeof(Contact<float>) % sizeof(float) == 0,
+              "the passes read a contact's normal and friction as one row of four scalars");
+
 /// The Coulomb modes of contacts [0, n) with forces x (3n values, stacked), normals and mu read
-/// from the column-major table (columns x, y, z, mu; `stride` rows apart), written to
-/// modes[0, n) (nothing else written; only the 3n values of x read). Invalid forces are
-/// counted (the number of components NaN, Inf or beyond max_magnitude), and their modes are
-/// unspecified. Through this translation unit's widest pass for double: AVX-512 from 8
-/// contacts on, else AVX2 (whole blocks of 4, the rest one by one), else one by one; always
-/// one by one for float. FixedN: the grasp's compile-time contact count (n == FixedN), or 0
-/// (Dynamic). Precondition: the table has at least n rounded up to a multiple of 8 rows
-/// (Grasp::padded_capacity).
+/// from the cone rows at `cones` (row i, (a_x, a_y, a_z, mu_i), at cones + i * stride; only
+/// the rows of [0, n) read), written to modes[0, n) (nothing else written; only the 3n values
+/// of x read). Invalid forces are counted (the number of components NaN, Inf or beyond
+/// max_magnitude), and their modes are unspecified. Through this translation unit's widest
+/// pass for double: AVX-512 from 8 contacts on, else AVX2 (whole blocks of 4, the rest one by
+/// one), else one by one; always one by one for float. FixedN: the grasp's compile-time
+/// contact count (n == FixedN), or 0 (Dynamic).
 template <int FixedN, class Scalar>
-GRIP_ALWAYS_INLINE CoulombCounts classify_coulomb(const Scalar* table, int stride, const Scalar* x, int n,
+GRIP_ALWAYS_INLINE CoulombCounts classify_coulomb(const Scalar* cones, int stride, const Scalar* x, int n,
                                                   Scalar absolute_tolerance, Scalar relative_tolerance,
                                                   ContactMode* modes);
 
 /// classify_coulomb one contact at a time (the reference the tests compare with).
 template <class Scalar>
-CoulombCounts classify_coulomb_portable(const Scalar* table, int stride, const Scalar* x, int n,
+CoulombCounts classify_coulomb_portable(const Scalar* cones, int stride, const Scalar* x, int n,
                                         Scalar absolute_tolerance, Scalar relative_tolerance, ContactMode* modes);
 
 /// True when every contact i in [0, n) pushes and lies inside or on its cone with no
 /// tolerance: f_n = x_i.a_i > 0 and |x_i - f_n a_i|^2 <= (mu_i f_n)^2, i.e. CoulombCone's
 /// `normal_part(x) > 0 && !slips(x, 0)` (solve_constrained's fast-path test). A NaN force
 /// fails; no other check of the values (a finite force beyond max_magnitude may pass). The
-/// lean form of classify_coulomb: no modes, counts or slack. Table, precondition, FixedN and
-/// passes as classify_coulomb (all blocks of 8 with AVX-512, the last one masked).
+/// lean form of classify_coulomb: no modes, counts or slack. Rows, FixedN and passes as
+/// classify_coulomb (all blocks of 8 with AVX-512, the last one masked).
 template <int FixedN, class Scalar>
-bool coulomb_all_inside(const Scalar* table, int stride, const Scalar* x, int n);
+bool coulomb_all_inside(const Scalar* cones, int stride, const Scalar* x, int n);
 
 /// coulomb_all_inside one contact at a time.
 template <class Scalar>
-bool coulomb_all_inside_portable(const Scalar* table, int stride, const Scalar* x, int n);
+bool coulomb_all_inside_portable(const Scalar* cones, int stride, const Scalar* x, int n);
 
-/// classify_coulomb over a whole hard-finger grasp (any Grasp type): its cone_table(), its
-/// size (compile-time when fixed) and its stacked forces x (grasp.unknowns() values).
+/// classify_coulomb over a whole hard-finger grasp (any Grasp type): the cone rows of its
+/// contacts(), its size (compile-time when fixed) and its stacked forces x (grasp.unknowns()
+/// values).
 template <class GraspT, class Forces>
 GRIP_ALWAYS_INLINE CoulombCounts classify_coulomb_grasp(const GraspT& grasp, const Forces& x,
                                                         typename GraspT::ScalarType absolute_tolerance,
                                                         typename GraspT::ScalarType relative_tolerance,
                                                         ContactMode* modes) {
   static_assert(GraspT::dim == 3, "the Coulomb pass is for hard fingers");
+  using S = typename GraspT::ScalarType;
   return classify_coulomb<(GraspT::fixed_size > 0 ? GraspT::fixed_size : 0)>(
-      grasp.cone_table().data(), GraspT::padded_capacity, x.data(), grasp.size(), absolute_tolerance,
-      relative_tolerance, modes);
+      cone_rows(grasp.contacts()), cone_row_stride<S>, x.data(), grasp.size(), absolute_tolerance, relative_tolerance,
+      modes);
 }
 
 /// coulomb_all_inside over a whole hard-finger grasp and its stacked forces x.
 template <class GraspT, class Forces>
 bool coulomb_all_inside_grasp(const GraspT& grasp, const Forces& x) {
   static_assert(GraspT::dim == 3, "the Coulomb pass is for hard fingers");
+  using S = typename GraspT::ScalarType;
   return coulomb_all_inside<(GraspT::fixed_size > 0 ? GraspT::fixed_size : 0)>(
-      grasp.cone_table().data(), GraspT::padded_capacity, x.data(), grasp.size());
+      cone_rows(grasp.contacts()), cone_row_stride<S>, x.data(), grasp.size());
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -130,12 +151,18 @@ int forces_beyond_range(const Scalar* x, int n) {
   return bad;
 }
 
-/// The part of the rule both kernels share, for the block of contacts b .. b + width - 1 with
-/// forces fx, fy, fz: their normals loaded from the table, f_n = x.a written to `fn`, and
-/// |x - f_n a|^2 returned, with fused multiply-adds where the pack has them.
-template <class P, class S>
-GRIP_ALWAYS_INLINE P coulomb_tangent_squared(const S* table, int stride, int b, P fx, P fy, P fz, P& fn) {
-  const P nx = P::load(table + b), ny = P::load(table + stride + b), nz = P::load(table + 2 * stride + b);
+/// The part of the rule both kernels share, for the block of contacts b .. b + width - 1 (or,
+/// Masked, its first k) with forces fx, fy, fz: their cone rows loaded (lanes past k zero),
+/// f_n = x.a written to `fn` and mu to `mu`, and |x - f_n a|^2 returned, with fused
+/// multiply-adds where the pack has them.
+template <bool Masked, class P, class S>
+GRIP_ALWAYS_INLINE P coulomb_tangent_squared(const S* cones, int stride, int b, int k, P fx, P fy, P fz, P& fn, P& mu) {
+  P nx, ny, nz;
+  const S* rows = cones + std::ptrdiff_t(b) * stride;
+  if constexpr (Masked)
+    load_rows4(rows, stride, k, nx, ny, nz, mu);
+  else
+    load_rows4(rows, stride, nx, ny, nz, mu);
   fn = mul_add(fz, nz, mul_add(fy, ny, fx * nx));
   const P tx = neg_mul_add(fn, nx, fx), ty = neg_mul_add(fn, ny, fy), tz = neg_mul_add(fn, nz, fz);
   return mul_add(tz, tz, mul_add(ty, ty, tx * tx));
@@ -157,14 +184,14 @@ template <class P, bool NonNegativeSlack>
 struct CoulombClassifyKernel {
   using Pack = P;
   using S = typename P::Scalar;
-  const S* table;
+  const S* cones;
   int stride;
   ContactMode* modes;
   P tol_abs, tol_rel, zero, size;  // size: per lane, the sum of |x|^2 (see size_bound)
   CoulombCounts counts;
 
   CoulombClassifyKernel(const S* t, int s, ContactMode* m, S absolute_tolerance, S relative_tolerance)
-      : table(t),
+      : cones(t),
         stride(s),
         modes(m),
         tol_abs(P::set1(absolute_tolerance)),
@@ -176,12 +203,12 @@ struct CoulombClassifyKernel {
   /// k (1 <= k; k >= width is a whole block) are read, written and counted.
   template <bool Masked>
   GRIP_ALWAYS_INLINE void step(int b, const S* forces, int k) {
-    P fx, fy, fz, fn;
+    P fx, fy, fz, fn, mu;
     load_block<Masked>(forces, k, fx, fy, fz);
-    const P t2 = coulomb_tangent_squared(table, stride, b, fx, fy, fz, fn);
+    const P t2 = coulomb_tangent_squared<Masked>(cones, stride, b, k, fx, fy, fz, fn, mu);
     size = size + mul_add(fn, fn, t2);
     // lim = (mu + relative_tolerance) f_n + absolute_tolerance; the slack is the last two terms.
-    const P lim = mul_add(P::load(table + 3 * stride + b) + tol_rel, fn, tol_abs);
+    const P lim = mul_add(mu + tol_rel, fn, tol_abs);
     auto separating = not_greater(fn, zero);
     auto over = t2 > lim * lim;
     if constexpr (!NonNegativeSlack) over = over | (lim < zero);
@@ -208,7 +235,7 @@ template <class P>
 struct CoulombAllInsideKernel {
   using Pack = P;
   using S = typename P::Scalar;
-  const S* table;
+  const S* cones;
   int stride;
   P zero = P::set1(S(0));
   typename P::Mask inside = P::first(P::width);
@@ -216,10 +243,10 @@ struct CoulombAllInsideKernel {
   /// As CoulombClassifyKernel::step.
   template <bool Masked>
   GRIP_ALWAYS_INLINE void step(int b, const S* forces, int k) {
-    P fx, fy, fz, fn;
+    P fx, fy, fz, fn, mu;
     load_block<Masked>(forces, k, fx, fy, fz);
-    const P t2 = coulomb_tangent_squared(table, stride, b, fx, fy, fz, fn);
-    const P lim = P::load(table + 3 * stride + b) * fn;
+    const P t2 = coulomb_tangent_squared<Masked>(cones, stride, b, k, fx, fy, fz, fn, mu);
+    const P lim = mu * fn;
     const auto in = (fn > zero) & (t2 <= lim * lim);
     if constexpr (Masked)
       inside = inside & (in | !P::first(k));
@@ -241,7 +268,7 @@ GRIP_ALWAYS_INLINE void run_blocks(Kernel& kernel, int b, const S* forces, int c
 /// classify_coulomb's schedule for one sign of the slack (see the kernel), with SIMD packs or
 /// (Simd false) one contact at a time; FixedN as classify_coulomb.
 template <int FixedN, bool NonNegativeSlack, bool Simd, class S>
-GRIP_ALWAYS_INLINE CoulombCounts classify_coulomb_pass(const S* table, int stride, const S* x, int n_runtime,
+GRIP_ALWAYS_INLINE CoulombCounts classify_coulomb_pass(const S* cones, int stride, const S* x, int n_runtime,
                                                        S absolute_tolerance, S relative_tolerance, ContactMode* modes) {
   const int n = FixedN > 0 ? FixedN : n_runtime;
   using One = CoulombClassifyKernel<ScalarPack<S>, NonNegativeSlack>;
@@ -251,15 +278,19 @@ GRIP_ALWAYS_INLINE CoulombCounts classify_coulomb_pass(const S* table, int strid
     // Below one full block, 256-bit code is as fast, and it spares the core the wake-up of its
     // 512-bit units (measured: the first 512-bit pass after other code runs slower).
     if (n >= 8) {
-      CoulombClassifyKernel<PackD8, NonNegativeSlack> k8(table, stride, modes, absolute_tolerance, relative_tolerance);
+      CoulombClassifyKernel<PackD8, NonNegativeSlack> k8(cones, stride, modes, absolute_tolerance, relative_tolerance);
       // A last block of 1 to 4 contacts takes 256-bit registers (below): half the work.
       const int blocks_end = n % 8 != 0 && n % 8 <= 4 ? n - n % 8 : n;
       int b = 0;
-      for (; b < blocks_end; b += 8) k8.template step<true>(b, x + 3 * b, n - b);
+      for (; b + 8 <= blocks_end; b += 8) k8.template step<false>(b, x + 3 * b, 8);
+      if (b < blocks_end) {
+        k8.template step<true>(b, x + 3 * b, n - b);
+        b += 8;
+      }
       c = k8.counts;
       bool beyond = k8.beyond();
       if (b < n) {
-        CoulombClassifyKernel<PackD4, NonNegativeSlack> k4(table, stride, modes, absolute_tolerance,
+        CoulombClassifyKernel<PackD4, NonNegativeSlack> k4(cones, stride, modes, absolute_tolerance,
                                                            relative_tolerance);
         k4.template step<true>(b, x + 3 * b, n - b);
         c.sliding += k4.counts.sliding;
@@ -272,10 +303,10 @@ GRIP_ALWAYS_INLINE CoulombCounts classify_coulomb_pass(const S* table, int strid
 #endif
 #if GRIP_SIMD_AVX2
     // Whole blocks of 4, then the rest one by one.
-    CoulombClassifyKernel<PackD4, NonNegativeSlack> k4(table, stride, modes, absolute_tolerance, relative_tolerance);
+    CoulombClassifyKernel<PackD4, NonNegativeSlack> k4(cones, stride, modes, absolute_tolerance, relative_tolerance);
     const int b = n - n % 4;
     run_blocks(k4, 0, x, b);
-    One k1(table, stride, modes, absolute_tolerance, relative_tolerance);
+    One k1(cones, stride, modes, absolute_tolerance, relative_tolerance);
     run_blocks(k1, b, x + 3 * b, n - b);
     c.sliding = k4.counts.sliding + k1.counts.sliding;
     c.separating = k4.counts.separating + k1.counts.separating;
@@ -283,7 +314,7 @@ GRIP_ALWAYS_INLINE CoulombCounts classify_coulomb_pass(const S* table, int strid
     return c;
 #endif
   }
-  One k1(table, stride, modes, absolute_tolerance, relative_tolerance);
+  One k1(cones, stride, modes, absolute_tolerance, relative_tolerance);
   run_blocks(k1, 0, x, n);
   c = k1.counts;
   if (k1.beyond()) c.invalid = forces_beyond_range(x, n);
@@ -291,50 +322,50 @@ GRIP_ALWAYS_INLINE CoulombCounts classify_coulomb_pass(const S* table, int strid
 }
 
 template <int FixedN, class Scalar>
-GRIP_ALWAYS_INLINE CoulombCounts classify_coulomb(const Scalar* table, int stride, const Scalar* x, int n,
+GRIP_ALWAYS_INLINE CoulombCounts classify_coulomb(const Scalar* cones, int stride, const Scalar* x, int n,
                                                   Scalar absolute_tolerance, Scalar relative_tolerance,
                                                   ContactMode* modes) {
   if (absolute_tolerance >= 0 && relative_tolerance >= 0)
-    return classify_coulomb_pass<FixedN, true, true>(table, stride, x, n, absolute_tolerance, relative_tolerance,
+    return classify_coulomb_pass<FixedN, true, true>(cones, stride, x, n, absolute_tolerance, relative_tolerance,
                                                      modes);
-  return classify_coulomb_pass<FixedN, false, true>(table, stride, x, n, absolute_tolerance, relative_tolerance, modes);
+  return classify_coulomb_pass<FixedN, false, true>(cones, stride, x, n, absolute_tolerance, relative_tolerance, modes);
 }
 
 template <class Scalar>
-CoulombCounts classify_coulomb_portable(const Scalar* table, int stride, const Scalar* x, int n,
+CoulombCounts classify_coulomb_portable(const Scalar* cones, int stride, const Scalar* x, int n,
                                         Scalar absolute_tolerance, Scalar relative_tolerance, ContactMode* modes) {
   if (absolute_tolerance >= 0 && relative_tolerance >= 0)
-    return classify_coulomb_pass<0, true, false>(table, stride, x, n, absolute_tolerance, relative_tolerance, modes);
-  return classify_coulomb_pass<0, false, false>(table, stride, x, n, absolute_tolerance, relative_tolerance, modes);
+    return classify_coulomb_pass<0, true, false>(cones, stride, x, n, absolute_tolerance, relative_tolerance, modes);
+  return classify_coulomb_pass<0, false, false>(cones, stride, x, n, absolute_tolerance, relative_tolerance, modes);
 }
 
 template <class Scalar>
-bool coulomb_all_inside_portable(const Scalar* table, int stride, const Scalar* x, int n) {
-  CoulombAllInsideKernel<ScalarPack<Scalar>> k1{table, stride};
+bool coulomb_all_inside_portable(const Scalar* cones, int stride, const Scalar* x, int n) {
+  CoulombAllInsideKernel<ScalarPack<Scalar>> k1{cones, stride};
   run_blocks(k1, 0, x, n);
   return k1.all();
 }
 
 template <int FixedN, class Scalar>
-bool coulomb_all_inside(const Scalar* table, int stride, const Scalar* x, int n_runtime) {
+bool coulomb_all_inside(const Scalar* cones, int stride, const Scalar* x, int n_runtime) {
   const int n = FixedN > 0 ? FixedN : n_runtime;
   if constexpr (std::is_same<Scalar, double>::value && (GRIP_SIMD_AVX512 || GRIP_SIMD_AVX2)) {
 #if GRIP_SIMD_AVX512
     // As in classify_coulomb: below one full block the 256-bit pass is as fast.
     if (n >= 8) {
-      CoulombAllInsideKernel<PackD8> k8{table, stride};
+      CoulombAllInsideKernel<PackD8> k8{cones, stride};
       for (int b = 0; b < n; b += 8) k8.template step<true>(b, x + 3 * b, n - b);
       return k8.all();
     }
 #endif
 #if GRIP_SIMD_AVX2
-    CoulombAllInsideKernel<PackD4> k4{table, stride};
+    CoulombAllInsideKernel<PackD4> k4{cones, stride};
     const int b = n - n % 4;
     run_blocks(k4, 0, x, b);
-    return k4.all() && coulomb_all_inside_portable(table + b, stride, x + 3 * b, n - b);
+    return k4.all() && coulomb_all_inside_portable(cones + std::ptrdiff_t(b) * stride, stride, x + 3 * b, n - b);
 #endif
   }
-  return coulomb_all_inside_portable(table, stride, x, n);
+  return coulomb_all_inside_portable(cones, stride, x, n);
 }
 
 }  // namespace detail

@@ -27,8 +27,7 @@ namespace grip {
 /// Invariants: every stored contact satisfies validate(), its normal unit to 4 eps (a normal
 /// given within ScalarTraits::normal_tolerance of unit is stored scaled to unit length, one
 /// unit to round-off as given); `size() <= capacity`;
-/// inverse_weight(i) == 1 / contact(i).weight for every set slot; cone_table() row i holds
-/// contact(i).normal and contact(i).friction for every set slot.
+/// inverse_weight(i) == 1 / contact(i).weight for every set slot.
 /// With a fixed N the grasp is `complete()` once each of the N slots has been set;
 /// solvers answer InvalidInput for an incomplete grasp.
 template <int N, class Model = HardFinger, class Scalar = double, int MaxN = N>
@@ -50,11 +49,6 @@ class Grasp {
   static constexpr int kkt_size_at_compile_time = plus_or_dynamic(6, unknowns_at_compile_time);
   /// Largest KKT size, 6 + max_unknowns: the storage bound of KktMatrix and KktVector.
   static constexpr int max_kkt_size = 6 + max_unknowns;
-  /// The rows of cone_table(): for double, capacity rounded up to a multiple of 8, so that the
-  /// vectorised Coulomb pass reads whole blocks of 8 contacts (512 bits) without a bounds
-  /// check; for other scalars (only the portable pass) capacity itself.
-  static constexpr int padded_capacity = std::is_same<Scalar, double>::value ? (capacity + 7) / 8 * 8 : capacity;
-
   /// Stacked contact unknowns x = (x_1, ..., x_n): size() * dim.
   using ForceVector = Eigen::Matrix<Scalar, unknowns_at_compile_time, 1, Eigen::ColMajor, max_unknowns, 1>;
   /// Grasp matrix G: 6 x (size() * dim).
@@ -68,13 +62,6 @@ class Grasp {
   using ContactVector = Eigen::Matrix<Scalar, dim, 1>;
   /// One contact.
   using ContactType = Contact<Scalar>;
-  /// The cone data of the contacts as a structure of arrays (padded_capacity x 4, column-major,
-  /// each column contiguous): columns 0-2 the normal a_i (x, y, z), column 3 mu_i. Rows
-  /// [size(), padded_capacity) are padding with unspecified finite values.
-  /// (One row is stored row-major, as Eigen requires; with a single row the layout is the same.)
-  using ConeTable = Eigen::Matrix<Scalar, padded_capacity, 4,
-                                  (padded_capacity == 1 ? Eigen::RowMajor : Eigen::ColMajor) | Eigen::DontAlign>;
-
   Grasp() = default;
 
   /// Appends a contact. InvalidInput if the contact breaks an invariant of Contact or the
@@ -131,10 +118,10 @@ class Grasp {
     GRIP_ASSERT(i < count_);
     return inverse_weights_[detail::idx(i)];
   }
-  /// The normals and friction coefficients of all contacts in one structure of arrays (see
-  /// ConeTable), kept when a contact is stored: what a monitor reads to test many contacts at
-  /// once with SIMD instructions, where contact(i) would be a strided gather.
-  const ConeTable& cone_table() const { return cone_table_; }
+  /// The size() contacts as one array, contacts()[i] == contact(i): what a vectorised pass reads
+  /// (contact/coulomb_kernel.hpp reads each normal and friction in place). Valid while the grasp
+  /// lives; entries of slots never set are default contacts.
+  const ContactType* contacts() const { return contacts_.data(); }
 
   /// The grasp matrix G (6 x n*dim): column block i is Model::basis(contact(i)).
   /// For HardFinger this is eq. 3: G = [I3 ... I3; R_1 ... R_n].
@@ -197,14 +184,10 @@ class Grasp {
     const Scalar a2 = a.squaredNorm();
     if (std::abs(a2 - Scalar(1)) > Scalar(8) * std::numeric_limits<Scalar>::epsilon()) a /= std::sqrt(a2);
     inverse_weights_[k] = Scalar(1) / c.weight;
-    const auto r = static_cast<Eigen::Index>(k);
-    cone_table_.template block<1, 3>(r, 0) = a.transpose();
-    cone_table_(r, 3) = c.friction;
   }
 
   std::array<ContactType, detail::idx(capacity)> contacts_{};
   std::array<Scalar, detail::idx(capacity)> inverse_weights_{};
-  ConeTable cone_table_{ConeTable::Zero()};
   std::array<bool, detail::idx(capacity)> is_set_{};
   int count_{N == Dynamic ? 0 : N};
   int set_count_{0};

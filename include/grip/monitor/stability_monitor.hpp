@@ -48,7 +48,7 @@ struct MonitorSettings {
 ///   square root, one division).
 /// - classify(): the modes only (GraspModes), for the per-frame decision of a real-time loop;
 ///   no square root or division per contact for CoulombCone and PyramidCone. For CoulombCone
-///   it runs detail::classify_coulomb_grasp (contact/coulomb_kernel.hpp) on Grasp::cone_table():
+///   it runs detail::classify_coulomb_grasp (contact/coulomb_kernel.hpp) on Grasp::contacts():
 ///   8 contacts per instruction with AVX-512, 4 with AVX2, for double where compiled in
 ///   (coulomb_kernel_lanes).
 /// Both have an overload that writes into caller-owned storage, so that a loop keeps one
