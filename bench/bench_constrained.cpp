@@ -28,6 +28,8 @@
 //                      0), median_us, p99_us, p9999_us, worst_us and their ratios to the
 //                      median, the same of the slipping ones (slip_*), and interior-point
 //                      iterations (median and worst of the slipping ones, worst of all)
+//   SlipFrames/n       pairs of slipping frames (n = 3, 5): the second solved cold and from
+//                      the first's certificate (see SlipFrames below)
 //   Bound/n            the bound of a solve: 64 grasps the fast path does not answer (many
 //                      slip): ns_per_iteration (an interior-point iteration, the slope between
 //                      max_iterations 2 and 12 with newton_passes 0), ns_per_pass (a Newton
@@ -43,6 +45,8 @@
 #include <random>
 #include <string>
 #include <vector>
+
+#include <Eigen/Geometry>
 
 #include <grip/grasp/grasp.hpp>
 #include <grip/solve/solve_constrained.hpp>
@@ -429,6 +433,67 @@ void Bound(benchmark::State& state) {
   state.counters["least3_worst_us"] = worst;
   state.counters["worst_iterations"] = worst_iterations;
 }
+
+// Pairs of slipping frames (SlipFrames/n): the grasps of Loads/n whose previous frame (contacts
+// moved by 1 mm, load changed by 2 %) also slips, 20,000 draws. Each second frame solved cold
+// and from the previous frame's certificate (ConstrainedWarmStart), least of three each.
+// Counters: pairs, reuse_frac (the old certificate still held: fewer passes), cold_* and
+// warm_* medians and p99 (us), and warm_over_cold (the medians' ratio).
+template <int N>
+void SlipFrames(benchmark::State& state) {
+  using clock = std::chrono::steady_clock;
+  const auto least3 = [](const auto& solve) {
+    double least = std::numeric_limits<double>::infinity();
+    for (int rep = 0; rep < 3; ++rep) {
+      const auto a = clock::now();
+      const auto s = solve();
+      least = std::min(least, std::chrono::duration<double, std::micro>(clock::now() - a).count());
+      benchmark::DoNotOptimize(s.forces.data());
+    }
+    return least;
+  };
+  std::vector<double> cold, warm;
+  int reused = 0;
+  for (auto _ : state) {
+    cold.clear();
+    warm.clear();
+    reused = 0;
+    std::mt19937 rng(7000 + N);
+    std::normal_distribution<double> n01(0, 1);
+    const grip::ConstrainedSettings<double> st;
+    for (int k = 0; k < 20000; ++k) {
+      const Instance<N> in = make_hard_instance<N>(rng);
+      G<N> before;
+      for (int i = 0; i < N; ++i) {
+        Contact<double> c = in.grasp.contact(i);
+        const grip::Vector3<double> turn = 0.025 * grip::Vector3<double>(n01(rng), n01(rng), n01(rng));
+        const Eigen::AngleAxisd r(turn.norm(), turn.normalized());
+        c.position = r * c.position;
+        c.normal = r * c.normal;
+        (void)before.set(i, c);
+      }
+      const auto previous = grip::solve_constrained(before, Wrench<double>(in.w_ext * 1.02));
+      if (previous.status != grip::Status::Infeasible) continue;
+      const auto now = grip::solve_constrained(in.grasp, in.w_ext);
+      if (now.status != grip::Status::Infeasible) continue;
+      grip::ConstrainedWarmStart<double> start;
+      start.certificate = previous.certificate;
+      start.has_certificate = true;
+      reused += grip::solve_constrained(in.grasp, in.w_ext, st, start).passes < now.passes ? 1 : 0;
+      cold.push_back(least3([&] { return grip::solve_constrained(in.grasp, in.w_ext, st); }));
+      warm.push_back(least3([&] { return grip::solve_constrained(in.grasp, in.w_ext, st, start); }));
+    }
+  }
+  state.counters["pairs"] = static_cast<double>(cold.size());
+  state.counters["reuse_frac"] = cold.empty() ? 0.0 : double(reused) / double(cold.size());
+  state.counters["cold_median_us"] = quantile(cold, 0.5);
+  state.counters["cold_p99_us"] = quantile(cold, 0.99);
+  state.counters["warm_median_us"] = quantile(warm, 0.5);
+  state.counters["warm_p99_us"] = quantile(warm, 0.99);
+  state.counters["warm_over_cold"] = quantile(warm, 0.5) / quantile(cold, 0.5);
+}
+BENCHMARK_TEMPLATE(SlipFrames, 3)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(SlipFrames, 5)->Iterations(1)->Unit(benchmark::kMillisecond);
 
 #define GRIP_BENCH_N(N)                                                              \
   BENCHMARK_TEMPLATE(Constrained, N);                                                \

@@ -287,18 +287,16 @@ void BM_FrameTimeHistogram(benchmark::State& state) {
 }
 // The solver alone on the session's own frames (BM_SolveReplay): the pipeline runs the cylinder
 // scene once with ConstrainedFrameSolver, and a recording solver keeps every frame's problem
-// (grasp, w_ext, and the warm start the pipeline handed that solve). Then each recorded problem
-// is solved again from the same warm start, timed as the least of three solves, and classed by
-// its answer: held (Ok) or slipping (anything else). The same problems for every version of the
-// solver, free of the session's path (which moves with any change of a frame). Counters: per
-// class the count, median, p99 and worst (us), the worst interior-point iterations, and
-// slip_p99_over_held_p50.
+// (grasp, w_ext, and the warm start the pipeline handed that solve: multipliers or certificate). Then each recorded
+// problem is solved again from the same warm start, timed as the least of three solves, and classed by its answer: held
+// (Ok) or slipping (anything else). The same problems for every version of the solver, free of the session's path
+// (which moves with any change of a frame). Counters: per class the count, median, p99 and worst (us), the worst
+// interior-point iterations, and slip_p99_over_held_p50.
 struct RecordedSolve {
   using GraspType = grip::HapticPipeline<S, grip::CylinderScene<S>, grip::ConstrainedFrameSolver<S>>::GraspType;
   GraspType grasp;
   grip::Wrench<S> w_ext;
-  grip::Wrench<S> warm;
-  bool has_warm;
+  grip::ConstrainedWarmStart<S> start;  // the multipliers or certificate of the previous solve
 };
 
 struct RecordingFrameSolver : grip::ConstrainedFrameSolver<S> {
@@ -306,7 +304,8 @@ struct RecordingFrameSolver : grip::ConstrainedFrameSolver<S> {
   template <class GraspT>
   grip::Solution<GraspT> operator()(const GraspT& grasp, const grip::Wrench<S>& w_ext) {
     static_assert(std::is_same<GraspT, RecordedSolve::GraspType>::value, "the pipeline's grasp type");
-    if (log != nullptr && grasp.size() > 0) log->push_back({grasp, w_ext, warm, has_warm});
+    if (log != nullptr && grasp.size() > 0)
+      log->push_back({grasp, w_ext, grip::ConstrainedWarmStart<S>{warm, has_warm, certificate, has_certificate}});
     return grip::ConstrainedFrameSolver<S>::operator()(grasp, w_ext);
   }
 };
@@ -335,8 +334,7 @@ void BM_SolveReplay(benchmark::State& state) {
       double least = std::numeric_limits<double>::infinity();
       for (int rep = 0; rep < 3; ++rep) {
         const auto t0 = std::chrono::steady_clock::now();
-        const auto sol = r.has_warm ? grip::solve_constrained(r.grasp, r.w_ext, st, r.warm)
-                                    : grip::solve_constrained(r.grasp, r.w_ext, st);
+        const auto sol = grip::solve_constrained(r.grasp, r.w_ext, st, r.start);
         const auto t1 = std::chrono::steady_clock::now();
         benchmark::DoNotOptimize(sol.forces.data());
         least = std::min(least, std::chrono::duration<double, std::micro>(t1 - t0).count());

@@ -246,15 +246,19 @@ PYBIND11_MODULE(_grip, m) {
         py::arg("grasp"), py::arg("w_ext"), "As solve_range_space, by the paper's KKT system of eq. 9 (H c = b).");
   m.def(
       "solve_constrained",
-      [](const PyGrasp& g, const py::handle& w, const CS* settings, const py::handle& warm) {
+      [](const PyGrasp& g, const py::handle& w, const CS* settings, const py::handle& warm,
+         const py::handle& certificate) {
         const auto we = wrench(w, "w_ext");
         const CS s = settings ? *settings : CS{};
-        const bool warm_given = !warm.is_none();
-        const grip::Wrench<double> lw = warm_given ? wrench(warm, "warm_start") : grip::Wrench<double>::Zero();
+        grip::ConstrainedWarmStart<double> start;
+        start.has_multipliers = !warm.is_none();
+        if (start.has_multipliers) start.multipliers = wrench(warm, "warm_start");
+        start.has_certificate = !certificate.is_none();
+        if (start.has_certificate) start.certificate = wrench(certificate, "warm_certificate");
         py::gil_scoped_release release;
         ConstrainedPy out;
         g.visit([&](const auto& x) {
-          const auto r = warm_given ? grip::solve_constrained(x, we, s, lw) : grip::solve_constrained(x, we, s);
+          const auto r = grip::solve_constrained(x, we, s, start);
           fill(out, r, g.dim());
           out.certificate = r.certificate;
           out.objective = r.objective;
@@ -266,9 +270,11 @@ PYBIND11_MODULE(_grip, m) {
         return out;
       },
       py::arg("grasp"), py::arg("w_ext"), py::arg("settings") = nullptr, py::arg("warm_start") = py::none(),
+      py::arg("warm_certificate") = py::none(),
       "The forces nearest the targets inside the exact friction cones (and below each contact's "
       "max_normal_force) with G x + w_ext = 0; Infeasible with a certificate when the grasp cannot hold. "
-      "warm_start: the previous solution's multipliers (6,).");
+      "warm_start: the previous solution's multipliers (6,). warm_certificate: the previous solution's "
+      "certificate (6,), if it slipped: where it still holds, the answer is Infeasible with it.");
   m.def(
       "force_closure",
       [](const PyGrasp& g, const AS* settings) {

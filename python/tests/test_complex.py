@@ -175,7 +175,8 @@ CASES = (
            "friction", "squeeze")
     + case(solve_range_space, dict(w_ext=W), "w_ext")
     + case(solve_kkt, dict(w_ext=W), "w_ext")
-    + case(solve_constrained, dict(w_ext=W, warm_start=np.zeros(6)), "w_ext", "warm_start")
+    + case(solve_constrained, dict(w_ext=W, warm_start=np.zeros(6), warm_certificate=np.zeros(6)), "w_ext",
+           "warm_start", "warm_certificate")
     + case(kkt_rhs, dict(w_ext=W), "w_ext")
     + case(monitor, dict(forces=np.zeros((3, 4)), relative_tolerance=1e-9, absolute_tolerance=0.0),
            "forces", "relative_tolerance", "absolute_tolerance")

@@ -181,6 +181,26 @@ def test_constrained_solver_agrees_with_cvxopt():
     assert counts["bounded"] >= 45 and counts["at bound"] >= 15, counts
 
 
+def test_a_slip_decided_from_the_previous_certificate():
+    # Three fingers on top of an object pushing down, loaded downwards: no force in the cones
+    # pushes up, so y = (0, 0, -1, 0, 0, 0) (scaled) certifies the slip (Farkas, by hand). A
+    # certificate that fails (the opposite direction) changes nothing.
+    phi = 2 * np.pi * np.arange(3) / 3
+    positions = np.stack([0.02 * np.cos(phi), 0.02 * np.sin(phi), np.full(3, 0.03)], axis=1)
+    g = grip.Grasp(positions, np.tile([0.0, 0.0, -1.0], (3, 1)), 0.8, squeeze=1.0)
+    w = np.array([0.0, 0.0, -5.0, 0.01, 0.0, 0.0])
+    cold = grip.solve_constrained(g, w)
+    assert cold.status == grip.Status.Infeasible
+    warm = grip.solve_constrained(g, w, warm_certificate=[0.0, 0.0, -3.0, 0.0, 0.0, 0.0])
+    assert warm.status == grip.Status.Infeasible
+    assert warm.passes < cold.passes
+    np.testing.assert_allclose(warm.certificate, [0, 0, -1, 0, 0, 0], atol=1e-15)
+    np.testing.assert_allclose(warm.forces, cold.forces, rtol=1e-9, atol=1e-12)
+    wrong = grip.solve_constrained(g, w, warm_certificate=[0.0, 0.0, 1.0, 0.0, 0.0, 0.0])
+    assert wrong.status == cold.status and np.array_equal(wrong.forces, cold.forces)
+    assert wrong.passes == cold.passes
+
+
 def test_warm_start_and_settings_reach_the_same_optimum():
     rng = np.random.default_rng(3)
     c = random_contacts(rng, 8)
@@ -470,6 +490,8 @@ def test_invalid_wrench_raises_value_error():
             assert message in str(e.value)
     with pytest.raises(ValueError, match=r"warm_start\[0\] is not finite"):
         grip.solve_constrained(g, np.zeros(6), warm_start=[np.inf, 0, 0, 0, 0, 0])
+    with pytest.raises(ValueError, match=r"warm_certificate\[3\] is not finite"):
+        grip.solve_constrained(g, np.zeros(6), warm_certificate=[0, 0, 0, np.nan, 0, 0])
 
 
 def test_statuses_are_reported_not_raised():

@@ -14,6 +14,7 @@
 #include <grip/solve/solve_constrained.hpp>
 
 #include "solve/constrained_support.hpp"
+#include "solve/slip_checks.hpp"
 #include "support/allocation_counter.hpp"
 #include "support/equilibrium_norm.hpp"
 #include "support/fixtures.hpp"
@@ -846,22 +847,6 @@ void slip_instance(std::mt19937& rng, Grasp<3, HardFinger, S>& g, Wrench<S>& w) 
   w = wd.cast<S>();
 }
 
-// P(x) = |G x + w_ext|_L^2 / 2 + delta F2(x), the least-residual objective (docs/solve.md), in double.
-template <class GraspT>
-double least_residual_objective(const GraspT& g, const Wrench<double>& w, const Eigen::VectorXd& x, double delta) {
-  const double len = grip_test::grasp_lever_length(g);
-  Wrench<double> r = w;
-  double f2 = 0;
-  for (int i = 0; i < g.size(); ++i) {
-    const Contact<double> c = grip_test::cast_contact<double>(g.contact(i));
-    const Vector3<double> xi = x.segment<3>(3 * i);
-    r += HardFinger::wrench(c, xi);
-    f2 += 0.5 * c.weight * (xi - HardFinger::target(c)).squaredNorm();
-  }
-  const double rl = grip_test::norm_l(r, len);
-  return 0.5 * rl * rl + delta * f2;
-}
-
 TEST_CASE_TEMPLATE("solve_constrained: grasps that slip or hold are decided within the bound, checked by definition", S,
                    double, float) {
   // Every solve ends Ok or Infeasible (none at IterationLimit with the default bound), within
@@ -898,28 +883,9 @@ TEST_CASE_TEMPLATE("solve_constrained: grasps that slip or hold are decided with
       continue;
     }
     ++slips;
-    const Wrench<double> y = sol.certificate.template cast<double>(), wd = w.template cast<double>();
-    const double len = grip_test::grasp_lever_length(g);
-    const double yw = y.dot(wd);
-    CHECK(yw > 0.0);
-    CHECK(std::abs(grip_test::dual_norm_l(y, len) - 1.0) <= grip_test::roundoff<S>(8, 1, 1));
-    const double cert_tol = 1.5 * double(st.certificate_tolerance) * yw / grip_test::norm_l(wd, len);
-    for (int i = 0; i < 3; ++i) {
-      const Contact<double> c = grip_test::cast_contact<double>(g.contact(i));
-      CHECK(grip_test::dual_cone_violation<HardFinger>(c, HardFinger::wrench_transpose(c, y)) <=
-            cert_tol + grip_test::roundoff<S>(8, 1 + c.friction, 1 + c.position.norm() / len));
-    }
-    // delta = least_residual_weight times the largest diagonal entry of G W^-1 G^T in the norm's units.
-    double delta = 0;
-    for (int j = 0; j < 6; ++j) {
-      double dj = 0;
-      for (int i = 0; i < 3; ++i) {
-        const Contact<double> c = grip_test::cast_contact<double>(g.contact(i));
-        dj += HardFinger::wrench_transpose(c, Wrench<double>(Wrench<double>::Unit(j))).squaredNorm() / c.weight;
-      }
-      delta = std::max(delta, j < 3 ? dj : dj / (len * len));
-    }
-    delta *= double(st.least_residual_weight);
+    const Wrench<double> wd = w.template cast<double>();
+    grip_test::check_certificate(g, w, sol.certificate);
+    const double delta = grip_test::least_residual_delta(g);
     const Eigen::VectorXd x = sol.forces.template cast<double>();
     const auto ref = solve_range_space(g, w);
     Eigen::VectorXd projected = Eigen::VectorXd::Zero(9);
@@ -930,11 +896,11 @@ TEST_CASE_TEMPLATE("solve_constrained: grasps that slip or hold are decided with
     }
     // To the interior-point method's tolerance on the least-residual problem: a gap of
     // interior_tolerance of the objective, plus the rounding of P in S.
-    const double p = least_residual_objective(g, wd, x, delta);
+    const double p = grip_test::least_residual_objective(g, wd, x, delta);
     const double slack = 2 * double(ScalarTraits<S>::interior_tolerance) * p +
                          grip_test::roundoff<S>(16, 1, wd.squaredNorm() + x.squaredNorm());
-    CHECK(p <= least_residual_objective(g, wd, Eigen::VectorXd::Zero(9), delta) + slack);
-    CHECK(p <= least_residual_objective(g, wd, projected, delta) + slack);
+    CHECK(p <= grip_test::least_residual_objective(g, wd, Eigen::VectorXd::Zero(9), delta) + slack);
+    CHECK(p <= grip_test::least_residual_objective(g, wd, projected, delta) + slack);
   }
   MESSAGE(holds, " hold, ", slips, " slip; most interior-point iterations ", worst);
   CHECK(beyond <= 2);

@@ -54,37 +54,39 @@ struct KktFrameSolver {
 
 /// The exact optimum of F2 with every force inside its exact cone and below its contact's
 /// max_normal_force (solve_constrained). From the second frame on, each solve is warm-started
-/// from the multipliers of the previous Ok or IterationLimit solve (contacts change little
-/// between 1 kHz frames; the multipliers are a 6-vector, so they carry over whatever contacts come
-/// and go). Every solve is bounded by its settings (docs/solve.md: at most
-/// settings.max_iterations interior-point iterations and 2 settings.newton_passes Newton passes),
-/// a grasp that slips included: no deadline of its own is needed.
+/// from the previous solve: the multipliers of an Ok or IterationLimit one, the certificate of an
+/// Infeasible one (contacts change little between 1 kHz frames, and a slip lasts many; both are
+/// 6-vectors, so they carry over whatever contacts come and go). Every solve is bounded by its settings (docs/solve.md:
+/// at most settings.max_iterations interior-point iterations and 2 settings.newton_passes Newton passes), a grasp that
+/// slips included: no deadline of its own is needed.
 template <class Scalar>
 struct ConstrainedFrameSolver {
   /// Forces come back inside their exact cones, a separating one at the apex (zero): one solve a frame.
   static constexpr bool enforces_cones = true;
   /// Tolerances and bounds of every solve: solve_constrained's defaults.
   ConstrainedSettings<Scalar> settings{};
-  Wrench<Scalar> warm{Wrench<Scalar>::Zero()};  ///< multipliers of the last usable solve
-  bool has_warm{false};                         ///< whether `warm` holds any
+  Wrench<Scalar> warm{Wrench<Scalar>::Zero()};         ///< multipliers of the last usable solve
+  bool has_warm{false};                                ///< whether `warm` holds any
+  Wrench<Scalar> certificate{Wrench<Scalar>::Zero()};  ///< the last solve's certificate, if Infeasible
+  bool has_certificate{false};                         ///< whether `certificate` holds one
   int passes{0};      ///< passes over the contacts of the last solve (ConstrainedSolution::passes)
   int iterations{0};  ///< interior-point iterations of the last solve (0: the fast path or Newton answered)
 
   /// min F2 s.t. G x + w_ext = 0 and x_i in K_i for this frame's grasp (GraspT::ScalarType must be
-  /// Scalar), warm-started when `has_warm`; keeps the multipliers of an Ok or IterationLimit solve
-  /// with finite multipliers for the next frame, else clears `has_warm`. Returns the Solution part.
+  /// Scalar), warm-started from `warm` when `has_warm` and from `certificate` when
+  /// `has_certificate` (ConstrainedWarmStart). Keeps for the next frame the multipliers of an Ok
+  /// or IterationLimit solve and the certificate of an Infeasible one, each when finite, and
+  /// clears the other. Returns the Solution part.
   template <class GraspT>
   Solution<GraspT> operator()(const GraspT& grasp, const Wrench<Scalar>& w_ext) {
-    const ConstrainedSolution<GraspT> sol =
-        has_warm ? solve_constrained(grasp, w_ext, settings, warm) : solve_constrained(grasp, w_ext, settings);
+    const ConstrainedWarmStart<Scalar> start{warm, has_warm, certificate, has_certificate};
+    const ConstrainedSolution<GraspT> sol = solve_constrained(grasp, w_ext, settings, start);
     passes = sol.passes;
     iterations = sol.iterations;
-    if ((sol.status == Status::Ok || sol.status == Status::IterationLimit) && sol.multipliers.allFinite()) {
-      warm = sol.multipliers;
-      has_warm = true;
-    } else {
-      has_warm = false;
-    }
+    has_warm = (sol.status == Status::Ok || sol.status == Status::IterationLimit) && sol.multipliers.allFinite();
+    if (has_warm) warm = sol.multipliers;
+    has_certificate = sol.status == Status::Infeasible && sol.certificate.allFinite();
+    if (has_certificate) certificate = sol.certificate;
     return sol;
   }
 };

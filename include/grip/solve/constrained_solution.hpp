@@ -2,7 +2,8 @@
 /// \file
 /// What solve_constrained (solve_constrained.hpp) returns: its status, forces and multipliers
 /// (Solution), and the numbers that certify them: the infeasibility certificate, the primal and
-/// dual objectives, and how the answer was reached.
+/// dual objectives, and how the answer was reached. And what the next frame's solve may start
+/// from (ConstrainedWarmStart).
 
 #include "grip/core/types.hpp"
 #include "grip/solve/solution.hpp"
@@ -40,6 +41,16 @@ struct ConstrainedSolution : Solution<GraspT> {
   /// O(n) passes over the contacts after the fast path: three per interior-point iteration, one
   /// more per interior-point run, one per Newton trial.
   int passes{0};
+};
+
+/// What a solve may start from: the previous frame's answer (solve_constrained's warm start).
+/// Both are 6-vectors, so the contacts may change between frames.
+template <class Scalar>
+struct ConstrainedWarmStart {
+  Wrench<Scalar> multipliers{Wrench<Scalar>::Zero()};  ///< an Ok or IterationLimit answer's multipliers
+  bool has_multipliers{false};                         ///< whether `multipliers` is given
+  Wrench<Scalar> certificate{Wrench<Scalar>::Zero()};  ///< an Infeasible answer's certificate
+  bool has_certificate{false};                         ///< whether `certificate` is given
 };
 
 }  // namespace grip

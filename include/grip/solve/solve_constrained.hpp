@@ -24,10 +24,12 @@
 #include "grip/grasp/objective.hpp"
 #include "grip/solve/constrained_settings.hpp"
 #include "grip/solve/constrained_solution.hpp"
+#include "grip/solve/detail/certificate.hpp"
 #include "grip/solve/detail/dual_newton.hpp"
 #include "grip/solve/detail/equilibrium_norm.hpp"
 #include "grip/solve/detail/force_problem.hpp"
 #include "grip/solve/detail/interior_point.hpp"
+#include "grip/solve/detail/slip_answer.hpp"
 #include "grip/solve/solution.hpp"
 #include "grip/solve/solve_range_space.hpp"
 
@@ -80,6 +82,17 @@ template <class GraspT>
 ConstrainedSolution<GraspT> solve_constrained(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
                                               const ConstrainedSettings<typename GraspT::ScalarType>& settings,
                                               const Wrench<typename GraspT::ScalarType>& warm_multipliers);
+
+/// As above, from the previous frame's answer: its multipliers (as above), or its certificate.
+/// A certificate is tested first, after the fast path, against the definition of
+/// ConstrainedSolution::certificate (one O(n) pass): if it still holds, the answer is Infeasible
+/// with it (scaled to dual norm 1) and the least-residual forces, without Newton's passes or the
+/// first interior-point run; else the solve goes on as above. InvalidInput also for a given
+/// certificate or multipliers not finite.
+template <class GraspT>
+ConstrainedSolution<GraspT> solve_constrained(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
+                                              const ConstrainedSettings<typename GraspT::ScalarType>& settings,
+                                              const ConstrainedWarmStart<typename GraspT::ScalarType>& warm);
 
 // ---------------------------------------------------------------------------------------------
 // Definitions.
@@ -146,20 +159,6 @@ EIGEN_DONT_INLINE bool constrained_fast_path(const GraspT& grasp, const Wrench<t
   return true;
 }
 
-/// The interior-point iterate's forces, each scaled into its bound if the (infeasible-start)
-/// iterate has not yet met it: the answer of a solve that the bound on iterations cuts.
-template <class GraspT, class Vec>
-void keep_within_bounds(const GraspT& grasp, Vec& x) {
-  using S = typename GraspT::ScalarType;
-  constexpr int d = GraspT::dim;
-  for (int i = 0; i < grasp.size(); ++i) {
-    const auto& c = grasp.contact(i);
-    auto xi = x.template segment<d>(i * d);
-    const S fn = d == 1 ? S(xi(0)) : c.normal.dot(xi.template head<3>());
-    if (fn > c.max_normal_force) xi *= c.max_normal_force / fn;
-  }
-}
-
 /// Writes the dual Newton iterate into `sol` as an Ok answer.
 template <class GraspT>
 void take_newton(const DualNewton<GraspT>& newton, ConstrainedSolution<GraspT>& sol) {
@@ -172,49 +171,11 @@ void take_newton(const DualNewton<GraspT>& newton, ConstrainedSolution<GraspT>& 
   sol.refined = true;
 }
 
-/// The least-residual problem's answer (solve_constrained's Infeasible forces) in `sol`: the
-/// soft form of the problem in lanes `k` (cleared and refilled), by the interior-point method
-/// with what is left of settings.max_iterations after `used`.
-template <class GraspT, class Lanes>
-void least_residual_forces(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
-                           const ConstrainedSettings<typename GraspT::ScalarType>& settings,
-                           const Wrench<typename GraspT::ScalarType>& gram_diagonal, int used, Lanes& k,
-                           ForceProblem<GraspT>& problem, ConstrainedSolution<GraspT>& sol) {
-  using S = typename GraspT::ScalarType;
-  // delta = least_residual_weight times the largest diagonal entry of G W^-1 G^T in |.|_L's units.
-  const EquilibriumNorm<S> norm = EquilibriumNorm<S>::of(grasp);
-  const Wrench<S> t2 = norm.weights().cwiseAbs2();
-  S gd(0);
-  for (int j = 0; j < 6; ++j) gd = std::max(gd, gram_diagonal(j) * t2(j));
-  k.clear(grasp.size());
-  problem.fill(grasp, w_ext, k, S(1));  // the scales first
-  const S delta_n = settings.least_residual_weight * gd * problem.weight;
-  k.clear(grasp.size());
-  problem.fill(grasp, w_ext, k, delta_n);
-  InteriorPointSettings<S> lr;
-  lr.tolerance = std::max(S(ScalarTraits<S>::interior_tolerance), settings.tolerance);
-  lr.feasibility_tolerance = lr.tolerance;  // the answer's accuracy is the interior-point method's
-  lr.certificate_tolerance = settings.certificate_tolerance;
-  lr.max_iterations = std::max(settings.max_iterations - used, 1);
-  lr.soft = true;
-  lr.cost_offset = problem.cost_offset(grasp) * delta_n;
-  lr.residual_floor = problem.squeeze_scale(grasp);
-  const InteriorPointResult<S> q = interior_point(k, problem.b, problem.q_norm, lr);
-  sol.iterations += q.iterations;
-  sol.passes += 3 * q.iterations + 1 - 2 * q.backtracks;
-  problem.forces(grasp, k, q.tau, sol.forces);
-  // A breakdown of the method (tau or an iterate not finite, in float at extreme scales): no
-  // forces, whose residual is w_ext itself.
-  if (!sol.forces.allFinite()) sol.forces.setZero(grasp.unknowns());
-  keep_within_bounds(grasp, sol.forces);
-  sol.multipliers.setZero();
-  sol.status = Status::Infeasible;
-}
-
 template <class GraspT>
 EIGEN_DONT_INLINE void solve_constrained_iterate(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
                                                  const ConstrainedSettings<typename GraspT::ScalarType>& settings,
                                                  const Wrench<typename GraspT::ScalarType>* warm,
+                                                 const Wrench<typename GraspT::ScalarType>* warm_certificate,
                                                  const Wrench<typename GraspT::ScalarType>& gram_diagonal,
                                                  ConstrainedSolution<GraspT>& sol) {
   using S = typename GraspT::ScalarType;
@@ -233,9 +194,16 @@ EIGEN_DONT_INLINE void solve_constrained_iterate(const GraspT& grasp, const Wren
   for (int i = 0; i < grasp.size(); ++i)
     bounded = bounded || grasp.contact(i).max_normal_force < std::numeric_limits<S>::infinity();
   const int newton_passes = bounded && GraspT::dim == 4 ? 0 : settings.newton_passes;
-  DualNewton<GraspT> newton(grasp, w_ext, gram_diagonal, settings.tolerance, bounded);
   typename Problem::Lanes k(grasp.size());
   Problem problem;
+  // 0. The previous frame's certificate, where it still proves that the grasp slips.
+  Wrench<S> y_unit;
+  if (warm_certificate != nullptr &&
+      is_infeasibility_certificate(grasp, w_ext, *warm_certificate, settings.certificate_tolerance, y_unit)) {
+    answer_slip(grasp, w_ext, settings, gram_diagonal, y_unit, 0, k, problem, sol);
+    return;
+  }
+  DualNewton<GraspT> newton(grasp, w_ext, gram_diagonal, settings.tolerance, bounded);
   // 1. Newton from the warm start, or from the unconstrained optimum's multipliers: the answer
   // when it converges; an infeasible grasp's multipliers may grow along a certificate meanwhile.
   if (newton_passes > 0) {
@@ -287,10 +255,7 @@ EIGEN_DONT_INLINE void solve_constrained_iterate(const GraspT& grasp, const Wren
   // feasibility the handover gap is reached before the certificate is clear): the certificate,
   // and the least-residual forces.
   if (r.status == Status::Infeasible) {
-    sol.certificate = problem.certificate(r.y);
-    least_residual_forces(grasp, w_ext, settings, gram_diagonal, r.iterations, k, problem, sol);
-    sol.residual = stable_norm(Wrench<S>(grasp.wrench(sol.forces) + w_ext));
-    sol.objective = objective_f2(grasp, sol.forces);
+    answer_slip(grasp, w_ext, settings, gram_diagonal, problem.certificate(r.y), r.iterations, k, problem, sol);
     return;
   }
   // The interior-point answer, not refined (a soft finger with a bound, a soft finger's torsion at
@@ -321,15 +286,16 @@ EIGEN_DONT_INLINE void solve_constrained_iterate(const GraspT& grasp, const Wren
 }
 
 template <class GraspT>
-ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
-                                                   const Wrench<typename GraspT::ScalarType>& w_ext,
-                                                   const ConstrainedSettings<typename GraspT::ScalarType>& settings,
-                                                   const Wrench<typename GraspT::ScalarType>* warm) {
+ConstrainedSolution<GraspT> solve_constrained_impl(
+    const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
+    const ConstrainedSettings<typename GraspT::ScalarType>& settings, const Wrench<typename GraspT::ScalarType>* warm,
+    const Wrench<typename GraspT::ScalarType>* warm_certificate = nullptr) {
   using S = typename GraspT::ScalarType;
   const int m = grasp.unknowns();
   ConstrainedSolution<GraspT> sol;
   if (!grasp.complete() || validate(w_ext) != Status::Ok || !valid_settings(settings) ||
-      (warm != nullptr && !(detail::all_in_range(*warm)))) {
+      (warm != nullptr && !(detail::all_in_range(*warm))) ||
+      (warm_certificate != nullptr && !(detail::all_in_range(*warm_certificate)))) {
     fill_invalid(sol, m);
     return sol;
   }
@@ -349,7 +315,7 @@ ConstrainedSolution<GraspT> solve_constrained_impl(const GraspT& grasp,
   }
   Wrench<S> gram_diagonal = Wrench<S>::Zero();  // of G W^-1 G^T, from the fast path's solve
   if (constrained_fast_path(grasp, w_ext, sol, gram_diagonal)) return sol;
-  solve_constrained_iterate(grasp, w_ext, settings, warm, gram_diagonal, sol);
+  solve_constrained_iterate(grasp, w_ext, settings, warm, warm_certificate, gram_diagonal, sol);
   return sol;
 }
 
@@ -366,6 +332,14 @@ ConstrainedSolution<GraspT> solve_constrained(const GraspT& grasp, const Wrench<
                                               const ConstrainedSettings<typename GraspT::ScalarType>& settings,
                                               const Wrench<typename GraspT::ScalarType>& warm_multipliers) {
   return detail::solve_constrained_impl(grasp, w_ext, settings, &warm_multipliers);
+}
+
+template <class GraspT>
+ConstrainedSolution<GraspT> solve_constrained(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
+                                              const ConstrainedSettings<typename GraspT::ScalarType>& settings,
+                                              const ConstrainedWarmStart<typename GraspT::ScalarType>& warm) {
+  return detail::solve_constrained_impl(grasp, w_ext, settings, warm.has_multipliers ? &warm.multipliers : nullptr,
+                                        warm.has_certificate ? &warm.certificate : nullptr);
 }
 
 }  // namespace grip
