@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 
 /// Marks a function the compiler must inline (the SIMD passes into their callers, where their
 /// small results stay in registers), except where the build optimises for size (-Os,
@@ -377,6 +378,22 @@ struct SimdPackOf<double> {
 #endif
 template <class S>
 using SimdPack = typename SimdPackOf<S>::type;
+
+/// The pack of a pass over at most Cap items (contacts): SimdPack<S>, except that with AVX-512 at
+/// most 4 items take PackD4. One block then holds them all at half the width: the pass's
+/// per-lane sums cost half as much to clear and to add across the lanes.
+template <class S, int Cap>
+struct SimdPackForOf {
+  using type = SimdPack<S>;
+};
+#if GRIP_SIMD_AVX512 && GRIP_SIMD_AVX2
+template <int Cap>
+struct SimdPackForOf<double, Cap> {
+  using type = typename std::conditional<(Cap >= 0 && Cap <= 4), PackD4, PackD8>::type;
+};
+#endif
+template <class S, int Cap>
+using SimdPackFor = typename SimdPackForOf<S, Cap>::type;
 
 }  // namespace detail
 }  // namespace grip

@@ -273,7 +273,9 @@ class ConicLanes : public ConicStorage<S, D, Cap> {
     out.c_bp = tot(55);
     out.cc_hb = tot(56);
     out.certificate = least(cert);
-    out.ok = ok && std::isfinite(out.schur.sum());
+    S schur_sum(0);
+    for (int j = 6; j < 27; ++j) schur_sum += tot(j);
+    out.ok = ok && std::isfinite(schur_sum);
     return out;
   }
 

@@ -33,30 +33,17 @@
 namespace grip {
 namespace detail {
 
-/// The pack of the interior-point lanes for up to Cap contacts: the widest compiled in, except
-/// that with AVX-512 a grasp of at most 4 contacts takes 4-lane packs (half the work).
-template <class S, int Cap>
-struct ConicPackOf {
-  using type = SimdPack<S>;
-};
-#if GRIP_SIMD_AVX512 && GRIP_SIMD_AVX2
-template <int Cap>
-struct ConicPackOf<double, Cap> {
-  using type = typename std::conditional<(Cap <= 4), PackD4, PackD8>::type;
-};
-#endif
-
 /// The contacts' data and iterate in SIMD lanes (see the file comment): the public part sets
 /// the data and reads the answer; the protected part is for the passes (ConicLanes).
 template <class S, int D, int Cap>
-class ConicStorage : protected ConeBlock<typename ConicPackOf<S, Cap>::type, D> {
+class ConicStorage : protected ConeBlock<SimdPackFor<S, Cap>, D> {
  protected:
-  using Block = ConeBlock<typename ConicPackOf<S, Cap>::type, D>;
+  using Block = ConeBlock<SimdPackFor<S, Cap>, D>;
   using typename Block::Bound;
   using typename Block::Sym;
 
  public:
-  using P = typename ConicPackOf<S, Cap>::type;
+  using P = SimdPackFor<S, Cap>;
   using Mask = typename P::Mask;
   using Vec = ConeVec<P, D>;
   static constexpr int width = P::width;

@@ -1,7 +1,8 @@
 #pragma once
 /// \file
 /// solve_constrained's pass for hard fingers over a structure of arrays, one contact per SIMD
-/// lane (detail::SimdPack, core/simd.hpp: 8 doubles with AVX-512, 4 with AVX2, else one scalar).
+/// lane (detail::SimdPackFor, core/simd.hpp: 8 doubles with AVX-512 (4 for at most 4 contacts), 4
+/// with AVX2, else one scalar).
 ///
 /// A pass at multipliers lambda takes every contact i through
 ///   v_i = s_i a_i + k_i G_i^T lambda          (k_i = 1/w_i; s_i a_i = t_i, eq. 7)
@@ -59,9 +60,9 @@ template <class GraspT>
 class CoulombPassTable {
  public:
   using Scalar = typename GraspT::ScalarType;
-  /// The SIMD register type of the pass (core/simd.hpp), and its lanes: rows are padded to
-  /// whole registers.
-  using Pack = SimdPack<Scalar>;
+  /// The SIMD register type of the pass (core/simd.hpp: SimdPackFor the grasp's capacity), and
+  /// its lanes: rows are padded to whole registers.
+  using Pack = SimdPackFor<Scalar, GraspT::capacity>;
   static constexpr int block = Pack::width;
   static constexpr int round_up(int n) { return (n + block - 1) / block * block; }
   static constexpr int rows_at_compile_time =

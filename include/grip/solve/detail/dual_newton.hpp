@@ -132,7 +132,8 @@ class DualNewton {
     const S mu = rel * rel + S(16) * std::numeric_limits<S>::epsilon();
     Matrix6<S> m = hessian_;
     m.diagonal() += mu * gram_scale_;
-    const Wrench<S> dinv = m.diagonal().cwiseSqrt().cwiseInverse();
+    Wrench<S> dinv;
+    for (int k = 0; k < 6; ++k) dinv(k) = S(1) / std::sqrt(m(k, k));
     scale_symmetric(m, dinv);
     const Wrench<S> d = dinv.cwiseProduct(solve_newton_6x6(m, Wrench<S>(-dinv.cwiseProduct(current_.residual)), mu));
     const S slope = -current_.residual.dot(d);

@@ -68,10 +68,8 @@ struct ForceProblem {
   Wrench<S> b;              ///< -T w_ext / F0
   S q_norm{0};              ///< |q|
 
-  /// The problem of `grasp` and `w_ext` written into `k` (every contact set), the scales into
-  /// this; the soft form's weight `delta_n` multiplies P and q (1 for the hard form). `bounds`:
-  /// a bound per contact on its normal force (N; infinity for none), or nullptr for none.
-  void fill(const GraspT& grasp, const Wrench<S>& w_ext, Lanes& k, S delta_n) {
+  /// The scales of `grasp` and `w_ext` (norm, force, weight) and b, without the contacts' data.
+  void scale(const GraspT& grasp, const Wrench<S>& w_ext) {
     norm = EquilibriumNorm<S>::of(grasp);
     S f0 = norm(w_ext), w0(0);
     for (int i = 0; i < grasp.size(); ++i) {
@@ -81,6 +79,13 @@ struct ForceProblem {
     force = f0 > S(0) && std::isfinite(f0) ? f0 : S(1);
     weight = w0 > S(0) ? w0 : S(1);
     b = -norm.to_units(w_ext) / force;
+  }
+
+  /// The problem of `grasp` and `w_ext` written into `k` (every contact set), the scales into
+  /// this; the soft form's weight `delta_n` multiplies P and q (1 for the hard form). `bounds`:
+  /// a bound per contact on its normal force (N; infinity for none), or nullptr for none.
+  void fill(const GraspT& grasp, const Wrench<S>& w_ext, Lanes& k, S delta_n) {
+    scale(grasp, w_ext);
     S qq(0);
     for (int i = 0; i < grasp.size(); ++i) {
       const auto& c = grasp.contact(i);

@@ -49,8 +49,7 @@ void least_residual_forces(const GraspT& grasp, const Wrench<typename GraspT::Sc
   const Wrench<S> t2 = norm.weights().cwiseAbs2();
   S gd(0);
   for (int j = 0; j < 6; ++j) gd = std::max(gd, gram_diagonal(j) * t2(j));
-  k.clear(grasp.size());
-  problem.fill(grasp, w_ext, k, S(1));  // the scales first
+  problem.scale(grasp, w_ext);  // the scales first
   const S delta_n = settings.least_residual_weight * gd * problem.weight;
   k.clear(grasp.size());
   problem.fill(grasp, w_ext, k, delta_n);
