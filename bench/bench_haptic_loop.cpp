@@ -304,8 +304,7 @@ struct RecordingFrameSolver : grip::ConstrainedFrameSolver<S> {
   template <class GraspT>
   grip::Solution<GraspT> operator()(const GraspT& grasp, const grip::Wrench<S>& w_ext) {
     static_assert(std::is_same<GraspT, RecordedSolve::GraspType>::value, "the pipeline's grasp type");
-    if (log != nullptr && grasp.size() > 0)
-      log->push_back({grasp, w_ext, grip::ConstrainedWarmStart<S>{warm, has_warm, certificate, has_certificate}});
+    if (log != nullptr && grasp.size() > 0) log->push_back({grasp, w_ext, warm});
     return grip::ConstrainedFrameSolver<S>::operator()(grasp, w_ext);
   }
 };

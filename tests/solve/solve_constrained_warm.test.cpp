@@ -139,9 +139,9 @@ TEST_CASE("ConstrainedFrameSolver carries a slip's certificate to the next frame
     const auto sol = solver(moved, w);
     const auto cold = solve_constrained(moved, w);
     REQUIRE(sol.status == Status::Infeasible);
-    CHECK(solver.has_certificate);
-    CHECK_FALSE(solver.has_warm);
-    grip_test::check_certificate(moved, w, solver.certificate);
+    CHECK(solver.warm.has_certificate);
+    CHECK_FALSE(solver.warm.has_multipliers);
+    grip_test::check_certificate(moved, w, solver.warm.certificate);
     if (frame > 0) faster += solver.passes < cold.passes ? 1 : 0;
   }
   CHECK(faster == 19);
@@ -149,6 +149,6 @@ TEST_CASE("ConstrainedFrameSolver carries a slip's certificate to the next frame
   // kept instead.
   const auto held = solver(g, Wrench<double>(Wrench<double>::Zero()));
   REQUIRE(held.status == Status::Ok);
-  CHECK(solver.has_warm);
-  CHECK_FALSE(solver.has_certificate);
+  CHECK(solver.warm.has_multipliers);
+  CHECK_FALSE(solver.warm.has_certificate);
 }

@@ -65,28 +65,26 @@ struct ConstrainedFrameSolver {
   static constexpr bool enforces_cones = true;
   /// Tolerances and bounds of every solve: solve_constrained's defaults.
   ConstrainedSettings<Scalar> settings{};
-  Wrench<Scalar> warm{Wrench<Scalar>::Zero()};         ///< multipliers of the last usable solve
-  bool has_warm{false};                                ///< whether `warm` holds any
-  Wrench<Scalar> certificate{Wrench<Scalar>::Zero()};  ///< the last solve's certificate, if Infeasible
-  bool has_certificate{false};                         ///< whether `certificate` holds one
+  /// The next solve's warm start: the last solve's multipliers (Ok or IterationLimit) or
+  /// certificate (Infeasible), each when finite; nothing before the first frame.
+  ConstrainedWarmStart<Scalar> warm{};
   int passes{0};      ///< passes over the contacts of the last solve (ConstrainedSolution::passes)
   int iterations{0};  ///< interior-point iterations of the last solve (0: the fast path or Newton answered)
 
   /// min F2 s.t. G x + w_ext = 0 and x_i in K_i for this frame's grasp (GraspT::ScalarType must be
-  /// Scalar), warm-started from `warm` when `has_warm` and from `certificate` when
-  /// `has_certificate` (ConstrainedWarmStart). Keeps for the next frame the multipliers of an Ok
-  /// or IterationLimit solve and the certificate of an Infeasible one, each when finite, and
+  /// Scalar), warm-started from `warm`. Keeps in `warm` for the next frame the multipliers of an
+  /// Ok or IterationLimit solve and the certificate of an Infeasible one, each when finite, and
   /// clears the other. Returns the Solution part.
   template <class GraspT>
   Solution<GraspT> operator()(const GraspT& grasp, const Wrench<Scalar>& w_ext) {
-    const ConstrainedWarmStart<Scalar> start{warm, has_warm, certificate, has_certificate};
-    const ConstrainedSolution<GraspT> sol = solve_constrained(grasp, w_ext, settings, start);
+    const ConstrainedSolution<GraspT> sol = solve_constrained(grasp, w_ext, settings, warm);
     passes = sol.passes;
     iterations = sol.iterations;
-    has_warm = (sol.status == Status::Ok || sol.status == Status::IterationLimit) && sol.multipliers.allFinite();
-    if (has_warm) warm = sol.multipliers;
-    has_certificate = sol.status == Status::Infeasible && sol.certificate.allFinite();
-    if (has_certificate) certificate = sol.certificate;
+    warm.has_multipliers =
+        (sol.status == Status::Ok || sol.status == Status::IterationLimit) && sol.multipliers.allFinite();
+    if (warm.has_multipliers) warm.multipliers = sol.multipliers;
+    warm.has_certificate = sol.status == Status::Infeasible && sol.certificate.allFinite();
+    if (warm.has_certificate) warm.certificate = sol.certificate;
     return sol;
   }
 };
