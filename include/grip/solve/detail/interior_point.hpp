@@ -77,8 +77,8 @@ struct InteriorPointResult {
 /// LDL^T of the symmetric positive (semi)definite 6 x 6 matrix m in natural order, with pivots
 /// floored at `floor` (a pivot at or below it, from rank deficiency or rounding, is replaced by
 /// it: the solve then stays finite and the iteration's next residuals correct the direction).
-/// Every loop has a trip count known at compile time (the columns are a template parameter), so
-/// the factorisation and its solves compile to straight-line code.
+/// Where the build optimises for speed, every loop unrolls into straight-line code (GRIP_UNROLL);
+/// for size (-Os) they stay loops.
 template <class S>
 struct Ldlt6 {
   S l[6][6];   ///< L below the diagonal (unit diagonal)
@@ -86,61 +86,40 @@ struct Ldlt6 {
   S inv_d[6];  ///< 1 / D
   /// Factors m (full storage). False if a pivot is not finite.
   GRIP_ALWAYS_INLINE bool factor(const Matrix6<S>& m, S floor) {
-    column<0>(m, floor);
-    column<1>(m, floor);
-    column<2>(m, floor);
-    column<3>(m, floor);
-    column<4>(m, floor);
-    column<5>(m, floor);
+    GRIP_UNROLL(6)
+    for (int j = 0; j < 6; ++j) {
+      S w[6];  // L(j, k) d_k for k < j
+      S dj = m(j, j);
+      for (int k = 0; k < j; ++k) {
+        w[k] = l[j][k] * d[k];
+        dj -= w[k] * l[j][k];
+      }
+      if (!(dj > floor)) dj = floor;
+      d[j] = dj;
+      inv_d[j] = S(1) / dj;
+      for (int i = j + 1; i < 6; ++i) {
+        S v = m(i, j);
+        for (int k = 0; k < j; ++k) v -= l[i][k] * w[k];
+        l[i][j] = v * inv_d[j];
+      }
+    }
     // A NaN pivot is floored above (the comparison fails), so only +inf is left to catch.
     return std::isfinite(d[0] + d[1] + d[2] + d[3] + d[4] + d[5]);
   }
-  /// m^-1 b.
+  /// m^-1 b. Each unknown subtracts the ones before it in the order they were found, the newest
+  /// last: the chain from one unknown to the next is then one multiply-add long.
   GRIP_ALWAYS_INLINE Wrench<S> solve(const Wrench<S>& b) const {
     S x[6] = {b(0), b(1), b(2), b(3), b(4), b(5)};
-    forward<1>(x);
-    forward<2>(x);
-    forward<3>(x);
-    forward<4>(x);
-    forward<5>(x);
+    GRIP_UNROLL(6)
+    for (int i = 1; i < 6; ++i)
+      for (int k = 0; k < i; ++k) x[i] -= l[i][k] * x[k];
     for (int i = 0; i < 6; ++i) x[i] *= inv_d[i];
-    backward<4>(x);
-    backward<3>(x);
-    backward<2>(x);
-    backward<1>(x);
-    backward<0>(x);
+    GRIP_UNROLL(6)
+    for (int i = 4; i >= 0; --i)
+      for (int k = 5; k > i; --k) x[i] -= l[k][i] * x[k];
     Wrench<S> out;
     for (int i = 0; i < 6; ++i) out(i) = x[i];
     return out;
-  }
-
- private:
-  template <int j>
-  GRIP_ALWAYS_INLINE void column(const Matrix6<S>& m, S floor) {
-    S w[j > 0 ? j : 1];  // L(j, k) d_k for k < j
-    S dj = m(j, j);
-    for (int k = 0; k < j; ++k) {
-      w[k] = l[j][k] * d[k];
-      dj -= w[k] * l[j][k];
-    }
-    if (!(dj > floor)) dj = floor;
-    d[j] = dj;
-    inv_d[j] = S(1) / dj;
-    for (int i = j + 1; i < 6; ++i) {
-      S v = m(i, j);
-      for (int k = 0; k < j; ++k) v -= l[i][k] * w[k];
-      l[i][j] = v * inv_d[j];
-    }
-  }
-  // Each x[k] is subtracted in the order it was computed, the newest last: the chain from one
-  // unknown to the next is then one multiply-add long.
-  template <int i>
-  GRIP_ALWAYS_INLINE void forward(S* x) const {
-    for (int k = 0; k < i; ++k) x[i] -= l[i][k] * x[k];
-  }
-  template <int i>
-  GRIP_ALWAYS_INLINE void backward(S* x) const {
-    for (int k = 5; k > i; --k) x[i] -= l[k][i] * x[k];
   }
 };
 
