@@ -106,8 +106,7 @@ struct Ldlt6 {
     // A NaN pivot is floored above (the comparison fails), so only +inf is left to catch.
     return std::isfinite(d[0] + d[1] + d[2] + d[3] + d[4] + d[5]);
   }
-  /// m^-1 b. Each unknown subtracts the ones before it in the order they were found, the newest
-  /// last: the chain from one unknown to the next is then one multiply-add long.
+  /// m^-1 b.
   GRIP_ALWAYS_INLINE Wrench<S> solve(const Wrench<S>& b) const {
     S x[6] = {b(0), b(1), b(2), b(3), b(4), b(5)};
     GRIP_UNROLL(6)
@@ -116,7 +115,7 @@ struct Ldlt6 {
     for (int i = 0; i < 6; ++i) x[i] *= inv_d[i];
     GRIP_UNROLL(6)
     for (int i = 4; i >= 0; --i)
-      for (int k = 5; k > i; --k) x[i] -= l[k][i] * x[k];
+      for (int k = i + 1; k < 6; ++k) x[i] -= l[k][i] * x[k];
     Wrench<S> out;
     for (int i = 0; i < 6; ++i) out(i) = x[i];
     return out;
