@@ -32,8 +32,8 @@ PredictSums<S> ConicLanes<S, D, Cap>::predict_impl(const Wrench<S>& y1, const Wr
   P acc[nacc];
   for (P& e : acc) e = zero;
   P step = inf;
-  for (int b = 0; b < this->blocks_; ++b) {
-    const int o = b * width;
+  for_each_block<single, width>(this->blocks_, [&](int o, auto first) GRIP_BLOCK_BODY {
+    constexpr bool First = decltype(first)::value;
     const Mask valid = P::first(this->n_ - o);
     const auto a = load_map(o);
     const Vec p = load(this->p_, o), q = load(this->q_, o), u = load(this->u_, o), z = load(this->z_, o),
@@ -56,7 +56,7 @@ PredictSums<S> ConicLanes<S, D, Cap>::predict_impl(const Wrench<S>& y1, const Wr
         const P e = u2[0] - b0.c;
         sq = mul_add(b0.hb * e, e, sq);
       }
-      acc[23] = acc[23] + select(valid, sq, zero);
+      lane_add<First>(acc[23], select(valid, sq, zero));
     }
     Vec du = sym_apply(bi, minus_transpose(Block::template predictor_rhs<Bounded>(rx, z, b0.hb, b0.s, b0.rb), a, py1));
     for (int k = 0; k < D; ++k) du[k] = mul_add(pdt, u2[k], du[k]);
@@ -72,7 +72,7 @@ PredictSums<S> ConicLanes<S, D, Cap>::predict_impl(const Wrench<S>& y1, const Wr
     store(this->du_, o, du);
     store(this->dz_, o, dz);
     step = min(step, Block::template step_length<Bounded>(u, frame.det_u, du, z, frame.det_z, dz, b0, ds, dt, valid));
-    const auto add = [&](int j, P v) { acc[j] = acc[j] + select(valid, v, zero); };
+    const auto add = [&](int j, P v) { lane_add<First>(acc[j], select(valid, v, zero)); };
     P g1 = cone_dot<P, D>(u, dz) + cone_dot<P, D>(du, z), g2 = cone_dot<P, D>(du, dz);
     if constexpr (Bounded) {
       g1 = g1 + mul_add(b0.s, dt, ds * b0.t);
@@ -102,7 +102,7 @@ PredictSums<S> ConicLanes<S, D, Cap>::predict_impl(const Wrench<S>& y1, const Wr
     const Vec cg = Block::template gradient_row<Bounded>(p, q, u, itau2, b0.c, b0.hb);
     for (int j = 0; j < 3; ++j) {
       const Vec f = sym_apply(bi, g[j]);
-      for (int r = 0; r < 6; ++r) acc[6 * j + r] = acc[6 * j + r] + cone_dot<P, D>(a[r], f);
+      for (int r = 0; r < 6; ++r) lane_add<First>(acc[6 * j + r], cone_dot<P, D>(a[r], f));
       add(24 + j, cone_dot<P, D>(cg, f));
     }
     if constexpr (Bounded) {
@@ -111,7 +111,7 @@ PredictSums<S> ConicLanes<S, D, Cap>::predict_impl(const Wrench<S>& y1, const Wr
       add(19, b0.c * b0.hb * b0.rb);
       add(20, zero - b0.c * b0.is);
     }
-  }
+  });
   const Totals<nacc> tot(acc);
   PredictSums<S> out;
   for (int j = 0; j < 3; ++j) {

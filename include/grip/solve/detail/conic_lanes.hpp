@@ -27,6 +27,7 @@
 #include <Eigen/Core>
 
 #include "grip/core/simd.hpp"
+#include "grip/core/simd_blocks.hpp"
 #include "grip/core/types.hpp"
 #include "grip/solve/detail/cone_blocks.hpp"
 #include "grip/solve/detail/cone_packs.hpp"
@@ -73,6 +74,8 @@ class ConicLanes : public ConicStorage<S, D, Cap> {
   using Base::width;
   using Base::stride;
   using Base::tri;
+  /// True when the contacts always fit one block of lanes (for_each_block's Single).
+  static constexpr bool single = stride == width;
 
   /// `contacts` cones (at most Cap), all inert (A = 0, P = 1, q = 0, no bound) until set().
   explicit ConicLanes(int contacts) : Base(contacts) {}
@@ -146,8 +149,8 @@ class ConicLanes : public ConicStorage<S, D, Cap> {
     for (P& e : acc) e = zero;
     P cert = inf;
     bool ok = true;
-    for (int b = 0; b < this->blocks_; ++b) {
-      const int o = b * width;
+    for_each_block<single, width>(this->blocks_, [&](int o, auto first) GRIP_BLOCK_BODY {
+      constexpr bool First = decltype(first)::value;
       const Mask valid = P::first(this->n_ - o);
       Vec u = load(this->u_, o), z = load(this->z_, o);
       P s = P::load(&this->s_[idx(o)]), t = P::load(&this->t_[idx(o)]);
@@ -209,9 +212,9 @@ class ConicLanes : public ConicStorage<S, D, Cap> {
                 fp = sym_apply(bi, Block::template predictor_rhs<Bounded>(rx, z, hb, bs, rb));
       const Vec cgt = Block::template gradient_row<Bounded>(p, q, u, itau2, cb, hb);
       const Vec fc = sym_apply(bi, cgt);
-      for (int r = 0; r < 6; ++r) acc[48 + r] = acc[48 + r] + cone_dot<P, D>(a[r], fc);
-      acc[54] = acc[54] + select(valid, cone_dot<P, D>(cgt, fq), zero);
-      acc[55] = acc[55] + select(valid, cone_dot<P, D>(cgt, fp), zero);
+      for (int r = 0; r < 6; ++r) lane_add<First>(acc[48 + r], cone_dot<P, D>(a[r], fc));
+      lane_add<First>(acc[54], select(valid, cone_dot<P, D>(cgt, fq), zero));
+      lane_add<First>(acc[55], select(valid, cone_dot<P, D>(cgt, fp), zero));
       // A B^-1 (for S), A u and the forward sums.
       P ab[6][D];
       for (int r = 0; r < 6; ++r)
@@ -222,17 +225,16 @@ class ConicLanes : public ConicStorage<S, D, Cap> {
         }
       int e = 6;
       for (int r = 0; r < 6; ++r) {
-        acc[r] = acc[r] + cone_dot<P, D>(a[r], u);
-        acc[27 + r] = acc[27 + r] + cone_dot<P, D>(a[r], fq);
-        acc[33 + r] = acc[33 + r] + cone_dot<P, D>(a[r], fp);
+        lane_add<First>(acc[r], cone_dot<P, D>(a[r], u));
+        lane_add<First>(acc[27 + r], cone_dot<P, D>(a[r], fq));
+        lane_add<First>(acc[33 + r], cone_dot<P, D>(a[r], fp));
         for (int l = r; l < 6; ++l, ++e) {
-          P v = acc[e];
-          for (int j = 0; j < D; ++j) v = mul_add(ab[r][j], a[l][j], v);
-          acc[e] = v;
+          lane_add_mul<First>(acc[e], ab[r][0], a[l][0]);
+          for (int j = 1; j < D; ++j) acc[e] = mul_add(ab[r][j], a[l][j], acc[e]);
         }
       }
       // Scalars, masked to the contacts.
-      const auto add = [&](int j, P v) { acc[j] = acc[j] + select(valid, v, zero); };
+      const auto add = [&](int j, P v) { lane_add<First>(acc[j], select(valid, v, zero)); };
       add(40, cone_dot<P, D>(u, pu));
       add(41, cone_dot<P, D>(q, u));
       add(44, cone_dot<P, D>(rx, rx));
@@ -249,7 +251,7 @@ class ConicLanes : public ConicStorage<S, D, Cap> {
         add(46, metric_norm(o, u));
         add(47, cone_dot<P, D>(z, z));
       }
-    }
+    });
     const Totals<nacc> tot(acc);
     AssembleSums<S> out;
     int e = 6;

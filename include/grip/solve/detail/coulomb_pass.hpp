@@ -35,6 +35,7 @@
 #include "grip/contact/contact_model.hpp"
 #include "grip/core/scalar_traits.hpp"
 #include "grip/core/simd.hpp"
+#include "grip/core/simd_blocks.hpp"
 #include "grip/core/types.hpp"
 
 namespace grip {
@@ -196,7 +197,10 @@ class CoulombPassTable {
             l5 = P::set1(l(5));
     P acc[sums];
     for (P& a : acc) a = zero;
-    for (int i = 0; i < rows_; i += P::width) {
+    // The first block writes the sums (core/simd_blocks.hpp: Peel) where a pack has several
+    // lanes; a one-lane pack's sums are single scalars, with nothing to save.
+    for_each_block<max_rows == block, block, (block > 1)>(rows_ / block, [&](int i, auto first) GRIP_BLOCK_BODY {
+      constexpr bool First = decltype(first)::value;
       const P rx = P::load(rx_.data() + i), ry = P::load(ry_.data() + i), rz = P::load(rz_.data() + i);
       const P ax = P::load(ax_.data() + i), ay = P::load(ay_.data() + i), az = P::load(az_.data() + i);
       const P m = P::load(mu_.data() + i), ku = P::load(ku_.data() + i), k = P::load(k_.data() + i),
@@ -225,28 +229,28 @@ class CoulombPassTable {
       px.store(x.x.data() + i);
       py.store(x.y.data() + i);
       pz.store(x.z.data() + i);
-      acc[0] = acc[0] + px;
-      acc[1] = acc[1] + py;
-      acc[2] = acc[2] + pz;
-      acc[3] = acc[3] + (ry * pz - rz * py);
-      acc[4] = acc[4] + (rz * px - rx * pz);
-      acc[5] = acc[5] + (rx * py - ry * px);
+      lane_add<First>(acc[0], px);
+      lane_add<First>(acc[1], py);
+      lane_add<First>(acc[2], pz);
+      lane_add<First>(acc[3], ry * pz - rz * py);
+      lane_add<First>(acc[4], rz * px - rx * pz);
+      lane_add<First>(acc[5], rx * py - ry * px);
       const P dx = px - s * ax, dy = py - s * ay, dz = pz - s * az;
-      acc[6] = acc[6] + P::load(w_.data() + i) * (dx * dx + dy * dy + dz * dz);
-      acc[7] = acc[7] + (px * px + py * py + pz * pz);
+      lane_add<First>(acc[6], P::load(w_.data() + i) * (dx * dx + dy * dy + dz * dz));
+      lane_add<First>(acc[7], px * px + py * py + pz * pz);
       // Interior: k G G^T in GramAccumulator's closed form.
       const P ki = select(inside, k, zero);
       const P kx = ki * rx, ky = ki * ry, kz = ki * rz;
-      acc[8] = acc[8] + ki;
-      acc[9] = acc[9] + kx;
-      acc[10] = acc[10] + ky;
-      acc[11] = acc[11] + kz;
-      acc[12] = acc[12] + (ky * ry + kz * rz);
-      acc[13] = acc[13] + (kx * rx + kz * rz);
-      acc[14] = acc[14] + (kx * rx + ky * ry);
-      acc[15] = acc[15] - kx * ry;
-      acc[16] = acc[16] - kx * rz;
-      acc[17] = acc[17] - ky * rz;
+      lane_add<First>(acc[8], ki);
+      lane_add<First>(acc[9], kx);
+      lane_add<First>(acc[10], ky);
+      lane_add<First>(acc[11], kz);
+      lane_add<First>(acc[12], ky * ry + kz * rz);
+      lane_add<First>(acc[13], kx * rx + kz * rz);
+      lane_add<First>(acc[14], kx * rx + ky * ry);
+      lane_sub_mul<First>(acc[15], kx, ry);
+      lane_sub_mul<First>(acc[16], kx, rz);
+      lane_sub_mul<First>(acc[17], ky, rz);
       // Boundary part: k beta g_b g_b^T + k ku g_d g_d^T; e = v_t/|v_t| (0 elsewhere, so that
       // every term stays finite).
       const auto dir = boundary & pos;
@@ -262,9 +266,12 @@ class CoulombPassTable {
       GRIP_UNROLL(6)
       for (int r = 0; r < 6; ++r) {
         GRIP_UNROLL(6)
-        for (int c = r; c < 6; ++c, ++e) acc[e] = mul_add(cb * gb[r], gb[c], mul_add(cd * gd[r], gd[c], acc[e]));
+        for (int c = r; c < 6; ++c, ++e) {
+          lane_add_mul<First>(acc[e], cd * gd[r], gd[c]);
+          acc[e] = mul_add(cb * gb[r], gb[c], acc[e]);
+        }
       }
-    }
+    });
     // The sums across the lanes (a one-lane pack is its own sum: no copy on the stack).
     S lanes[P::width > 1 ? sums : 1];
     if constexpr (P::width > 1) P::sum_each(acc, sums, lanes);
