@@ -63,8 +63,10 @@ const char* run(Bytes& b) {
     c.torsional_friction = field<S>(b, S(0.01f));
     c.squeeze = field<S>(b, S(1));
     c.weight = field<S>(b, S(1));
-    const bool valid = grip_hostile::contact_valid(c);
     const grip::Status st = GraspT::fixed_size == grip::Dynamic ? g.add(c) : g.set(i, c);
+    // At the normal's tolerance edge the verdict is the library's rounding (either is right).
+    const bool valid =
+        grip_hostile::normal_on_tolerance_edge(c) ? st == grip::Status::Ok : grip_hostile::contact_valid(c);
     if ((st == grip::Status::Ok) != valid) return "Grasp::set/add disagrees with the oracle";
     if (!valid && GraspT::fixed_size != grip::Dynamic) e.contacts_valid = false;
   }

@@ -43,6 +43,16 @@ bool contact_valid(const grip::Contact<S>& c) {
   if (c.weight < T::min_weight) return false;
   return std::fabs(n2 - 1.0L) <= 2.0L * static_cast<long double>(T::normal_tolerance);
 }
+/// True when c's |normal|^2 - 1 lies within rounding of the tolerance's edge (eight units of
+/// S's round-off of it): computed in S, as validate() does, the verdict there may go either way,
+/// so an oracle takes the library's.
+template <class S>
+bool normal_on_tolerance_edge(const grip::Contact<S>& c) {
+  long double n2 = 0;
+  for (int k = 0; k < 3; ++k) n2 += static_cast<long double>(c.normal(k)) * static_cast<long double>(c.normal(k));
+  const long double edge = 2.0L * static_cast<long double>(grip::ScalarTraits<S>::normal_tolerance);
+  return std::fabs(std::fabs(n2 - 1.0L) - edge) <= 8.0L * static_cast<long double>(std::numeric_limits<S>::epsilon());
+}
 template <class S>
 bool wrench_valid(const grip::Wrench<S>& w) {
   for (int k = 0; k < 6; ++k)
