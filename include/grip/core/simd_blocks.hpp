@@ -1,18 +1,19 @@
 #pragma once
 /// \file
 /// A pass over contacts held in blocks of SIMD lanes (core/simd.hpp) that sums per lane
-/// (namespace grip::detail). When the contacts fit one block, the usual small grasp, the block
-/// writes each per-lane sum instead of adding it to a cleared one: the pass then neither reads
-/// nor adds its sums. Passes over more blocks add every block to cleared sums (unless Peel).
+/// (namespace grip::detail). Where the contacts always fit one block (a capacity of one pack,
+/// the usual small grasp), the block writes each per-lane sum instead of adding it to a cleared
+/// one: the pass then neither reads nor adds its sums. Otherwise every block adds to cleared
+/// sums, unless Peel.
 ///
-/// - for_each_block<Single, Width, Peel>(blocks, body): body(0, std::true_type) when blocks is
-///   1, else body(o, std::false_type) for o = 0, Width, ..., (blocks - 1) Width; with Peel, the
-///   block at 0 takes the first form whatever the count (for a small body: a large one is kept
-///   to one form over several blocks, since two copies of it cost more in instruction fetch
-///   than the sums save). Single (every call has at most one block: the capacity fits one
-///   pack) compiles the first form alone. Where the build optimises for size (-Os,
-///   __OPTIMIZE_SIZE__: a microcontroller's flash) every block takes the second form, so the
-///   body is compiled once. The caller clears its sums first in every build.
+/// - for_each_block<Single, Width, Peel>(blocks, body): Single (every call has at most one
+///   block) compiles body(0, std::true_type) alone, called when blocks is 1. Otherwise
+///   body(o, std::false_type) for o = 0, Width, ..., (blocks - 1) Width, except that with Peel
+///   the block at 0 takes the first form (for a small body: a large one is kept to one form,
+///   since two copies of it cost more, in instruction fetch and in compile time and memory, than
+///   the sums save). Where the build optimises for size (-Os, __OPTIMIZE_SIZE__: a
+///   microcontroller's flash) every block takes the second form, so the body is compiled once.
+///   The caller clears its sums first in every build.
 /// - lane_add<First>(sum, v): sum = v when First, sum + v otherwise.
 /// - lane_add_mul<First>(sum, a, b): sum = a b when First, sum + a b (one rounding, mul_add)
 ///   otherwise.
@@ -69,13 +70,12 @@ inline GRIP_BLOCK_BODY void for_each_block(int blocks, Body&& body) {
 #if !defined(__OPTIMIZE_SIZE__)
   if constexpr (Single) {
     if (blocks > 0) body(0, std::true_type{});
+  } else if constexpr (Peel) {
+    if (blocks <= 0) return;
+    body(0, std::true_type{});
+    for (int b = 1; b < blocks; ++b) body(b * Width, std::false_type{});
   } else {
-    int b = 0;
-    if (blocks == 1 || (Peel && blocks > 1)) {
-      body(0, std::true_type{});
-      b = 1;
-    }
-    for (; b < blocks; ++b) body(b * Width, std::false_type{});
+    for (int b = 0; b < blocks; ++b) body(b * Width, std::false_type{});
   }
 #else
   for (int b = 0; b < blocks; ++b) body(b * Width, std::false_type{});
