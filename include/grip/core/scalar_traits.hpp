@@ -34,6 +34,9 @@ struct ScalarTraits<double> {
   /// The interior-point method's gap where Newton's refinement takes over (solve_constrained;
   /// the residuals to its square).
   static constexpr double interior_handover = 1e-3;
+  /// The interior-point method's boundary test (solve_constrained): an iterate that meets the
+  /// residual tolerances with tau below this fraction of its largest value is the answer.
+  static constexpr double interior_boundary = 1e-3;
   /// The fraction of the largest step into the cones that the interior-point method takes: near
   /// the boundary float computes that step to a few of its last places only.
   static constexpr double interior_step = 0.99;
@@ -72,6 +75,9 @@ struct ScalarTraits<float> {
   /// The interior-point method's gap where Newton's refinement takes over (solve_constrained;
   /// the residuals to its square).
   static constexpr float interior_handover = 1e-3f;
+  /// The interior-point method's boundary test (solve_constrained): an iterate that meets the
+  /// residual tolerances with tau below this fraction of its largest value is the answer.
+  static constexpr float interior_boundary = 1e-3f;
   /// The fraction of the largest step into the cones that the interior-point method takes: near
   /// the boundary float computes that step to a few of its last places only.
   static constexpr float interior_step = 0.95f;

@@ -18,6 +18,7 @@
 /// - ConstrainedFrameSolver: the optimum with every force inside its exact cone (and below its
 ///   contact's max_normal_force), warm-started from the previous frame.
 
+#include "grip/contact/contact.hpp"
 #include "grip/core/status.hpp"
 #include "grip/core/types.hpp"
 #include "grip/solve/constrained_settings.hpp"
@@ -66,24 +67,26 @@ struct ConstrainedFrameSolver {
   /// Tolerances and bounds of every solve: solve_constrained's defaults.
   ConstrainedSettings<Scalar> settings{};
   /// The next solve's warm start: the last solve's multipliers (Ok or IterationLimit) or
-  /// certificate (Infeasible), each when finite; nothing before the first frame.
+  /// certificate (Infeasible), each when within ScalarTraits::max_magnitude (what
+  /// solve_constrained accepts); nothing before the first frame.
   ConstrainedWarmStart<Scalar> warm{};
   int passes{0};      ///< passes over the contacts of the last solve (ConstrainedSolution::passes)
   int iterations{0};  ///< interior-point iterations of the last solve (0: the fast path or Newton answered)
 
   /// min F2 s.t. G x + w_ext = 0 and x_i in K_i for this frame's grasp (GraspT::ScalarType must be
   /// Scalar), warm-started from `warm`. Keeps in `warm` for the next frame the multipliers of an
-  /// Ok or IterationLimit solve and the certificate of an Infeasible one, each when finite, and
-  /// clears the other. Returns the Solution part.
+  /// Ok or IterationLimit solve and the certificate of an Infeasible one, each when within
+  /// range (a warm start out of range would make the next solve InvalidInput), and clears the
+  /// other. Returns the Solution part.
   template <class GraspT>
   Solution<GraspT> operator()(const GraspT& grasp, const Wrench<Scalar>& w_ext) {
     const ConstrainedSolution<GraspT> sol = solve_constrained(grasp, w_ext, settings, warm);
     passes = sol.passes;
     iterations = sol.iterations;
     warm.has_multipliers =
-        (sol.status == Status::Ok || sol.status == Status::IterationLimit) && sol.multipliers.allFinite();
+        (sol.status == Status::Ok || sol.status == Status::IterationLimit) && detail::all_in_range(sol.multipliers);
     if (warm.has_multipliers) warm.multipliers = sol.multipliers;
-    warm.has_certificate = sol.status == Status::Infeasible && sol.certificate.allFinite();
+    warm.has_certificate = sol.status == Status::Infeasible && detail::all_in_range(sol.certificate);
     if (warm.has_certificate) warm.certificate = sol.certificate;
     return sol;
   }

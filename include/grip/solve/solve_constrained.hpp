@@ -228,6 +228,7 @@ EIGEN_DONT_INLINE void solve_constrained_iterate(const GraspT& grasp, const Wren
   ip.feasibility_tolerance = newton_passes > 0 ? std::max(interior, handover * handover) : interior;
   ip.certificate_tolerance = settings.certificate_tolerance;
   ip.max_iterations = settings.max_iterations - 1;
+  ip.boundary_answer = newton_passes == 0;  // not at the handover: Newton refines from there
   ip.cost_offset = problem.cost_offset(grasp);
   ip.residual_floor = problem.squeeze_scale(grasp);
   InteriorPointResult<S> r = interior_point(k, problem.b, problem.q_norm, ip);
@@ -246,6 +247,7 @@ EIGEN_DONT_INLINE void solve_constrained_iterate(const GraspT& grasp, const Wren
   if (r.status == Status::Ok && (ip.tolerance > interior || ip.feasibility_tolerance > interior)) {
     // 4. Not refined from the handover: the interior-point method goes on to its own tolerance.
     ip.tolerance = ip.feasibility_tolerance = interior;
+    ip.boundary_answer = true;
     const int before = r.iterations, back = r.backtracks;
     r = interior_point(k, problem.b, problem.q_norm, ip, &r);
     sol.iterations = r.iterations;

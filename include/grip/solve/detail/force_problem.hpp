@@ -67,6 +67,10 @@ struct ForceProblem {
   S weight{1};              ///< W0
   Wrench<S> b;              ///< -T w_ext / F0
   S q_norm{0};              ///< |q|
+  /// Set by fill: every contact's q_i - A_i^T b lies in Q, so u = 0 minimises the soft form
+  /// (its gradient there is q - A^T b, and u = 0 is optimal over the cones iff that lies in
+  /// their dual, Q itself). Meaningful for the soft form only.
+  bool origin_optimal{false};
 
   /// The scales of `grasp` and `w_ext` (norm, force, weight) and b, without the contacts' data.
   void scale(const GraspT& grasp, const Wrench<S>& w_ext) {
@@ -81,12 +85,13 @@ struct ForceProblem {
     b = -norm.to_units(w_ext) / force;
   }
 
-  /// The problem of `grasp` and `w_ext` written into `k` (every contact set), the scales into
-  /// this; the soft form's weight `delta_n` multiplies P and q (1 for the hard form). `bounds`:
-  /// a bound per contact on its normal force (N; infinity for none), or nullptr for none.
+  /// The problem of `grasp` and `w_ext` written into `k` (every contact set), the scales and
+  /// origin_optimal into this; the soft form's weight `delta_n` multiplies P and q (1 for the
+  /// hard form). Each contact's bound on its normal force is its max_normal_force.
   void fill(const GraspT& grasp, const Wrench<S>& w_ext, Lanes& k, S delta_n) {
     scale(grasp, w_ext);
     S qq(0);
+    origin_optimal = true;
     for (int i = 0; i < grasp.size(); ++i) {
       const auto& c = grasp.contact(i);
       const Eigen::Matrix<S, D, D> m = cone_coordinates<M>(c);
@@ -103,6 +108,12 @@ struct ForceProblem {
       }
       q(0) = -delta_n * w * c.squeeze / force;
       qq += q(0) * q(0);
+      const Eigen::Matrix<S, D, 1> g = q - a.transpose() * b;  // the soft form's gradient at u = 0
+      if constexpr (D == 1) {
+        origin_optimal = origin_optimal && g(0) >= S(0);
+      } else {
+        origin_optimal = origin_optimal && g(0) >= g.template tail<D - 1>().norm();
+      }
       const S bound = c.max_normal_force;
       k.set(i, a, p, q, bound < std::numeric_limits<S>::infinity() ? bound / force : bound, metric);
     }

@@ -20,8 +20,12 @@
 /// variable in its cone.
 ///
 /// It stops at the first iterate that is optimal to the tolerance (the residuals relative to the
-/// data and the iterate, and the gap relative to the objective, all below it), or, in the hard
-/// form, that carries an infeasibility certificate to `certificate_tolerance`: b^T y < 0 with
+/// data and the iterate, and the gap relative to the objective, all below it); with
+/// `boundary_answer`, at one that meets the residual tolerances while tau has fallen below
+/// ScalarTraits::interior_boundary times its largest value (Ok: a load on the boundary of the
+/// feasible set, where no strictly feasible point exists, sends tau and kappa both toward zero
+/// and the dual iterate along an unbounded ray, so that the gap stops closing); or, in the hard
+/// form, at one that carries an infeasibility certificate to `certificate_tolerance`: b^T y < 0 with
 /// min_i margin(A_i^T y) >= -certificate_tolerance |b^T y|, so that no x in the cones with
 /// sum_i |u_i| below about 1 / certificate_tolerance (the problem's data being normalised to
 /// 1) satisfies A x = b.
@@ -56,6 +60,7 @@ struct InteriorPointSettings {
   S cost_offset{0};                  ///< a constant of the objective (the gap's relative test counts it)
   S residual_floor{0};               ///< added to |b| + |x| as the rows' residual scale (the targets' size)
   S objective_floor{0};              ///< the gap's scale is max(|objective|, objective_floor) (an absolute floor)
+  bool boundary_answer{false};       ///< hard form: stop Ok on the boundary of feasibility (see the file comment)
 };
 
 /// What the interior-point method returns.
@@ -148,6 +153,7 @@ InteriorPointResult<S> interior_point(Lanes& k, const Wrench<S>& b, S q_norm, co
   Wrench<S> last_dy = Wrench<S>::Zero(), last_dr = Wrench<S>::Zero();
   S last_dtau(0), last_dkappa(0);
   constexpr int max_backtracks = 4;
+  S tau_max = tau;  // the largest tau of the run, for the boundary test
   for (int it = out.iterations;; ++it) {
     out.iterations = it;
     AssembleSums<S> a = k.assemble(alpha, y, tau);
@@ -194,7 +200,9 @@ InteriorPointResult<S> interior_point(Lanes& k, const Wrench<S>& b, S q_norm, co
     // to max(1, objective): F2 in the problem's units spans many orders of magnitude.
     const S gap = std::abs(pcost - dcost) /
                   std::max(std::max(std::abs(pcost), std::abs(dcost)), std::max(st.objective_floor, eps));
-    if (res_p <= st.feasibility_tolerance && res_d <= st.feasibility_tolerance && gap <= st.tolerance) {
+    tau_max = std::max(tau_max, tau);
+    const bool boundary = st.boundary_answer && !st.soft && tau <= S(ScalarTraits<S>::interior_boundary) * tau_max;
+    if (res_p <= st.feasibility_tolerance && res_d <= st.feasibility_tolerance && (gap <= st.tolerance || boundary)) {
       out.status = Status::Ok;
       break;
     }

@@ -2,9 +2,10 @@
 /// \file
 /// solve_constrained's answer for a grasp that slips (namespace grip::detail): its certificate
 /// and the least-residual forces, the minimiser of |G x + w_ext|_L^2/2 + delta F2(x) over the
-/// cones (and bounds), found by the interior-point method on the problem's soft form
-/// (interior_point.hpp). Also the scaling of an iterate's forces into their bounds, shared with
-/// the answer that the bound on iterations cuts.
+/// cones (and bounds): zero forces where the load pulls the object off every contact (checked in
+/// closed form: the objective's gradient at zero lies in the cones' dual), else the interior-point
+/// method on the problem's soft form (interior_point.hpp). Also the scaling of an iterate's
+/// forces into their bounds, shared with the answer that the bound on iterations cuts.
 
 #include <algorithm>
 #include <limits>
@@ -53,6 +54,15 @@ void least_residual_forces(const GraspT& grasp, const Wrench<typename GraspT::Sc
   const S delta_n = settings.least_residual_weight * gd * problem.weight;
   k.clear(grasp.size());
   problem.fill(grasp, w_ext, k, delta_n);
+  sol.multipliers.setZero();
+  sol.status = Status::Infeasible;
+  if (problem.origin_optimal) {
+    // No force lowers the objective: the load pulls the object off every contact by more than
+    // delta F2 pulls the forces toward the squeezing forces. Zero forces are the minimiser.
+    sol.forces.setZero(grasp.unknowns());
+    sol.passes += 1;
+    return;
+  }
   InteriorPointSettings<S> lr;
   lr.tolerance = std::max(S(ScalarTraits<S>::interior_tolerance), settings.tolerance);
   lr.feasibility_tolerance = lr.tolerance;  // the answer's accuracy is the interior-point method's
@@ -69,8 +79,6 @@ void least_residual_forces(const GraspT& grasp, const Wrench<typename GraspT::Sc
   // forces, whose residual is w_ext itself.
   if (!sol.forces.allFinite()) sol.forces.setZero(grasp.unknowns());
   keep_within_bounds(grasp, sol.forces);
-  sol.multipliers.setZero();
-  sol.status = Status::Infeasible;
 }
 
 /// An Infeasible answer in `sol`: `certificate` (of dual norm 1) and the least-residual forces,
