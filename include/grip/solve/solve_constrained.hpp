@@ -71,7 +71,9 @@ namespace grip {
 ///   the last iterate's, in the cones, `multipliers` its, `residual` what is left.
 /// - InvalidInput: incomplete grasp, bad w_ext, bad settings or a non-finite warm start: zeros.
 /// A grasp matrix of rank < 6 is not an error here: the answer is Ok if the wrench can still be
-/// balanced inside the cones, Infeasible (with a certificate) otherwise.
+/// balanced inside the cones, Infeasible (with a certificate) otherwise; a wrench with a part
+/// outside G's range is Infeasible before any Newton pass or interior-point iteration (its
+/// certificate in closed form: detail/certificate.hpp), then the least-residual forces.
 template <class GraspT>
 ConstrainedSolution<GraspT> solve_constrained(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
                                               const ConstrainedSettings<typename GraspT::ScalarType>& settings =
@@ -181,6 +183,7 @@ EIGEN_DONT_INLINE void solve_constrained_iterate(const GraspT& grasp, const Wren
   using S = typename GraspT::ScalarType;
   using Problem = ForceProblem<GraspT>;
   const int m = grasp.unknowns();
+  const bool singular = sol.status == Status::Singular;  // the fast path's verdict on G W^-1 G^T
   sol.forces.resize(m);
   sol.certificate.setZero();
   sol.dual_objective = S(0);
@@ -196,10 +199,12 @@ EIGEN_DONT_INLINE void solve_constrained_iterate(const GraspT& grasp, const Wren
   const int newton_passes = bounded && GraspT::dim == 4 ? 0 : settings.newton_passes;
   typename Problem::Lanes k(grasp.size());
   Problem problem;
-  // 0. The previous frame's certificate, where it still proves that the grasp slips.
+  // 0. The previous frame's certificate, where it still proves that the grasp slips; where G has
+  // rank < 6 (the fast path declined it), the load's part outside G's range (certificate.hpp).
   Wrench<S> y_unit;
-  if (warm_certificate != nullptr &&
-      is_infeasibility_certificate(grasp, w_ext, *warm_certificate, settings.certificate_tolerance, y_unit)) {
+  if ((warm_certificate != nullptr &&
+       is_infeasibility_certificate(grasp, w_ext, *warm_certificate, settings.certificate_tolerance, y_unit)) ||
+      (singular && range_certificate(grasp, w_ext, settings.certificate_tolerance, y_unit))) {
     answer_slip(grasp, w_ext, settings, gram_diagonal, y_unit, 0, k, problem, sol);
     return;
   }

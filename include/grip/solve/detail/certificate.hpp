@@ -12,14 +12,22 @@
 ///     y.w_ext - sum_i c_i max(0, -phi_i)  >  0      (bounded contacts)
 ///     dist(G_i^T y, K_i^*) <= tol (y.w_ext) / |w_ext|_L   (the others),
 /// which rules out balancing forces of total magnitude below about |w_ext|_L / tol.
+///
+/// Where G has rank < 6 (one contact, two hard fingers, contacts on a line), a load with a part
+/// outside G's range has a certificate in closed form: any y with G^T y = 0 (so every G_i^T y is
+/// in K_i^*) and y.w_ext > 0 (range_certificate).
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "grip/contact/contact_model.hpp"
 #include "grip/contact/exact_cone.hpp"
+#include "grip/core/scalar_traits.hpp"
 #include "grip/core/types.hpp"
 #include "grip/solve/detail/equilibrium_norm.hpp"
+#include "grip/solve/solve_range_space.hpp"
+#include "grip/solve/symmetric_solve.hpp"
 
 namespace grip {
 namespace detail {
@@ -70,6 +78,53 @@ bool is_infeasibility_certificate(const GraspT& grasp, const Wrench<typename Gra
     }
   }
   return deficit < yw;
+}
+
+/// True when the part of `w_ext` outside G's range (see the file comment) certifies infeasibility
+/// to `tol` as is_infeasibility_certificate tests it, with the certificate of dual norm 1 in
+/// `y_unit`; false where G has rank 6 or w_ext lies in G's range to within round-off.
+/// The method: M = D G W^-1 G^T D (D = T of the equilibrium norm, equilibrium_norm.hpp) is
+/// factored by diagonally pivoted LDL^T up to its numerical rank r (pivots above
+/// ScalarTraits::rank_tolerance times its largest diagonal entry). Each of the 6 - r columns of
+/// the permuted M's null space, n = P (-L11^-T l, e), gives y = D n with G^T y = 0 to round-off;
+/// their sum weighted by n.(D w_ext) has y.w_ext = sum (n.(D w_ext))^2 >= 0, which must stand
+/// above its round-off (rho |y| |D w_ext|, rho = min(tol, 64 eps / tol)). O(n) and a 6x6
+/// factorisation; no heap.
+template <class GraspT>
+bool range_certificate(const GraspT& grasp, const Wrench<typename GraspT::ScalarType>& w_ext,
+                       typename GraspT::ScalarType tol, Wrench<typename GraspT::ScalarType>& y_unit) {
+  using S = typename GraspT::ScalarType;
+  const Wrench<S> d = EquilibriumNorm<S>::of(grasp).weights();
+  const Matrix6<S> m = weighted_gram(grasp);
+  S a[6][6], inv_d[6], largest(0);
+  int perm[6] = {0, 1, 2, 3, 4, 5};
+  for (int i = 0; i < 6; ++i) {
+    for (int k = 0; k < 6; ++k) a[i][k] = d(i) * m(i, k) * d(k);
+    largest = std::max(largest, a[i][i]);
+  }
+  const S floor = S(ScalarTraits<S>::rank_tolerance) * largest;
+  if (!(floor > S(0)) || ldlt_factor<true>(a, inv_d, perm, floor)) return false;
+  int r = 0;  // the numerical rank: the pivots taken before the factorisation stopped
+  while (r < 6 && a[r][r] > floor) ++r;
+  const Wrench<S> dw = d.cwiseProduct(w_ext);
+  Wrench<S> y = Wrench<S>::Zero();
+  for (int c = r; c < 6; ++c) {
+    S z[6] = {};
+    z[c] = S(1);
+    for (int i = r - 1; i >= 0; --i) {  // L11^T u = -l_c, l_c = row c of L21
+      S v = -a[c][i];
+      for (int k = i + 1; k < r; ++k) v -= a[k][i] * z[k];
+      z[i] = v;
+    }
+    Wrench<S> n;
+    for (int i = 0; i < 6; ++i) n(perm[i]) = z[i];
+    y += n.dot(dw) * n;
+  }
+  // y.(D w_ext) = sum (n.(D w_ext))^2 must stand above its round-off, as the interior-point
+  // method's certificates must (interior_point.hpp): at least rho |y| |D w_ext|.
+  const S rho = std::min(tol, S(64) * std::numeric_limits<S>::epsilon() / tol);
+  if (!(y.dot(dw) >= rho * y.norm() * dw.norm())) return false;
+  return is_infeasibility_certificate(grasp, w_ext, Wrench<S>(d.cwiseProduct(y)), tol, y_unit);
 }
 
 }  // namespace detail
