@@ -12,6 +12,7 @@
 
 #include <grip/grip.hpp>
 
+#include "solve/constrained_support.hpp"
 #include "support/equilibrium_norm.hpp"
 
 using namespace grip;
@@ -29,18 +30,6 @@ double dual_margin(const Contact<double>& c, const Vector3<double>& v) {
   return vn - c.friction * (v - vn * c.normal).norm();
 }
 
-template <class S>
-Contact<double> in_double(const Contact<S>& c) {
-  Contact<double> d;
-  d.position = c.position.template cast<double>();
-  d.normal = c.normal.template cast<double>();
-  d.friction = double(c.friction);
-  d.squeeze = double(c.squeeze);
-  d.weight = double(c.weight);
-  d.max_normal_force = double(c.max_normal_force);
-  return d;
-}
-
 // The definition of ConstrainedSolution::certificate, in double: y.w_ext > 0, every unbounded
 // contact's G_i^T y within `slack` (y.w_ext) / |w_ext|_L of its dual cone (as a margin), and the
 // bounded contacts' deficit sum_i c_i max(0, -margin_i) below y.w_ext.
@@ -52,7 +41,7 @@ bool certifies(const GraspT& g, const Wrench<typename GraspT::ScalarType>& w, co
   const double wn = grip_test::norm_l(wd, grip_test::grasp_lever_length(g));
   double deficit = 0;
   for (int i = 0; i < g.size(); ++i) {
-    const Contact<double> c = in_double(g.contact(i));
+    const Contact<double> c = grip_test::cast_contact<double>(g.contact(i));
     const double m = dual_margin(c, dual_of(c, y));
     if (c.max_normal_force < std::numeric_limits<double>::infinity()) {
       deficit += c.max_normal_force * std::max(0.0, -m);
