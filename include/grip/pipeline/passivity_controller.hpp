@@ -68,7 +68,7 @@ class PassivityController {
   /// update. Returns Ok; or InvalidInput (every output 0, the energies kept) when dt is not
   /// finite and > 0 after the first update, a value is not finite, or the settings are out of
   /// range (max_damping finite and > 0, min_force < max_force). After a bad update the held
-  /// force was 0, so the next good one observes no energy from the interval.
+  /// force is 0, so the next good one observes no energy from that interval.
   Status update(Scalar dt, const Values& force, const Values& position);
 
   const Values& command() const { return command_; }  ///< the force to hold until the next update (N)
