@@ -224,8 +224,8 @@ TEST_CASE_TEMPLATE("rank-deficient grasps are Singular with finite least-squares
 
 TEST_CASE_TEMPLATE("RankFallback::decline: the same answer where accepted, zero multipliers elsewhere", S, double,
                    float) {
-  // The variant of solve_constrained's fast path: bit for bit the default where the straight-line
-  // solve accepts; Singular with lambda = 0, x = t and res = -rhs where any rank fallback would
+  // The variant of solve_constrained's fast path: the default's answer where the straight-line
+  // solve accepts (to round-off: the two instantiations may contract multiply-adds differently); Singular with lambda = 0, x = t and res = -rhs where any rank fallback would
   // be needed (rank-deficient grasps, and an ill-conditioned one whose Schur complement has a
   // determinant under rank_tolerance but which pivoted LDL^T still accepts).
   using detail::RankFallback;
@@ -242,9 +242,10 @@ TEST_CASE_TEMPLATE("RankFallback::decline: the same answer where accepted, zero 
     if (accepted) {
       CHECK(full.status == Status::Ok);
       CHECK(lean.status == Status::Ok);
-      CHECK(lean.forces == full.forces);
-      CHECK(lean.multipliers == full.multipliers);
-      CHECK(res_lean == res_full);
+      const S eps = tight<S>();
+      CHECK((lean.forces - full.forces).norm() <= eps * (S(1) + full.forces.norm()));
+      CHECK((lean.multipliers - full.multipliers).norm() <= eps * (S(1) + full.multipliers.norm()));
+      CHECK((res_lean - res_full).norm() <= eps * (S(1) + rhs_full.norm()));
       return full.status;
     }
     CHECK(lean.status == Status::Singular);
