@@ -27,7 +27,9 @@
 //                      each: counters slip_frac (the Infeasible ones), limit_count (must be
 //                      0), median_us, p99_us, p9999_us, worst_us and their ratios to the
 //                      median, the same of the slipping ones (slip_*), and interior-point
-//                      iterations (median and worst of the slipping ones, worst of all)
+//                      iterations (median and worst of the slipping ones, worst of all);
+//                      Loads<n, true>: every normal force bounded by 20 N; Loads<n, false,
+//                      true>: loads 1e-6 to 0.1 times the squeezing forces
 //   SlipFrames/n       pairs of slipping frames (n = 3, 5): the second solved cold and from
 //                      the first's certificate (see SlipFrames below)
 //   Bound/n            the bound of a solve: 64 grasps the fast path does not answer (many
@@ -297,9 +299,11 @@ void Distribution(benchmark::State& state) {
 }
 
 // A grasp the fast path does not answer, with a load of 0.5 to 200 N (log-uniform) in a
-// random direction and moments of a few centimetres times it: many slip.
+// random direction and moments of a few centimetres times it: many slip. `light`: loads of
+// 0.3 uN to 30 mN instead, 1e-6 to 0.1 times the squeezing forces (0.3 N), as a haptic session's
+// wrench left for the fingers decays while they hold on.
 template <int N>
-Instance<N> make_hard_instance(std::mt19937& rng) {
+Instance<N> make_hard_instance(std::mt19937& rng, bool light = false) {
   std::uniform_real_distribution<double> u01(0, 1);
   std::normal_distribution<double> n01(0, 1);
   for (;;) {
@@ -307,7 +311,7 @@ Instance<N> make_hard_instance(std::mt19937& rng) {
     for (int i = 0; i < N; ++i)
       (void)in.grasp.set(
           i, on_sphere(std::acos(1 - 2 * u01(rng)), 6.283185307179586 * u01(rng), 0.3 + 0.7 * u01(rng), 0.3));
-    const double size = 0.5 * std::pow(400.0, u01(rng));
+    const double size = light ? 0.3 * std::pow(10.0, -6.0 + 5.0 * u01(rng)) : 0.5 * std::pow(400.0, u01(rng));
     for (int k = 0; k < 6; ++k) in.w_ext(k) = (k < 3 ? 1.0 : 0.03) * n01(rng);
     in.w_ext.template head<3>() *= size / in.w_ext.template head<3>().norm();
     in.w_ext.template tail<3>() *= size;
@@ -319,8 +323,9 @@ Instance<N> make_hard_instance(std::mt19937& rng) {
 // grows), each solved three times cold, timed by the least of the three: the worst case that a
 // loop meets when its grasps may slip. Every solve must end Ok or Infeasible (limit_count 0).
 // n = 1 and 2: grasp matrices of rank 3 and 5, whose loads almost all have a part outside the
-// range. Bounded: every contact's normal force limited to 20 N (a device's channel).
-template <int N, bool Bounded = false>
+// range. Bounded: every contact's normal force limited to 20 N (a device's channel). Light: the
+// light loads of make_hard_instance.
+template <int N, bool Bounded = false, bool Light = false>
 void Loads(benchmark::State& state) {
   const int count = 100000;
   using clock = std::chrono::steady_clock;
@@ -338,7 +343,7 @@ void Loads(benchmark::State& state) {
     worst_iterations = 0;
     std::mt19937 rng(5000 + N);
     for (int k = 0; k < count; ++k) {
-      Instance<N> in = make_hard_instance<N>(rng);
+      Instance<N> in = make_hard_instance<N>(rng, Light);
       for (int i = 0; Bounded && i < N; ++i) {
         Contact<double> c = in.grasp.contact(i);
         c.max_normal_force = 20.0;
@@ -518,6 +523,8 @@ BENCHMARK_TEMPLATE(Loads, 1, true)->Iterations(1)->Unit(benchmark::kMillisecond)
 BENCHMARK_TEMPLATE(Loads, 2)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(Loads, 2, true)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(Loads, 3, true)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(Loads, 3, false, true)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(Loads, 5, false, true)->Iterations(1)->Unit(benchmark::kMillisecond);
 GRIP_BENCH_N(3);
 GRIP_BENCH_N(5);
 GRIP_BENCH_N(10);

@@ -144,3 +144,66 @@ TEST_CASE_TEMPLATE("least-residual forces: zero exactly where the gradient at ze
   CHECK(zero >= 20);
   CHECK(pressed >= 20);
 }
+
+TEST_CASE_TEMPLATE("least-residual forces under loads far below the squeezing forces: no move in the cones lowers P", S,
+                   double, float) {
+  // Three hard fingers on the upper half of a 4 cm sphere, squeezing with up to 2 N, under loads
+  // 10 to 10^5 times smaller (float: 10 to 100), so that the least-residual problem's solution
+  // lies far inside its normalised units (the interior-point method starts at the load's scale,
+  // slip_answer.hpp). P is convex, so where the answer is optimal to within the method's
+  // tolerance (the gap relative to P), no point of the cones lies below P(answer) by more than
+  // that: checked at small moves of each contact's force that stay in its cone (scaled, pushed
+  // inward, and blended with an interior force), P evaluated in double from the contacts' data.
+  std::mt19937 rng(911);
+  std::uniform_real_distribution<double> u01(0, 1), sym(-1, 1);
+  const double decades = std::is_same<S, float>::value ? 1.0 : 4.0;
+  const double tol = double(ScalarTraits<S>::interior_tolerance);
+  int probed = 0;
+  for (int k = 0; k < 600; ++k) {
+    Grasp<3, HardFinger, S> g;
+    for (int i = 0; i < 3; ++i) {
+      const double z = 0.2 + 0.8 * u01(rng), phi = 6.283185307179586 * u01(rng), r = std::sqrt(1 - z * z);
+      const Vector3<double> p = 0.04 * Vector3<double>(r * std::cos(phi), r * std::sin(phi), z);
+      Contact<S> c;
+      c.position = p.template cast<S>();
+      c.normal = (-p.normalized()).template cast<S>();
+      c.friction = S(0.3 + 0.7 * u01(rng));
+      c.squeeze = S(0.2 + 1.8 * u01(rng));
+      c.weight = S(0.5 + u01(rng));
+      REQUIRE(g.set(i, c) == Status::Ok);
+    }
+    Wrench<double> wd;
+    for (int j = 0; j < 6; ++j) wd(j) = sym(rng) * (j < 3 ? 1.0 : 0.04);
+    wd *= 0.1 * std::pow(10.0, -decades * u01(rng)) / wd.head<3>().norm();
+    const Wrench<S> w = wd.template cast<S>();
+    const auto sol = solve_constrained(g, w);
+    if (sol.status != Status::Infeasible || sol.forces.isZero(0)) continue;
+    CAPTURE(k);
+    const double delta = grip_test::least_residual_delta(g);
+    const Eigen::VectorXd x = sol.forces.template cast<double>();
+    const double px = grip_test::least_residual_objective(g, wd, x, delta);
+    const double slack = 2 * tol * px + 1e-12 * px;
+    const double scale = x.norm() + wd.head<3>().norm();
+    for (int i = 0; i < 3; ++i) {
+      const Contact<double> c = grip_test::cast_contact<double>(g.contact(i));
+      const Vector3<double> xi = x.segment<3>(3 * i);
+      // In the cone to the method's tolerance.
+      const double xn = xi.dot(c.normal);
+      CHECK((xi - xn * c.normal).norm() <= c.friction * xn + 10 * tol * scale);
+      for (const double eta : {1e-2, 1e-4}) {
+        const Vector3<double> t = Vector3<double>(sym(rng), sym(rng), sym(rng)).cross(c.normal).normalized();
+        const Vector3<double> inner = scale * (c.normal + 0.9 * c.friction * u01(rng) * t);
+        for (const Vector3<double>& moved :
+             {Vector3<double>((1 + eta) * xi), Vector3<double>((1 - eta) * xi), Vector3<double>(xi + eta * inner),
+              Vector3<double>((1 - eta) * xi + eta * inner)}) {
+          Eigen::VectorXd y = x;
+          y.segment<3>(3 * i) = moved;
+          CHECK(grip_test::least_residual_objective(g, wd, y, delta) >= px - slack);
+        }
+      }
+    }
+    ++probed;
+  }
+  MESSAGE(probed, " slips with forces probed");
+  CHECK(probed >= 50);
+}

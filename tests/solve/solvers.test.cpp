@@ -225,7 +225,8 @@ TEST_CASE_TEMPLATE("rank-deficient grasps are Singular with finite least-squares
 TEST_CASE_TEMPLATE("RankFallback::decline: the same answer where accepted, zero multipliers elsewhere", S, double,
                    float) {
   // The variant of solve_constrained's fast path: the default's answer where the straight-line
-  // solve accepts (to round-off: the two instantiations may contract multiply-adds differently); Singular with lambda = 0, x = t and res = -rhs where any rank fallback would
+  // solve accepts (to round-off: the two instantiations may contract multiply-adds
+  // differently); Singular with lambda = 0, x = t and res = -rhs where any rank fallback would
   // be needed (rank-deficient grasps, and an ill-conditioned one whose Schur complement has a
   // determinant under rank_tolerance but which pivoted LDL^T still accepts).
   using detail::RankFallback;

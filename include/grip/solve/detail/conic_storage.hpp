@@ -98,15 +98,16 @@ class ConicStorage : protected ConeBlock<SimdPackFor<S, Cap>, D> {
     }
   }
 
-  /// Every variable at its cone's centre: u = z = e, and s = t = 1 for a bound.
-  void start() {
+  /// Every variable at `scale` (> 0) times its cone's centre: u = z = scale e, and
+  /// s = t = scale for a bound.
+  void start(S scale = S(1)) {
     u_.fill(S(0));
     z_.fill(S(0));
     du_.fill(S(0));
     dz_.fill(S(0));
     for (int i = 0; i < stride; ++i) {
-      u_[idx(i)] = z_[idx(i)] = S(1);
-      s_[idx(i)] = t_[idx(i)] = S(1);
+      u_[idx(i)] = z_[idx(i)] = scale;
+      s_[idx(i)] = t_[idx(i)] = scale;
       ds_[idx(i)] = dt_[idx(i)] = S(0);
     }
   }

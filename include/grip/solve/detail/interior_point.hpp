@@ -11,7 +11,9 @@
 /// quadratic objective) is
 ///     P x + A^T y - z + q tau = 0,      A x - b tau = 0,      u_i = its own cone slack,
 ///     kappa = -q^T x - b^T y - x^T P x / tau,      x, z in the cones, tau, kappa >= 0,
-/// solved from x = z = e, y = 0, tau = kappa = 1. A solution with tau > 0 gives the optimum
+/// solved from x = z = theta e, y = 0, tau = 1, kappa = theta^2 (theta = start_scale, 1 unless the
+/// caller knows the solution's scale: the first iterations then need not shrink the iterate to it;
+/// every pair's complementarity, and so mu, starts at theta^2). A solution with tau > 0 gives the optimum
 /// x / tau with multipliers y / tau; tau -> 0 with b^T y < 0 gives y as a certificate that no x
 /// in the cones satisfies A x = b (A_i^T y in Q for every contact). Each iteration: the passes
 /// and systems of ConicLanes, a predictor to the boundary (its step alpha_a sets the centring
@@ -61,6 +63,7 @@ struct InteriorPointSettings {
   S residual_floor{0};               ///< added to |b| + |x| as the rows' residual scale (the targets' size)
   S objective_floor{0};              ///< the gap's scale is max(|objective|, objective_floor) (an absolute floor)
   bool boundary_answer{false};       ///< hard form: stop Ok on the boundary of feasibility (see the file comment)
+  S start_scale{1};                  ///< theta of a fresh run's start (see the file comment): finite, > 0
 };
 
 /// What the interior-point method returns.
@@ -130,13 +133,18 @@ struct Ldlt6 {
 /// Runs the interior-point method on the problem in `k` with rows' right-hand side b (see the file
 /// comment); `k` is left at the last iterate (u, z, and the bounds' s, t). `q_norm` = |q|.
 /// `resume`: the result of an earlier run on the same lanes, to go on from (with, say, a tighter
-/// tolerance; its iterations count toward st.max_iterations); nullptr to start at the cones'
-/// centres.
+/// tolerance; its iterations count toward st.max_iterations); nullptr for a fresh run from
+/// st.start_scale times the cones' centres.
 template <class Lanes, class S>
 InteriorPointResult<S> interior_point(Lanes& k, const Wrench<S>& b, S q_norm, const InteriorPointSettings<S>& st,
                                       const InteriorPointResult<S>* resume = nullptr) {
   InteriorPointResult<S> out;
-  if (resume != nullptr) out = *resume;
+  if (resume != nullptr) {
+    out = *resume;
+  } else if (st.start_scale != S(1)) {
+    k.start(st.start_scale);
+    out.kappa = st.start_scale * st.start_scale;
+  }
   out.status = Status::IterationLimit;
   const S eps = std::numeric_limits<S>::epsilon();
   const S b_norm = b.norm();
