@@ -36,6 +36,23 @@ inline double dual_margin(const Contact<double>& c, const Vector3<double>& v) {
   return vn - c.friction * (v - vn * c.normal).norm();
 }
 
+// A hard finger at a random point of the upper half of a 4 cm sphere (z above 0.2 of the
+// radius), pressing toward the centre: mu in [0.3, 1], squeeze in [squeeze_min, 2] N, weight in
+// [0.5, 1.5].
+template <class S>
+Contact<S> upper_sphere_contact(std::mt19937& rng, double squeeze_min) {
+  std::uniform_real_distribution<double> u01(0, 1);
+  const double z = 0.2 + 0.8 * u01(rng), phi = 6.283185307179586 * u01(rng), r = std::sqrt(1 - z * z);
+  const Vector3<double> p = 0.04 * Vector3<double>(r * std::cos(phi), r * std::sin(phi), z);
+  Contact<S> c;
+  c.position = p.template cast<S>();
+  c.normal = (-p.normalized()).template cast<S>();
+  c.friction = S(0.3 + 0.7 * u01(rng));
+  c.squeeze = S(squeeze_min + (2 - squeeze_min) * u01(rng));
+  c.weight = S(0.5 + u01(rng));
+  return c;
+}
+
 }  // namespace
 
 TEST_CASE_TEMPLATE("least-residual forces: three fingers on top, a load pulling down (hand derivation)", S, double,
@@ -94,17 +111,7 @@ TEST_CASE_TEMPLATE("least-residual forces: zero exactly where the gradient at ze
   int slips = 0, zero = 0, pressed = 0;
   for (int k = 0; k < 800; ++k) {
     Grasp<4, HardFinger, S> g;
-    for (int i = 0; i < 4; ++i) {
-      const double z = 0.2 + 0.8 * u01(rng), phi = 6.283185307179586 * u01(rng), r = std::sqrt(1 - z * z);
-      const Vector3<double> p = 0.04 * Vector3<double>(r * std::cos(phi), r * std::sin(phi), z);
-      Contact<S> c;
-      c.position = p.template cast<S>();
-      c.normal = (-p.normalized()).template cast<S>();
-      c.friction = S(0.3 + 0.7 * u01(rng));
-      c.squeeze = S(2 * u01(rng));
-      c.weight = S(0.5 + u01(rng));
-      REQUIRE(g.set(i, c) == Status::Ok);
-    }
+    for (int i = 0; i < 4; ++i) REQUIRE(g.set(i, upper_sphere_contact<S>(rng, 0.0)) == Status::Ok);
     Wrench<double> wd;
     for (int j = 0; j < 6; ++j) wd(j) = sym(rng) * (j < 3 ? 1.0 : 0.04);
     wd(2) -= 1.5;  // mostly downward: away from fingers that press down and in
@@ -161,17 +168,7 @@ TEST_CASE_TEMPLATE("least-residual forces under loads far below the squeezing fo
   int probed = 0;
   for (int k = 0; k < 600; ++k) {
     Grasp<3, HardFinger, S> g;
-    for (int i = 0; i < 3; ++i) {
-      const double z = 0.2 + 0.8 * u01(rng), phi = 6.283185307179586 * u01(rng), r = std::sqrt(1 - z * z);
-      const Vector3<double> p = 0.04 * Vector3<double>(r * std::cos(phi), r * std::sin(phi), z);
-      Contact<S> c;
-      c.position = p.template cast<S>();
-      c.normal = (-p.normalized()).template cast<S>();
-      c.friction = S(0.3 + 0.7 * u01(rng));
-      c.squeeze = S(0.2 + 1.8 * u01(rng));
-      c.weight = S(0.5 + u01(rng));
-      REQUIRE(g.set(i, c) == Status::Ok);
-    }
+    for (int i = 0; i < 3; ++i) REQUIRE(g.set(i, upper_sphere_contact<S>(rng, 0.2)) == Status::Ok);
     Wrench<double> wd;
     for (int j = 0; j < 6; ++j) wd(j) = sym(rng) * (j < 3 ? 1.0 : 0.04);
     wd *= 0.1 * std::pow(10.0, -decades * u01(rng)) / wd.head<3>().norm();
