@@ -183,8 +183,9 @@ PYBIND11_MODULE(_grip, m) {
       .def_readonly("fast_path", &ConstrainedPy::fast_path,
                     "the unconstrained optimum was inside every cone (and below every bound) and was returned")
       .def_readonly("refined", &ConstrainedPy::refined,
-                    "Ok: forces are the exact projections of multipliers (the fast path, or Newton's refinement "
-                    "converged); False when they are the interior-point method's answer, optimal to its tolerance")
+                    "Ok: forces are the exact projections of multipliers and meet settings.tolerance (the fast "
+                    "path, or Newton's refinement converged); False when they meet only the interior-point "
+                    "tolerance (residual and duality gap): Newton's best iterate or the interior-point answer")
       .def_readonly("passes", &ConstrainedPy::passes,
                     "O(n) passes over the contacts after the fast path: three per interior-point iteration, one "
                     "more per interior-point run, one per Newton trial");

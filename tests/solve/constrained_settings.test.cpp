@@ -1,7 +1,8 @@
 // ConstrainedSettings::max_iterations and newton_passes, the bounds of solve_constrained: never
 // exceeded (iterations <= max_iterations, passes <= 2 newton_passes + 3 max_iterations + 2), the
 // answer unchanged when the solve fits in them, and otherwise IterationLimit with forces in their
-// cones (residual their own) or a certified Infeasible. Instances: random grasps of every model
+// cones (residual their own) or a certified Infeasible; with Newton on, a run cut short may still
+// end Ok through the refinement, at its own tolerance. Instances: random grasps of every model
 // with loads from 0.5 to 200 N, many of them slipping.
 #include <doctest/doctest.h>
 
@@ -9,6 +10,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <type_traits>
 
 #include <grip/solve/solve_constrained.hpp>
 
@@ -152,6 +154,50 @@ TEST_CASE_TEMPLATE("max_iterations: the bound is honoured on random grasps (hard
 TEST_CASE_TEMPLATE("max_iterations: the bound is honoured on random grasps (soft, frictionless)", S, double, float) {
   constrained_settings_test::deadline_on_random_instances<SoftFinger, S, 5>(104, 150);
   constrained_settings_test::deadline_on_random_instances<FrictionlessPoint, S, 8>(105, 150);
+}
+
+TEST_CASE_TEMPLATE("max_iterations: a run cut short is refined by Newton from its last iterate", S, double, float) {
+  // Hard fingers whose default solve needs more interior-point iterations than the bound p
+  // allows and holds: the cut run never reaches the handover, yet Newton's refinement from its
+  // last iterate may still converge. An Ok answer must then be the optimum: its residual, in
+  // double and in the equilibrium norm, within the tolerance it claims (refined: `tolerance`;
+  // not refined: ScalarTraits::interior_tolerance), and its F2 that of the uncut solve.
+  using GraspT = Grasp<5, HardFinger, S>;
+  std::mt19937 rng(108);
+  const int count = grip_test::scaled(300, 60);
+  int ok_count = 0, cut_count = 0;
+  for (int k = 0; k < count; ++k) {
+    const GraspT g = grip_test::random_grasp<GraspT>(rng, 5, true, 0.5);
+    const Wrench<S> w = constrained_settings_test::random_load<S>(rng);
+    const auto full = solve_constrained(g, w);
+    if (full.status != Status::Ok || full.iterations < 4) continue;
+    for (int p : {2, 3}) {
+      ConstrainedSettings<S> st;
+      st.max_iterations = p;
+      const auto cut = solve_constrained(g, w, st);
+      ++cut_count;
+      CHECK(cut.iterations <= p);
+      CHECK(cut.passes <= constrained_settings_test::pass_bound(st));
+      constrained_settings_test::check_cut(g, w, cut);
+      if (cut.status != Status::Ok) continue;
+      ++ok_count;
+      const double l = grip_test::grasp_lever_length(g);
+      double squeeze = 0;
+      for (int i = 0; i < g.size(); ++i) squeeze = std::max(squeeze, double(g.contact(i).squeeze));
+      double sum_scale = 0;
+      const Wrench<double> r = constrained_settings_test::residual_vector_in_double(g, cut.forces, w, sum_scale);
+      const double tol = cut.refined ? double(st.tolerance) : double(ScalarTraits<S>::interior_tolerance);
+      const double claim =
+          tol * (grip_test::norm_l(w.template cast<double>(), l) + cut.forces.template cast<double>().norm() + squeeze);
+      CHECK(grip_test::norm_l(r, l) <= claim + grip_test::roundoff<S>(8.0 * g.size(), 1, sum_scale));
+      const double f_full = double(full.objective), f_cut = double(cut.objective);
+      CHECK(std::abs(f_cut - f_full) <= (std::is_same<S, float>::value ? 1e-2 : 1e-6) * (1.0 + f_full));
+    }
+  }
+  // Coverage. (Without refinement from a cut run, none of these would be Ok.)
+  CHECK(cut_count >= count / 4);
+  CHECK(ok_count >= cut_count / 4);
+  MESSAGE("cut " << cut_count << ", refined to Ok " << ok_count);
 }
 
 TEST_CASE_TEMPLATE("max_iterations: bad values are refused, the fast path spends none", S, double, float) {

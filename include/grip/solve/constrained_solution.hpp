@@ -34,9 +34,10 @@ struct ConstrainedSolution : Solution<GraspT> {
   /// returned at once.
   bool fast_path{false};
   /// Ok: true when `forces` are the projections x_i(lambda) of `multipliers` (the fast path, or
-  /// Newton's refinement converged): every contact's KKT conditions then hold exactly; false when
-  /// they are the interior-point method's answer, strictly inside their cones and optimal to its
-  /// tolerance (ScalarTraits::interior_tolerance: the duality gap relative to F2). False otherwise.
+  /// Newton's refinement converged) and meet ConstrainedSettings::tolerance: every contact's KKT
+  /// conditions then hold exactly; false when they meet only ScalarTraits::interior_tolerance (the
+  /// residual, and the duality gap relative to F2): Newton's least-residual iterate, or the
+  /// interior-point method's answer, strictly inside the cones. False otherwise.
   bool refined{false};
   /// O(n) passes over the contacts after the fast path: three per interior-point iteration, one
   /// more per interior-point run, one per Newton trial.

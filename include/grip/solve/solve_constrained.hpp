@@ -48,8 +48,9 @@ namespace grip {
 /// true). Otherwise, given `warm_multipliers` (the previous frame's `multipliers`: a 6-vector, so
 /// the contact count may change between frames), Newton's method on the dual starts from them
 /// for settings.newton_passes passes and answers if it converges. Otherwise the interior-point
-/// method decides: it finds the optimum (then refined by Newton from its multipliers, to the
-/// tolerance) or a certificate that none exists. Wrenches are measured in the equilibrium norm
+/// method decides: it finds the optimum or a certificate that none exists; short of both (its
+/// bound, or a numerical failure) it leaves its last iterate. Newton refines the optimum, or that
+/// iterate, from its multipliers to the tolerance. Wrenches are measured in the equilibrium norm
 /// |(f, m)|_L = |(f, m / L)|, L = max_i |r_i| (1 m if every contact is at the reference point),
 /// so that every verdict is the same in every unit of length; `residual` reports |G x + w_ext|.
 ///
@@ -58,9 +59,10 @@ namespace grip {
 ///   squeezing forces' size counts: a grasp whose optimum sits at the cones' apexes has |x| near
 ///   0), and `forces` are the projections x_i(lambda) at `multipliers`, so the KKT conditions of
 ///   every contact hold exactly. Ok, not refined (where Newton's refinement does not converge:
-///   soft fingers with bounds, a soft finger's torsion at micrometres, G nearly of rank < 6): the
-///   interior-point method's answer, to ScalarTraits::interior_tolerance (residual as above, and
-///   the duality gap relative to F2). `objective` is F2.
+///   soft fingers with bounds, a soft finger's torsion at micrometres, G nearly of rank < 6): an
+///   answer to ScalarTraits::interior_tolerance (residual as above, and the duality gap relative
+///   to F2): Newton's least-residual iterate (projections, the exact optimum for the load -G x)
+///   where it meets it, else the interior-point method's. `objective` is F2.
 /// - Infeasible: no forces in the cones (and bounds) balance w_ext: the grasp slips.
 ///   `certificate` proves it (see ConstrainedSolution). `forces` are the minimiser of
 ///   |G x + w_ext|_L^2/2 + delta F2(x) over the cones (delta = least_residual_weight times the
@@ -239,13 +241,24 @@ EIGEN_DONT_INLINE void solve_constrained_iterate(const GraspT& grasp, const Wren
   InteriorPointResult<S> r = interior_point(k, problem.b, problem.q_norm, ip);
   sol.iterations = r.iterations;
   sol.passes += 3 * r.iterations + 1 - 2 * r.backtracks;
-  if (r.status == Status::Ok && newton_passes > 0) {
-    // 3. Refined by Newton from the interior-point multipliers: projections, KKT exact.
+  if (r.status != Status::Infeasible && newton_passes > 0) {
+    // 3. Refined by Newton from the interior-point multipliers, also where the method stopped
+    // short (its bound, or a numerical failure): projections, KKT exact.
     const int before = newton.passes();
     const bool done = newton.run(problem.multipliers(r.y, r.tau), before + newton_passes);
     sol.passes += newton.passes() - before;
     if (done) {
       take_newton(newton, sol);
+      return;
+    }
+    // Short of the tolerance: Newton's least-residual iterate is still the exact optimum for the
+    // load -G x; within the interior-point tolerance of w_ext, and its duality gap lambda.(G x +
+    // w_ext) within that of F2 (the interior-point answer's own test), it is the unrefined answer.
+    newton.restore_best();
+    const ConstrainedPass<S>& best = newton.sums();
+    if (newton.meets(interior) && std::abs(best.f2 - best.dual) <= interior * best.f2) {
+      take_newton(newton, sol);
+      sol.refined = false;
       return;
     }
   }
@@ -278,8 +291,7 @@ EIGEN_DONT_INLINE void solve_constrained_iterate(const GraspT& grasp, const Wren
   const EquilibriumNorm<S>& norm = problem.norm;
   S squeeze(0);
   for (int i = 0; i < grasp.size(); ++i) squeeze = std::max(squeeze, grasp.contact(i).squeeze);
-  const S loose = std::max(S(ScalarTraits<S>::interior_tolerance), settings.tolerance);
-  if (r.status == Status::Ok && norm(res) <= loose * (norm(w_ext) + sol.forces.norm() + squeeze)) {
+  if (r.status == Status::Ok && norm(res) <= interior * (norm(w_ext) + sol.forces.norm() + squeeze)) {
     sol.status = Status::Ok;
     sol.dual_objective = problem.in_f2_units(r.dual_cost);
   }

@@ -84,7 +84,11 @@ class DualNewton {
   /// True when the current iterate meets the tolerance: |G x + w_ext|_L <= tolerance scale, scale
   /// = |w_ext|_L + |x| + max_i s_i. The forces x(lambda) are projections, so they are then the exact optimum
   /// for the wrench w_ext - (G x + w_ext).
-  bool converged() const { return norm_(current_.residual) <= tolerance_ * scale_of(current_); }
+  bool converged() const { return meets(tolerance_); }
+
+  /// True when the current iterate meets `tolerance` in place of the solve's: |G x + w_ext|_L <=
+  /// tolerance scale (scale as in converged()).
+  bool meets(S tolerance) const { return norm_(current_.residual) <= tolerance * scale_of(current_); }
 
   const Wrench<S>& lambda() const { return lambda_; }
   const Forces& forces() const { return forces_; }
