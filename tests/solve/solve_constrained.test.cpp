@@ -908,6 +908,51 @@ TEST_CASE_TEMPLATE("solve_constrained: grasps that slip or hold are decided with
   CHECK(holds >= count / 4);
 }
 
+TEST_CASE("solve_constrained: light loads get the verdict of the same load at 1 N, balanced to the load") {
+  // The grasps of slip_instance under loads of 0.3 uN to 30 mN, far below the squeezing forces
+  // (0.3 N), solved with the defaults and by the interior-point method alone (newton_passes 0).
+  // Whether forces in the cones balance a load does not depend on its size, so each verdict must
+  // be that of the same load scaled to 1 N. Ok: the forces in the cones and balancing the load to
+  // interior_tolerance of the load and the squeezing forces, not of the forces themselves (an
+  // infeasible grasp's iterate grows without bound). Infeasible: the certificate by definition.
+  std::mt19937 rng(2426);
+  std::uniform_real_distribution<double> u01(0, 1);
+  ConstrainedSettings<double> alone;
+  alone.newton_passes = 0;
+  int differ = 0, slips = 0;
+  const int count = grip_test::scaled(300, 100);
+  for (int k = 0; k < count; ++k) {
+    Grasp<3, HardFinger, double> g;
+    Wrench<double> w;
+    slip_instance(rng, g, w);
+    w *= 0.3 * std::pow(10.0, -6.0 + 5.0 * u01(rng)) / w.head<3>().norm();
+    const Wrench<double> unit = w / w.norm();
+    for (const ConstrainedSettings<double>& st : {ConstrainedSettings<double>{}, alone}) {
+      CAPTURE(k);
+      CAPTURE(st.newton_passes);
+      const auto sol = solve_constrained(g, w, st);
+      REQUIRE((sol.status == Status::Ok || sol.status == Status::Infeasible));
+      differ += sol.status != solve_constrained(g, unit, st).status;
+      if (sol.status == Status::Infeasible) {
+        ++slips;
+        grip_test::check_certificate(g, w, sol.certificate);
+        continue;
+      }
+      Wrench<double> r = w;
+      for (int i = 0; i < 3; ++i) {
+        const Contact<double> c = g.contact(i);
+        const Vector3<double> x = sol.forces.segment<3>(3 * i);
+        CHECK(grip_test::cone_violation<HardFinger>(c, x) <= 1e-12 * (x.norm() + c.squeeze));
+        r += HardFinger::wrench(c, x);
+      }
+      CHECK(r.norm() <= 2 * ScalarTraits<double>::interior_tolerance * (w.norm() + 0.3));
+    }
+  }
+  MESSAGE(slips, " of ", 2 * count, " solves slip; ", differ, " verdicts differ from the load at 1 N");
+  CHECK(slips >= count / 2);
+  CHECK(differ <= 2);
+}
+
 TEST_CASE("solve_constrained: float and double agree on the same grasps") {
   // The same algorithm in both, which differ only in tolerances (ScalarTraits): the grasps of the
   // test above, each solved in double and, rounded to float, in float. The verdicts agree but for

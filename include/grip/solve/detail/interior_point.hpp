@@ -26,7 +26,9 @@
 /// `boundary_answer`, at one that meets the residual tolerances while tau has fallen below
 /// ScalarTraits::interior_boundary times its largest value (Ok: a load on the boundary of the
 /// feasible set, where no strictly feasible point exists, sends tau and kappa both toward zero
-/// and the dual iterate along an unbounded ray, so that the gap stops closing); or, in the hard
+/// and the dual iterate along an unbounded ray, so that the gap stops closing), its rows'
+/// residual relative to the data alone, b and residual_floor (an infeasible problem's x / tau
+/// grows without bound, and a residual relative to it would pass); or, in the hard
 /// form, at one that carries an infeasibility certificate to `certificate_tolerance`: b^T y < 0 with
 /// min_i margin(A_i^T y) >= -certificate_tolerance |b^T y|, so that no x in the cones with
 /// sum_i |u_i| below about 1 / certificate_tolerance (the problem's data being normalised to
@@ -209,7 +211,10 @@ InteriorPointResult<S> interior_point(Lanes& k, const Wrench<S>& b, S q_norm, co
     const S gap = std::abs(pcost - dcost) /
                   std::max(std::max(std::abs(pcost), std::abs(dcost)), std::max(st.objective_floor, eps));
     tau_max = std::max(tau_max, tau);
-    const bool boundary = st.boundary_answer && !st.soft && tau <= S(ScalarTraits<S>::interior_boundary) * tau_max;
+    // The boundary's rows against the data alone (see the file comment).
+    const bool boundary = st.boundary_answer && !st.soft && tau <= S(ScalarTraits<S>::interior_boundary) * tau_max &&
+                          r_eq.norm() / tau <= st.feasibility_tolerance * std::max(b_norm + st.residual_floor, tiny) &&
+                          std::sqrt(a.rb2) / tau <= st.feasibility_tolerance * std::max(k.bound_scale(), tiny);
     if (res_p <= st.feasibility_tolerance && res_d <= st.feasibility_tolerance && (gap <= st.tolerance || boundary)) {
       out.status = Status::Ok;
       break;
