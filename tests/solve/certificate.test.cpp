@@ -24,12 +24,6 @@ Vector3<double> dual_of(const Contact<double>& c, const Wrench<double>& y) {
   return y.head<3>() + y.tail<3>().cross(c.position);
 }
 
-// v.n - mu |v_t|: >= 0 when v is in the dual of the contact's friction cone.
-double dual_margin(const Contact<double>& c, const Vector3<double>& v) {
-  const double vn = v.dot(c.normal);
-  return vn - c.friction * (v - vn * c.normal).norm();
-}
-
 // The definition of ConstrainedSolution::certificate, in double: y.w_ext > 0, every unbounded
 // contact's G_i^T y within `slack` (y.w_ext) / |w_ext|_L of its dual cone (as a margin), and the
 // bounded contacts' deficit sum_i c_i max(0, -margin_i) below y.w_ext.
@@ -42,7 +36,7 @@ bool certifies(const GraspT& g, const Wrench<typename GraspT::ScalarType>& w, co
   double deficit = 0;
   for (int i = 0; i < g.size(); ++i) {
     const Contact<double> c = grip_test::cast_contact<double>(g.contact(i));
-    const double m = dual_margin(c, dual_of(c, y));
+    const double m = grip_test::dual_margin(c, dual_of(c, y));
     if (c.max_normal_force < std::numeric_limits<double>::infinity()) {
       deficit += c.max_normal_force * std::max(0.0, -m);
     } else if (m < -slack * yw / wn * (1 + c.friction)) {

@@ -141,4 +141,11 @@ double dual_cone_violation(const grip::Contact<double>& c, const Vec& z) {
   return std::fmax(0.0, std::sqrt(mu * mu * k.t * k.t + mt * mt * k.m * k.m) - k.n);
 }
 
+/// v.n - mu |v_t| for a hard finger c: >= 0 when v lies in the dual of its friction cone, and
+/// how far inside (or, negative, outside) it lies along the normal.
+inline double dual_margin(const grip::Contact<double>& c, const grip::Vector3<double>& v) {
+  const double vn = v.dot(c.normal);
+  return vn - c.friction * (v - vn * c.normal).norm();
+}
+
 }  // namespace grip_test

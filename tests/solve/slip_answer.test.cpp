@@ -30,12 +30,6 @@ Vector3<double> gradient_at_zero(const GraspT& g, int i, const Wrench<double>& w
   return HardFinger::wrench_transpose(c, t2w) - delta * c.weight * HardFinger::target(c);
 }
 
-// Signed distance-like margin of v to the dual cone of contact c: v.n - mu |v_t| (>= 0 inside).
-inline double dual_margin(const Contact<double>& c, const Vector3<double>& v) {
-  const double vn = v.dot(c.normal);
-  return vn - c.friction * (v - vn * c.normal).norm();
-}
-
 // A hard finger at a random point of the upper half of a 4 cm sphere (z above 0.2 of the
 // radius), pressing toward the centre: mu in [0.3, 1], squeeze in [squeeze_min, 2] N, weight in
 // [0.5, 1.5].
@@ -124,7 +118,7 @@ TEST_CASE_TEMPLATE("least-residual forces: zero exactly where the gradient at ze
     double least = 1e300, scale = 0;
     for (int i = 0; i < 4; ++i) {
       const Vector3<double> v = gradient_at_zero(g, i, wd, delta);
-      least = std::min(least, dual_margin(grip_test::cast_contact<double>(g.contact(i)), v));
+      least = std::min(least, grip_test::dual_margin(grip_test::cast_contact<double>(g.contact(i)), v));
       scale = std::max(scale, v.norm());
     }
     const double rounding = 1e3 * double(std::numeric_limits<S>::epsilon()) * scale;
