@@ -102,3 +102,152 @@ TEST_CASE_TEMPLATE("solve_constrained: a load on the boundary of the feasible se
     CHECK(grip_test::norm_l(res, len) <= 4 * loose * (grip_test::norm_l(wd, len) + std::sqrt(xs) + smax));
   }
 }
+
+namespace {
+
+struct LightContact {
+  double position[3], normal[3], friction;
+};
+
+// Light loads (15 uN to 8 mN against squeezing forces of 0.3 N) on grasps of bench_constrained's
+// make_hard_instance<N>(rng, true) (std::mt19937 rng(5000 + N); draws 10815, 24639 and 30787 at
+// n = 3, 5576 at n = 5, and 32541 at n = 3), hexadecimal, exact. The first four hold with forces
+// near the squeezing forces; without the wide neighbourhood, one pair's complementarity fell to
+// the cone's boundary ahead of the rest and every later step shrank to a sliver: 40 iterations and
+// IterationLimit. The fifth holds only with forces of about 2 kN, on the boundary of the feasible
+// set.
+const LightContact light3[4][3] = {
+    {{{-0x1.402935b3b0a7ep-7, -0x1.2bcc81739d404p-8, 0x1.3b8961d530fc9p-5},
+      {0x1.f44063e8c4065p-3, 0x1.d46f8a44a5b46p-4, -0x1.ed06a8dd1c8aap-1},
+      0x1.cb06bffad3573p-1},
+     {{-0x1.646ae32dc58c7p-8, 0x1.05127aed7af5fp-7, 0x1.3e0228ffbe425p-5},
+      {0x1.1673817bc255bp-3, -0x1.97ece01310205p-3, -0x1.f0e3600f9947ap-1},
+      0x1.f0ee8891e9ac7p-1},
+     {{0x1.8bc0b4817853ep-6, -0x1.9c3fd01db3e8ap-6, -0x1.40d28a4d5a311p-6},
+      {-0x1.352e8d0526018p-1, 0x1.4211da97348dcp-1, 0x1.f548f818dcecap-2},
+      0x1.c9415515f1a04p-2}},
+    {{{-0x1.e92bea6e2cbb1p-7, 0x1.ca114a317e24ap-10, 0x1.2faac8dbefc54p-5},
+      {0x1.7e2a4f2612f22p-2, -0x1.65dd81f6aa8cap-5, -0x1.da7ad9d7a6a43p-1},
+      0x1.eb96077ff132cp-2},
+     {{-0x1.548a78a27346ap-7, 0x1.6258b95f92d41p-7, 0x1.2fc61e49d48cep-5},
+      {0x1.0a0c2e3eea0f3p-2, -0x1.14d550d2aab5bp-2, -0x1.daa58f535c1c1p-1},
+      0x1.1ad504dab194dp-1},
+     {{-0x1.8b3d6f2c06abep-7, -0x1.04c787c2cac59p-7, -0x1.318ca177b73dfp-5},
+      {0x1.34c7feda65364p-2, 0x1.9777c4205cd4bp-3, 0x1.dd6bbc4b0e50cp-1},
+      0x1.38f580c92f51dp-2}},
+    {{{0x1.a3bc80502f083p-8, -0x1.6e57162a3eb3ap-7, 0x1.3637220619c78p-5},
+      {-0x1.47eb443ea4be6p-3, 0x1.1e34095100fc5p-2, -0x1.e4b625298847cp-1},
+      0x1.13c04c7141068p-1},
+     {{0x1.3168a066d8f91p-5, 0x1.22986501e368cp-7, -0x1.77b2f150d7ff5p-7},
+      {-0x1.dd337aa0b3053p-1, -0x1.c60e1dd2f353ap-3, 0x1.2583cc8728bf7p-2},
+      0x1.cca8113a428a4p-1},
+     {{0x1.b679a1e4ab3e8p-6, -0x1.a50cef6b63981p-11, -0x1.e6e42e058f65ep-6},
+      {-0x1.568f067aa5c8dp-1, 0x1.48f21b0be5cedp-6, 0x1.7c6243f458079p-1},
+      0x1.a785c66f930c4p-1}},
+    {{{0x1.3c7ed670a6434p-6, -0x1.af9799ef77767p-11, 0x1.1edb227dd20cdp-5},
+      {-0x1.ee862f1003c91p-2, 0x1.512e704315548p-6, -0x1.c03665e49834p-1},
+      0x1.a21df714a43fcp-1},
+     {{0x1.7904001256e11p-6, 0x1.784d008772eap-8, -0x1.07de455b0799cp-5},
+      {-0x1.268b200e53dfdp-1, -0x1.25fc2869d1c6dp-3, 0x1.9c4b4c5e3be03p-1},
+      0x1.14281e1e72fcfp-1},
+     {{0x1.e82b5715bbf7p-9, -0x1.5c49a995ca881p-6, 0x1.13e4b97d45bc9p-5},
+      {-0x1.7d61dc08fad8fp-4, 0x1.10198c7d063a5p-1, -0x1.af1561d3bcf6ap-1},
+      0x1.a8a054add0bf2p-2}},
+};
+const double light3_load[4][6] = {
+    {0x1.db22bd2f07668p-17, 0x1.308e61010a6d4p-16, 0x1.c80935ab76d94p-15, 0x1.2e56f7f593c31p-23, -0x1.c3a39c8888e77p-20,
+     0x1.8faa768e7e011p-20},
+    {-0x1.53bbb6e2d08f2p-15, 0x1.2230602a5f8b8p-14, -0x1.496e863a9a2cep-19, -0x1.21507f6c81058p-21,
+     -0x1.58f81c8dce1cap-26, -0x1.4b5f647ed141bp-23},
+    {-0x1.9a9c59e746a08p-17, -0x1.0a4aaf52d1349p-10, -0x1.a168190838d41p-9, -0x1.8b69d720ef9a4p-15,
+     0x1.0a461bff32d1ep-15, -0x1.ab2be6dc7114fp-14},
+    {-0x1.fddefe07759f5p-8, 0x1.19bb9576b372bp-10, 0x1.b5a4e1a4d2cf8p-7, 0x1.db592c81e1579p-15, 0x1.c02292ee3501p-12,
+     0x1.ec64973999bf4p-15},
+};
+const LightContact light5[5] = {
+    {{0x1.5e495b921098ep-9, 0x1.4f430130b88e7p-7, 0x1.3c059cc0fa3c8p-5},
+     {-0x1.11a94f8a1cf77p-4, -0x1.05ec58ee102f4p-2, -0x1.edc8c4ed86fe9p-1},
+     0x1.d7fdb3832e62cp-1},
+    {{0x1.1aac7f9f585a2p-5, -0x1.2282aa0eb0f97p-6, -0x1.3f43bdbb54981p-7},
+     {-0x1.b9ad8768fa0cdp-1, 0x1.c5ec29b6f485cp-2, 0x1.f2d9d874b42d9p-3},
+     0x1.a6adab7a0754cp-2},
+    {{0x1.1b34d95715e3cp-6, -0x1.fcc51004735ap-7, 0x1.0abad4f24e18p-5},
+     {-0x1.ba8293981233dp-2, 0x1.8d79f4837a1e5p-2, -0x1.a0c3ecba9a058p-1},
+     0x1.35e7480d4acc7p-1},
+    {{0x1.3e17eca3e1aafp-7, -0x1.06c5febc45ea3p-5, -0x1.65c5d78b805ccp-6},
+     {-0x1.f10561c0109b2p-3, 0x1.9a955e062d3dep-1, 0x1.17829064fc487p-1},
+     0x1.589341a169e68p-2},
+    {{0x1.b49abf64563e7p-6, 0x1.6878e4bb5ebb6p-7, -0x1.c64cb79a54198p-6},
+     {-0x1.5518e5866360cp-1, -0x1.199e72b262026p-2, 0x1.62ebef7091b3fp-1},
+     0x1.3f47cb4b7a4f9p-2},
+};
+const double light5_load[6] = {-0x1.1af719cca8b59p-13, 0x1.0ffca2ac836cp-11,  0x1.48821618c07bbp-12,
+                               0x1.ce0aa87e2e8a6p-15,  0x1.056dbe4f273c6p-17, 0x1.b6b5f300ff555p-17};
+
+template <int N>
+Grasp<N, HardFinger, double> light_grasp(const LightContact (&cs)[N]) {
+  Grasp<N, HardFinger, double> g;
+  for (int i = 0; i < N; ++i) {
+    Contact<double> c;
+    c.position = Vector3<double>(cs[i].position[0], cs[i].position[1], cs[i].position[2]);
+    c.normal = Vector3<double>(cs[i].normal[0], cs[i].normal[1], cs[i].normal[2]);
+    c.friction = cs[i].friction;
+    c.torsional_friction = 0.005;
+    c.squeeze = 0.3;
+    (void)g.set(i, c);
+  }
+  return g;
+}
+
+// The forces of an Ok answer lie in the cones and balance w to the interior-point method's
+// tolerance (docs/solve.md, the statuses: relative to the load, the forces and the squeezing
+// forces), checked in double from their definition.
+template <int N>
+void check_balanced(const Grasp<N, HardFinger, double>& g, const Wrench<double>& w,
+                    const typename Grasp<N, HardFinger, double>::ForceVector& forces) {
+  const double len = grip_test::grasp_lever_length(g);
+  Wrench<double> res = w;
+  for (int i = 0; i < N; ++i) {
+    const Vector3<double> xi = forces.template segment<3>(3 * i);
+    res += HardFinger::wrench(g.contact(i), xi);
+    CHECK(grip_test::cone_violation<HardFinger>(g.contact(i), xi) <= 1e-9 * (w.norm() + xi.norm()));
+  }
+  const double scale = grip_test::norm_l(w, len) + forces.norm() + 0.3;
+  CHECK(grip_test::norm_l(res, len) <= 2 * ScalarTraits<double>::interior_tolerance * scale);
+}
+
+// A hold that the interior-point method alone (newton_passes = 0) decides within 20 iterations,
+// at the optimum that Newton's method alone finds (the defaults decide these four in Newton's
+// passes, without an interior-point iteration): a second method's objective.
+template <int N>
+void check_hold(const Grasp<N, HardFinger, double>& g, const Wrench<double>& w) {
+  ConstrainedSettings<double> ip_only;
+  ip_only.newton_passes = 0;
+  const auto a = solve_constrained(g, w, ip_only);
+  const auto b = solve_constrained(g, w);
+  REQUIRE(a.status == Status::Ok);
+  REQUIRE(b.status == Status::Ok);
+  CHECK(a.iterations <= 20);
+  CHECK(b.iterations == 0);
+  CHECK(a.objective == doctest::Approx(b.objective).epsilon(1e-6));
+  check_balanced(g, w, a.forces);
+}
+
+}  // namespace
+
+TEST_CASE("solve_constrained: light-load holds that cycled at a cone's boundary converge in the wide neighbourhood") {
+  for (int k = 0; k < 3; ++k) {
+    CAPTURE(k);
+    check_hold(light_grasp(light3[k]), Wrench<double>(light3_load[k]));
+  }
+  check_hold(light_grasp(light5), Wrench<double>(light5_load));
+  // The boundary hold, with the defaults: the interior-point method stops on the boundary (its
+  // test against tau's largest value, carried across the run resumed after Newton's passes).
+  const auto g = light_grasp(light3[3]);
+  const Wrench<double> w(light3_load[3]);
+  const ConstrainedSettings<double> st;
+  const auto sol = solve_constrained(g, w, st);
+  REQUIRE(sol.status == Status::Ok);
+  CHECK(sol.iterations < st.max_iterations);
+  check_balanced(g, w, sol.forces);
+}

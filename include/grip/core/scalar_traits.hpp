@@ -37,6 +37,10 @@ struct ScalarTraits<double> {
   /// The interior-point method's boundary test (solve_constrained): an iterate that meets the
   /// residual tolerances with tau below this fraction of its largest value is the answer.
   static constexpr double interior_boundary = 1e-3;
+  /// The interior-point method's neighbourhood of the central path: a cone pair whose
+  /// smallest scaled eigenvalue squared falls below this fraction of mu is centred toward it
+  /// (Wright 1997, ch. 5, the wide neighbourhood N_-inf).
+  static constexpr double interior_neighbourhood = 0.1;
   /// The fraction of the largest step into the cones that the interior-point method takes: near
   /// the boundary float computes that step to a few of its last places only.
   static constexpr double interior_step = 0.99;
@@ -78,6 +82,10 @@ struct ScalarTraits<float> {
   /// The interior-point method's boundary test (solve_constrained): an iterate that meets the
   /// residual tolerances with tau below this fraction of its largest value is the answer.
   static constexpr float interior_boundary = 1e-3f;
+  /// The interior-point method's neighbourhood of the central path: a cone pair whose
+  /// smallest scaled eigenvalue squared falls below this fraction of mu is centred toward it
+  /// (Wright 1997, ch. 5, the wide neighbourhood N_-inf).
+  static constexpr float interior_neighbourhood = 0.1f;
   /// The fraction of the largest step into the cones that the interior-point method takes: near
   /// the boundary float computes that step to a few of its last places only.
   static constexpr float interior_step = 0.95f;

@@ -110,7 +110,7 @@ struct ConeBlock {
   /// The corrector's right-hand side in parts, g = g0 + sigma g1 + sigma mu g2:
   /// -(1 - sigma) rx - (cc - sigma mu ce) - e (t/s)((1 - sigma) rb - s - ds dt / t + sigma mu / t).
   template <bool Bounded>
-  static void corrector_parts(const Vec& rx, const Vec& cc, const Vec& ce, const Bound& b, P dsdt, Vec (&g)[3]) {
+  static void corrector_parts(const Vec& rx, const Vec& cc, const Vec& ce, const Bound& b, P dsdt, Vec* g) {
     const P zero = P::set1(S(0));
     for (int k = 0; k < D; ++k) {
       g[0][idx(k)] = zero - rx[idx(k)] - cc[idx(k)];
@@ -122,6 +122,24 @@ struct ConeBlock {
       g[1][0] = g[1][0] + select(b.has, b.hb * b.rb, zero);
       g[2][0] = g[2][0] - b.is;
     }
+  }
+  /// The wide neighbourhood's fourth part of the corrector's right-hand side (beside the three of
+  /// corrector_parts): ce on the lanes whose cone pair has its scaled point lambda = W z with
+  /// smallest eigenvalue lambda_0 - |lambda_1| below `root_gamma_mu` = sqrt(gamma mu), else 0. The
+  /// driver adds it times max(gamma - sigma, 0) mu, so that those pairs are centred toward at least
+  /// gamma mu and none is driven to its cone's boundary ahead of the others (Wright,
+  /// "Primal-Dual Interior-Point Methods", SIAM 1997, ch. 5). A bound's terms take no part.
+  /// Without a square root per lane: lambda_0 < sqrt(gamma mu) or (lambda_0 - sqrt(gamma mu))^2 <
+  /// |lambda_1|^2.
+  static Vec recentre_part(const Vec& lambda, const Vec& ce, P root_gamma_mu) {
+    const P zero = P::set1(S(0));
+    const P d = lambda[0] - root_gamma_mu;
+    P tail = zero;
+    for (int k = 1; k < D; ++k) tail = mul_add(lambda[idx(k)], lambda[idx(k)], tail);
+    const Mask near = (d < zero) | (d * d < tail);
+    Vec g;
+    for (int k = 0; k < D; ++k) g[idx(k)] = select(near, ce[idx(k)], zero);
+    return g;
   }
   /// B^-1 for B = P + e e^T hb + W^-2, in the scaling's frame (NtFrame): W^-2 = diag(a, b, g, ...)
   /// along (e+, e-, the rest), a = d-^2 / beta^2, b = d+^2 / beta^2, g = 1 / beta^2.

@@ -18,8 +18,9 @@ namespace detail {
 template <class S, int D, int Cap>
 template <bool Bounded>
 PredictSums<S> ConicLanes<S, D, Cap>::predict_impl(const Wrench<S>& y1, const Wrench<S>& y2, S dtau,
-                                                   const Wrench<S>& dy, S tau) {
+                                                   const Wrench<S>& dy, S tau, S gamma_mu) {
   const P zero = P::set1(S(0)), one = P::set1(S(1)), inf = P::set1(std::numeric_limits<S>::infinity());
+  const P prgm = P::set1(std::sqrt(gamma_mu));
   const P pdt = P::set1(dtau), itau2 = P::set1(S(2) / tau);
   P pdy[6], py1[6], py2[6];
   for (int r = 0; r < 6; ++r) {
@@ -27,8 +28,9 @@ PredictSums<S> ConicLanes<S, D, Cap>::predict_impl(const Wrench<S>& y1, const Wr
     py1[r] = P::set1(y1(r));
     py2[r] = P::set1(y2(r));
   }
-  // Sums: a_bg[0..2] 0-17, k 18-20, gap1 21, gap2 22, den 23, c_bg 24-26.
-  constexpr int nacc = 32;
+  // Sums: a_bg[0..2] 0-17, k 18-20, gap1 21, gap2 22, den 23, c_bg[0..2] 24-26, a_bg[3] 27-32,
+  // c_bg[3] 33.
+  constexpr int nacc = 40;
   P acc[nacc];
   for (P& e : acc) e = zero;
   P step = inf;
@@ -97,13 +99,15 @@ PredictSums<S> ConicLanes<S, D, Cap>::predict_impl(const Wrench<S>& y1, const Wr
       dsdt = ds * dt;
       dsdt.store(&this->bc_[idx(o)]);
     }
-    Vec g[3];
+    Vec g[4];
     Block::template corrector_parts<Bounded>(rx, cc, ce, b0, dsdt, g);
+    g[3] = Block::recentre_part(l, ce, prgm);
     const Vec cg = Block::template gradient_row<Bounded>(p, q, u, itau2, b0.c, b0.hb);
-    for (int j = 0; j < 3; ++j) {
+    for (int j = 0; j < 4; ++j) {
       const Vec f = sym_apply(bi, g[j]);
-      for (int r = 0; r < 6; ++r) lane_add<First>(acc[6 * j + r], cone_dot<P, D>(a[r], f));
-      add(24 + j, cone_dot<P, D>(cg, f));
+      const int at = j < 3 ? 6 * j : 27;
+      for (int r = 0; r < 6; ++r) lane_add<First>(acc[at + r], cone_dot<P, D>(a[r], f));
+      add(j < 3 ? 24 + j : 33, cone_dot<P, D>(cg, f));
     }
     if constexpr (Bounded) {
       // The tau row's bound terms: -c (t/s)((1 - sigma) rb - s - ds dt / t + sigma mu / t).
@@ -119,6 +123,8 @@ PredictSums<S> ConicLanes<S, D, Cap>::predict_impl(const Wrench<S>& y1, const Wr
     out.k[j] = tot(18 + j);
     out.c_bg[j] = tot(24 + j);
   }
+  for (int r = 0; r < 6; ++r) out.a_bg[3](r) = tot(27 + r);
+  out.c_bg[3] = tot(33);
   out.gap1 = tot(21);
   out.gap2 = tot(22);
   out.den = tot(23);
@@ -128,8 +134,10 @@ PredictSums<S> ConicLanes<S, D, Cap>::predict_impl(const Wrench<S>& y1, const Wr
 
 template <class S, int D, int Cap>
 template <bool Bounded>
-S ConicLanes<S, D, Cap>::correct_impl(const Wrench<S>& y1, S dtau, const Wrench<S>& dy, S sigma, S sigma_mu) {
+S ConicLanes<S, D, Cap>::correct_impl(const Wrench<S>& y1, S dtau, const Wrench<S>& dy, S sigma, S sigma_mu, S gamma_mu,
+                                      S extra_mu) {
   const P zero = P::set1(S(0)), inf = P::set1(std::numeric_limits<S>::infinity());
+  const P prgm = P::set1(std::sqrt(gamma_mu)), pem = P::set1(extra_mu);
   const P pdt = P::set1(dtau), psig = P::set1(sigma), psm = P::set1(sigma_mu), keep = P::set1(S(1) - sigma);
   P pdy[6], py1[6];
   for (int r = 0; r < 6; ++r) {
@@ -152,8 +160,9 @@ S ConicLanes<S, D, Cap>::correct_impl(const Wrench<S>& y1, S dtau, const Wrench<
     }
     Vec g[3];
     Block::template corrector_parts<Bounded>(rx, cc, ce, b0, dsdt, g);
+    const Vec g3 = Block::recentre_part(load(this->lambda_, o), ce, prgm);
     Vec gc;
-    for (int k = 0; k < D; ++k) gc[k] = mul_add(psm, g[2][k], mul_add(psig, g[1][k], g[0][k]));
+    for (int k = 0; k < D; ++k) gc[k] = mul_add(pem, g3[k], mul_add(psm, g[2][k], mul_add(psig, g[1][k], g[0][k])));
     Vec du = sym_apply(load_sym(o), minus_transpose(gc, a, py1));
     for (int k = 0; k < D; ++k) du[k] = mul_add(pdt, u2[k], du[k]);
     P dt = zero, ds = zero;

@@ -34,11 +34,12 @@ struct AssembleSums {
   bool ok{true};     ///< every scaling valid (both variables interior, finite)
 };
 
-/// The sums of ConicLanes::predict. The corrector's right-hand side is g0 + sigma g1 + sigma mu g2.
+/// The sums of ConicLanes::predict. The corrector's right-hand side is g0 + sigma g1 + sigma mu g2
+/// + max(gamma - sigma, 0) mu g3 (g3: ConeBlock::recentre_part).
 template <class S>
 struct PredictSums {
-  Wrench<S> a_bg[3];  ///< sum A_i B_i^-1 g_k,i (k = 0, 1, 2)
-  S c_bg[3]{};        ///< sum c_i^T B_i^-1 g_k,i
+  Wrench<S> a_bg[4];  ///< sum A_i B_i^-1 g_k,i (k = 0, 1, 2, 3)
+  S c_bg[4]{};        ///< sum c_i^T B_i^-1 g_k,i
   S k[3]{};           ///< the corrector's bound terms of the tau row, parts 0, 1, 2
   S step{0};          ///< the largest step in [0, inf) keeping u, z, s, t in their cones
   S gap1{0};          ///< sum u^T dz + du^T z + s dt + ds t

@@ -19,7 +19,10 @@
 /// and systems of ConicLanes, a predictor to the boundary (its step alpha_a sets the centring
 /// sigma = (1 - alpha_a)^3) and a corrector with Mehrotra's second-order term, whose step is
 /// ScalarTraits::interior_step (0.99 in double, 0.95 in float) of the largest that keeps every
-/// variable in its cone.
+/// variable in its cone. A cone pair outside the wide neighbourhood of the central path (its
+/// smallest scaled eigenvalue squared below gamma mu, gamma = ScalarTraits::interior_neighbourhood)
+/// is centred toward max(sigma, gamma) mu (ConeBlock::recentre_part): without it, a pair driven
+/// to its boundary early can hold every later step to a sliver of its length.
 ///
 /// It stops at the first iterate that is optimal to the tolerance (the residuals relative to the
 /// data and the iterate, and the gap relative to the objective, all below it); with
@@ -38,7 +41,8 @@
 /// with quadratic objectives", arXiv:2405.12762 (2024), sections 2-3 (the embedding and its
 /// Newton step); L. Vandenberghe, "The CVXOPT linear and quadratic cone program solvers" (2010)
 /// (scaling); S. Mehrotra, "On the implementation of a primal-dual interior point method", SIAM J.
-/// Optim. 2(4), 1992.
+/// Optim. 2(4), 1992; S. J. Wright, "Primal-Dual Interior-Point Methods", SIAM (1997), chapter 5
+/// (the wide neighbourhood).
 
 #include <algorithm>
 #include <cmath>
@@ -82,6 +86,7 @@ struct InteriorPointResult {
   S alpha{0};                      ///< the last step's length, taken at the next iteration's start
   S dual_cost{0};     ///< the dual objective at the last iterate, cost_offset - (b^T y + x^T P x / 2 tau) / tau
   int backtracks{0};  ///< steps halved back into the cones (one pass each, counted in iterations)
+  S tau_max{1};       ///< the largest tau of the run so far (the boundary test; a resumed run goes on from it)
 };
 
 /// LDL^T of the symmetric positive (semi)definite 6 x 6 matrix m in natural order, with pivots
@@ -163,7 +168,8 @@ InteriorPointResult<S> interior_point(Lanes& k, const Wrench<S>& b, S q_norm, co
   Wrench<S> last_dy = Wrench<S>::Zero(), last_dr = Wrench<S>::Zero();
   S last_dtau(0), last_dkappa(0);
   constexpr int max_backtracks = 4;
-  S tau_max = tau;  // the largest tau of the run, for the boundary test
+  S& tau_max = out.tau_max;
+  if (resume == nullptr) tau_max = tau;
   for (int it = out.iterations;; ++it) {
     out.iterations = it;
     AssembleSums<S> a = k.assemble(alpha, y, tau);
@@ -203,8 +209,9 @@ InteriorPointResult<S> interior_point(Lanes& k, const Wrench<S>& b, S q_norm, co
     // The rows relative to the load, the forces and residual_floor, the bound rows relative to
     // the bounds and the forces.
     const S tiny = std::numeric_limits<S>::min();
-    const S res_p = std::max(r_eq.norm() / tau / std::max(b_norm + xn + st.residual_floor, tiny),
-                             std::sqrt(a.rb2) / tau / std::max(k.bound_scale() + xn, tiny));
+    const S rows = r_eq.norm() / tau, bound_rows = std::sqrt(a.rb2) / tau;
+    const S res_p = std::max(rows / std::max(b_norm + xn + st.residual_floor, tiny),
+                             bound_rows / std::max(k.bound_scale() + xn, tiny));
     const S res_d = std::sqrt(a.rx2 + rr.squaredNorm()) / tau / std::max(S(1), q_norm + xn + zn);
     // The gap relative to the objective itself (F2 >= 0, its constant counted: cost_offset), not
     // to max(1, objective): F2 in the problem's units spans many orders of magnitude.
@@ -213,8 +220,8 @@ InteriorPointResult<S> interior_point(Lanes& k, const Wrench<S>& b, S q_norm, co
     tau_max = std::max(tau_max, tau);
     // The boundary's rows against the data alone (see the file comment).
     const bool boundary = st.boundary_answer && !st.soft && tau <= S(ScalarTraits<S>::interior_boundary) * tau_max &&
-                          r_eq.norm() / tau <= st.feasibility_tolerance * std::max(b_norm + st.residual_floor, tiny) &&
-                          std::sqrt(a.rb2) / tau <= st.feasibility_tolerance * std::max(k.bound_scale(), tiny);
+                          rows <= st.feasibility_tolerance * std::max(b_norm + st.residual_floor, tiny) &&
+                          bound_rows <= st.feasibility_tolerance * std::max(k.bound_scale(), tiny);
     if (res_p <= st.feasibility_tolerance && res_d <= st.feasibility_tolerance && (gap <= st.tolerance || boundary)) {
       out.status = Status::Ok;
       break;
@@ -262,7 +269,8 @@ InteriorPointResult<S> interior_point(Lanes& k, const Wrench<S>& b, S q_norm, co
     if (!std::isfinite(dtau)) break;
     Wrench<S> dy = y1 + dtau * y2;
     S dkappa = -kappa - kappa * dtau / tau;
-    const PredictSums<S> pr = k.predict(y1, y2, dtau, dy, tau);
+    const S gamma_mu = S(ScalarTraits<S>::interior_neighbourhood) * mu;
+    const PredictSums<S> pr = k.predict(y1, y2, dtau, dy, tau, gamma_mu);
     const auto limit = [&](S step, S dt, S dk) {
       S t = std::min(S(1), step);
       if (dt < S(0)) t = std::min(t, -tau / dt);
@@ -276,7 +284,15 @@ InteriorPointResult<S> interior_point(Lanes& k, const Wrench<S>& b, S q_norm, co
     // Corrector.
     const S d_kappa = tau * kappa + dtau * dkappa - sm;
     const S keep = S(1) - sigma;
-    const Wrench<S> rhs = pr.a_bg[0] + sigma * pr.a_bg[1] + sm * pr.a_bg[2] + keep * r_eq + keep * rr;
+    // The pairs outside the wide neighbourhood toward at least gamma mu (ConeBlock::recentre_part).
+    const S em = std::max(S(ScalarTraits<S>::interior_neighbourhood) - sigma, S(0)) * mu;
+    const S part[4] = {S(1), sigma, sm, em};  // the weights of the corrector's parts
+    Wrench<S> rhs = keep * (r_eq + rr);
+    S cbg(0);
+    for (int j = 0; j < 4; ++j) {
+      rhs += part[j] * pr.a_bg[j];
+      cbg += part[j] * pr.c_bg[j];
+    }
     const Wrench<S> y1c = ldlt.solve(rhs);
     const Wrench<S> r1c = y1c - keep * rr;
     // Unresolved, the denominator as minus a sum of squares (the predictor's pass; the soft form's
@@ -286,7 +302,6 @@ InteriorPointResult<S> interior_point(Lanes& k, const Wrench<S>& b, S q_norm, co
     const Wrench<S> e2 = (a.a_bq - b) - m * y2;
     const S den_c =
         resolved ? den_lin : -(kappa / tau + pr.den + (st.soft ? (r2 - r / tau).squaredNorm() : S(0))) - e2.dot(y2);
-    const S cbg = pr.c_bg[0] + sigma * pr.c_bg[1] + sm * pr.c_bg[2];
     const S numc = -keep * r_tau + d_kappa / tau + (pr.k[0] + sigma * pr.k[1] + sm * pr.k[2]) - (cbg - a.h.dot(y1c)) -
                    (st.soft ? two_r.dot(r1c) : S(0)) - b.dot(y1c);
     dtau = numc / den_c;
@@ -294,7 +309,7 @@ InteriorPointResult<S> interior_point(Lanes& k, const Wrench<S>& b, S q_norm, co
     dy = y1c + dtau * y2;
     dkappa = -(d_kappa + kappa * dtau) / tau;
     const Wrench<S> dr = r1c + dtau * r2;
-    const S step = k.correct(y1c, dtau, dy, sigma, sm);
+    const S step = k.correct(y1c, dtau, dy, sigma, sm, gamma_mu, em);
     alpha = S(ScalarTraits<S>::interior_step) * limit(step, dtau, dkappa);
     if (!(alpha > S(0))) break;
     y += alpha * dy;
