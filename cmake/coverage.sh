@@ -14,8 +14,9 @@ build=build/ci-sanitize
 dir=$build/coverage
 rm -rf "$dir" && mkdir -p "$dir"
 cmake --preset ci-sanitize
-# Two compilers at a time (the ci-sanitize build preset): an instrumented unity group takes up
-# to about 7 GB, and .ci/run builds another configuration alongside.
+# Two compilers at a time (the ci-sanitize build preset), over six unity groups rather than the
+# suite's four: an instrumented group of a quarter of the suite reached 8.5 GB, and .ci/run builds
+# another configuration alongside (two of those and armhf's four compilers overflowed 24 GB).
 cmake --build --preset ci-sanitize
 # Only the test run's profiles count (the build runs the binary once to list its tests).
 rm -rf "$build/profiles"
