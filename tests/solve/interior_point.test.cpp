@@ -114,8 +114,7 @@ struct LightContact {
 // n = 3, 5576 at n = 5, and 32541 at n = 3), hexadecimal, exact. The first four hold with forces
 // near the squeezing forces; without the wide neighbourhood, one pair's complementarity fell to
 // the cone's boundary ahead of the rest and every later step shrank to a sliver: 40 iterations and
-// IterationLimit. The fifth holds only with forces of about 2 kN, on the boundary of the feasible
-// set.
+// IterationLimit. The fifth lies on the boundary of the feasible set (see the test).
 const LightContact light3[4][3] = {
     {{{-0x1.402935b3b0a7ep-7, -0x1.2bcc81739d404p-8, 0x1.3b8961d530fc9p-5},
       {0x1.f44063e8c4065p-3, 0x1.d46f8a44a5b46p-4, -0x1.ed06a8dd1c8aap-1},
@@ -241,13 +240,35 @@ TEST_CASE("solve_constrained: light-load holds that cycled at a cone's boundary 
     check_hold(light_grasp(light3[k]), Wrench<double>(light3_load[k]));
   }
   check_hold(light_grasp(light5), Wrench<double>(light5_load));
-  // The boundary hold, with the defaults: the interior-point method stops on the boundary (its
-  // test against tau's largest value, carried across the run resumed after Newton's passes).
+  // The boundary hold: balanced only by forces of about 2 kN against a load of 0.016 N. A
+  // certificate to the tolerance t rules out balancing forces below about |w|_L / t (docs/solve.md),
+  // 1.6 kN at the default t = 1e-5: both answers are right to their tolerances. With the defaults
+  // the interior-point method finds the certificate; with t = 1e-7 (no forces below 160 kN) it
+  // stops on the boundary, Ok.
   const auto g = light_grasp(light3[3]);
   const Wrench<double> w(light3_load[3]);
+  const double len = grip_test::grasp_lever_length(g), load = grip_test::norm_l(w, len);
   const ConstrainedSettings<double> st;
-  const auto sol = solve_constrained(g, w, st);
-  REQUIRE(sol.status == Status::Ok);
-  CHECK(sol.iterations < st.max_iterations);
-  check_balanced(g, w, sol.forces);
+  const auto slip = solve_constrained(g, w, st);
+  REQUIRE(slip.status == Status::Infeasible);
+  CHECK(slip.iterations < st.max_iterations);
+  // The certificate from its definition (y.w > 0, every G_i^T y within t (y.w) / |w|_L of K_i^*,
+  // y of dual norm 1), as solve_constrained.test.cpp checks it.
+  const Wrench<double> y = slip.certificate;
+  CHECK(std::abs(grip_test::dual_norm_l(y, len) - 1.0) <= 1e-12);
+  CHECK(y.dot(w) > 0.0);
+  for (int i = 0; i < 3; ++i) {
+    const Contact<double>& c = g.contact(i);
+    const double reach = 1 + c.position.norm() / len, mu = c.friction;
+    CHECK(grip_test::dual_cone_violation<HardFinger>(c, HardFinger::wrench_transpose(c, y)) <=
+          std::sqrt(1 + mu * mu) * st.certificate_tolerance * y.dot(w) / load * reach + 1e-14);
+  }
+  ConstrainedSettings<double> strict;
+  strict.certificate_tolerance = 1e-7;
+  const auto hold = solve_constrained(g, w, strict);
+  REQUIRE(hold.status == Status::Ok);
+  CHECK(hold.iterations < st.max_iterations);
+  check_balanced(g, w, hold.forces);
+  // The two answers agree: the balancing forces lie beyond what the default certificate rules out.
+  CHECK(hold.forces.norm() * st.certificate_tolerance > load);
 }

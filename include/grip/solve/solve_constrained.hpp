@@ -234,6 +234,9 @@ EIGEN_DONT_INLINE void solve_constrained_iterate(const GraspT& grasp, const Wren
   ip.tolerance = newton_passes > 0 ? std::max(interior, handover) : interior;
   ip.feasibility_tolerance = newton_passes > 0 ? std::max(interior, handover * handover) : interior;
   ip.certificate_tolerance = settings.certificate_tolerance;
+  // The certificate's slack relative to y's angle with the load, as ConstrainedSettings states it
+  // (relative to |b^T y| alone, a load far below the squeezing forces would shrink it by |b|).
+  ip.certificate_scale = problem.load_scale;
   ip.max_iterations = settings.max_iterations - 1;
   ip.boundary_answer = newton_passes == 0;  // not at the handover: Newton refines from there
   ip.cost_offset = problem.cost_offset(grasp);

@@ -18,9 +18,9 @@ namespace detail {
 template <class S, int D, int Cap>
 template <bool Bounded>
 PredictSums<S> ConicLanes<S, D, Cap>::predict_impl(const Wrench<S>& y1, const Wrench<S>& y2, S dtau,
-                                                   const Wrench<S>& dy, S tau, S gamma_mu) {
+                                                   const Wrench<S>& dy, S tau, S root_gamma_mu) {
   const P zero = P::set1(S(0)), one = P::set1(S(1)), inf = P::set1(std::numeric_limits<S>::infinity());
-  const P prgm = P::set1(std::sqrt(gamma_mu));
+  const P prgm = P::set1(root_gamma_mu);
   const P pdt = P::set1(dtau), itau2 = P::set1(S(2) / tau);
   P pdy[6], py1[6], py2[6];
   for (int r = 0; r < 6; ++r) {
@@ -134,10 +134,10 @@ PredictSums<S> ConicLanes<S, D, Cap>::predict_impl(const Wrench<S>& y1, const Wr
 
 template <class S, int D, int Cap>
 template <bool Bounded>
-S ConicLanes<S, D, Cap>::correct_impl(const Wrench<S>& y1, S dtau, const Wrench<S>& dy, S sigma, S sigma_mu, S gamma_mu,
-                                      S extra_mu) {
+S ConicLanes<S, D, Cap>::correct_impl(const Wrench<S>& y1, S dtau, const Wrench<S>& dy, S sigma, S sigma_mu,
+                                      S root_gamma_mu, S extra_mu) {
   const P zero = P::set1(S(0)), inf = P::set1(std::numeric_limits<S>::infinity());
-  const P prgm = P::set1(std::sqrt(gamma_mu)), pem = P::set1(extra_mu);
+  const P prgm = P::set1(root_gamma_mu), pem = P::set1(extra_mu);
   const P pdt = P::set1(dtau), psig = P::set1(sigma), psm = P::set1(sigma_mu), keep = P::set1(S(1) - sigma);
   P pdy[6], py1[6];
   for (int r = 0; r < 6; ++r) {

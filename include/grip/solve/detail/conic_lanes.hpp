@@ -95,27 +95,29 @@ class ConicLanes : public ConicStorage<S, D, Cap> {
   /// the direction's dtau and dy = y1 + dtau y2 (the driver's solves from assemble's sums):
   /// u2_i = B_i^-1 (gq_i - A_i^T y2) (kept), du_i = B_i^-1 (gp_i - A_i^T y1) + dtau u2_i and the
   /// rest of the direction (kept), its step length, and the corrector's parts (kept, and summed).
-  /// `gamma_mu` = gamma mu: the pairs outside the wide neighbourhood (ConeBlock::recentre_part;
-  /// gamma = ScalarTraits::interior_neighbourhood) give the fourth part of the corrector.
-  PredictSums<S> predict(const Wrench<S>& y1, const Wrench<S>& y2, S dtau, const Wrench<S>& dy, S tau, S gamma_mu) {
+  /// `root_gamma_mu` = sqrt(gamma mu): the pairs outside the wide neighbourhood
+  /// (ConeBlock::recentre_part; gamma = ScalarTraits::interior_neighbourhood) give the fourth
+  /// part of the corrector.
+  PredictSums<S> predict(const Wrench<S>& y1, const Wrench<S>& y2, S dtau, const Wrench<S>& dy, S tau,
+                         S root_gamma_mu) {
     if constexpr (conic_one_variant) {
-      return predict_impl<true>(y1, y2, dtau, dy, tau, gamma_mu);
+      return predict_impl<true>(y1, y2, dtau, dy, tau, root_gamma_mu);
     } else {
-      return this->bounded_ ? predict_impl<true>(y1, y2, dtau, dy, tau, gamma_mu)
-                            : predict_impl<false>(y1, y2, dtau, dy, tau, gamma_mu);
+      return this->bounded_ ? predict_impl<true>(y1, y2, dtau, dy, tau, root_gamma_mu)
+                            : predict_impl<false>(y1, y2, dtau, dy, tau, root_gamma_mu);
     }
   }
 
   /// Pass 3, the corrector: with its y1 (the driver's solve of the summed right-hand side), dtau
   /// and dy = y1 + dtau y2, the direction du_i = B_i^-1 (g_i - A_i^T y1) + dtau u2_i and the rest
-  /// (kept for assemble's step); returns its step length. `sigma_mu` = sigma mu; `gamma_mu` as in
+  /// (kept for assemble's step); returns its step length. `sigma_mu` = sigma mu; `root_gamma_mu` as in
   /// predict; `extra_mu` = max(gamma - sigma, 0) mu, the fourth part's weight.
-  S correct(const Wrench<S>& y1, S dtau, const Wrench<S>& dy, S sigma, S sigma_mu, S gamma_mu, S extra_mu) {
+  S correct(const Wrench<S>& y1, S dtau, const Wrench<S>& dy, S sigma, S sigma_mu, S root_gamma_mu, S extra_mu) {
     if constexpr (conic_one_variant) {
-      return correct_impl<true>(y1, dtau, dy, sigma, sigma_mu, gamma_mu, extra_mu);
+      return correct_impl<true>(y1, dtau, dy, sigma, sigma_mu, root_gamma_mu, extra_mu);
     } else {
-      return this->bounded_ ? correct_impl<true>(y1, dtau, dy, sigma, sigma_mu, gamma_mu, extra_mu)
-                            : correct_impl<false>(y1, dtau, dy, sigma, sigma_mu, gamma_mu, extra_mu);
+      return this->bounded_ ? correct_impl<true>(y1, dtau, dy, sigma, sigma_mu, root_gamma_mu, extra_mu)
+                            : correct_impl<false>(y1, dtau, dy, sigma, sigma_mu, root_gamma_mu, extra_mu);
     }
   }
 
@@ -287,9 +289,10 @@ class ConicLanes : public ConicStorage<S, D, Cap> {
 
   /// Pass 2's and pass 3's bodies (conic_direction.hpp), for grasps with and without bounds.
   template <bool Bounded>
-  PredictSums<S> predict_impl(const Wrench<S>& y1, const Wrench<S>& y2, S dtau, const Wrench<S>& dy, S tau, S gamma_mu);
+  PredictSums<S> predict_impl(const Wrench<S>& y1, const Wrench<S>& y2, S dtau, const Wrench<S>& dy, S tau,
+                              S root_gamma_mu);
   template <bool Bounded>
-  S correct_impl(const Wrench<S>& y1, S dtau, const Wrench<S>& dy, S sigma, S sigma_mu, S gamma_mu, S extra_mu);
+  S correct_impl(const Wrench<S>& y1, S dtau, const Wrench<S>& dy, S sigma, S sigma_mu, S root_gamma_mu, S extra_mu);
 };
 
 }  // namespace detail

@@ -66,7 +66,10 @@ struct ForceProblem {
   S force{1};               ///< F0 (N)
   S weight{1};              ///< W0
   Wrench<S> b;              ///< -T w_ext / F0
-  S q_norm{0};              ///< |q|
+  /// The load's size in the problem's units, |b|, clamped to [sqrt(eps), 1]: at most 1 (F0 is at
+  /// least the load), below 1 when the squeezing forces outweigh the load.
+  S load_scale{1};
+  S q_norm{0};  ///< |q|
   /// Set by fill: every contact's q_i - A_i^T b lies in Q, so u = 0 minimises the soft form
   /// (its gradient there is q - A^T b, and u = 0 is optimal over the cones iff that lies in
   /// their dual, Q itself). Meaningful for the soft form only.
@@ -83,6 +86,7 @@ struct ForceProblem {
     force = f0 > S(0) && std::isfinite(f0) ? f0 : S(1);
     weight = w0 > S(0) ? w0 : S(1);
     b = -norm.to_units(w_ext) / force;
+    load_scale = std::min(S(1), std::max(b.norm(), std::sqrt(std::numeric_limits<S>::epsilon())));
   }
 
   /// The problem of `grasp` and `w_ext` written into `k` (every contact set), the scales and

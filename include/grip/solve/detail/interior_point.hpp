@@ -33,9 +33,10 @@
 /// residual relative to the data alone, b and residual_floor (an infeasible problem's x / tau
 /// grows without bound, and a residual relative to it would pass); or, in the hard
 /// form, at one that carries an infeasibility certificate to `certificate_tolerance`: b^T y < 0 with
-/// min_i margin(A_i^T y) >= -certificate_tolerance |b^T y|, so that no x in the cones with
-/// sum_i |u_i| below about 1 / certificate_tolerance (the problem's data being normalised to
-/// 1) satisfies A x = b.
+/// min_i margin(A_i^T y) >= -certificate_tolerance |b^T y| / certificate_scale, so that no x in
+/// the cones with sum_i |u_i| below about certificate_scale / certificate_tolerance (the
+/// problem's data being normalised to 1) satisfies A x = b. With certificate_scale = |b| the
+/// slack is relative to the angle between y and b alone, and the bound on x relative to |b|.
 ///
 /// References: P. J. Goulart and Y. Chen, "Clarabel: An interior-point solver for conic programs
 /// with quadratic objectives", arXiv:2405.12762 (2024), sections 2-3 (the embedding and its
@@ -62,7 +63,7 @@ template <class S>
 struct InteriorPointSettings {
   S tolerance{S(1e-8)};              ///< the gap, relative to the objective (see the file comment)
   S feasibility_tolerance{S(1e-8)};  ///< the residuals, relative to the data and the iterate
-  S certificate_tolerance{S(1e-8)};  ///< the certificate's slack, relative to |b^T y|
+  S certificate_tolerance{S(1e-8)};  ///< the certificate's slack, relative to |b^T y| / certificate_scale
   int max_iterations{40};            ///< iterations (three passes over the contacts each)
   bool soft{false};                  ///< the soft form: 1/2 |A u - b|^2 instead of A u = b
   S cost_offset{0};                  ///< a constant of the objective (the gap's relative test counts it)
@@ -70,6 +71,7 @@ struct InteriorPointSettings {
   S objective_floor{0};              ///< the gap's scale is max(|objective|, objective_floor) (an absolute floor)
   bool boundary_answer{false};       ///< hard form: stop Ok on the boundary of feasibility (see the file comment)
   S start_scale{1};                  ///< theta of a fresh run's start (see the file comment): finite, > 0
+  S certificate_scale{1};            ///< see certificate_tolerance and the file comment: finite, > 0
 };
 
 /// What the interior-point method returns.
@@ -155,6 +157,7 @@ InteriorPointResult<S> interior_point(Lanes& k, const Wrench<S>& b, S q_norm, co
   out.status = Status::IterationLimit;
   const S eps = std::numeric_limits<S>::epsilon();
   const S b_norm = b.norm();
+  const S slack = st.certificate_tolerance / st.certificate_scale;  // the certificate's, per unit of |b^T y|
   const S nu = S(k.degree() + 1);
   Wrench<S>& y = out.y;
   Wrench<S>& r = out.r;
@@ -227,15 +230,15 @@ InteriorPointResult<S> interior_point(Lanes& k, const Wrench<S>& b, S q_norm, co
       break;
     }
     // A certificate: b^T y (+ the bounds' c^T t) < 0 with every A_i^T y (+ e t_i) in Q to within
-    // certificate_tolerance |b^T y|: then no x in the cones with sum_i |u_i| below about
-    // 1 / certificate_tolerance satisfies A x = b (the rows normalised with b), whether y lies in
+    // certificate_tolerance |b^T y| / certificate_scale: then no x in the cones with sum_i |u_i|
+    // below about certificate_scale / certificate_tolerance satisfies A x = b, whether y lies in
     // the range of A or along a null space of A^T (contacts that cannot resist some wrench at
     // all, rank(G) < 6). |b^T y| must stand above y's round-off: at least rho |b| |y|, with
     // rho = min(certificate_tolerance, 64 eps / certificate_tolerance) (in double far below the
     // tolerance; in float, where the two meet, the tolerance).
     const S byc = by + a.ct;
     const S rho = std::min(st.certificate_tolerance, S(64) * eps / st.certificate_tolerance);
-    if (!st.soft && byc < S(0) && a.certificate >= st.certificate_tolerance * byc && -byc >= rho * b_norm * y.norm()) {
+    if (!st.soft && byc < S(0) && a.certificate >= slack * byc && -byc >= rho * b_norm * y.norm()) {
       out.status = Status::Infeasible;
       break;
     }
@@ -269,8 +272,8 @@ InteriorPointResult<S> interior_point(Lanes& k, const Wrench<S>& b, S q_norm, co
     if (!std::isfinite(dtau)) break;
     Wrench<S> dy = y1 + dtau * y2;
     S dkappa = -kappa - kappa * dtau / tau;
-    const S gamma_mu = S(ScalarTraits<S>::interior_neighbourhood) * mu;
-    const PredictSums<S> pr = k.predict(y1, y2, dtau, dy, tau, gamma_mu);
+    const S root_gamma_mu = std::sqrt(S(ScalarTraits<S>::interior_neighbourhood) * mu);
+    const PredictSums<S> pr = k.predict(y1, y2, dtau, dy, tau, root_gamma_mu);
     const auto limit = [&](S step, S dt, S dk) {
       S t = std::min(S(1), step);
       if (dt < S(0)) t = std::min(t, -tau / dt);
@@ -309,7 +312,7 @@ InteriorPointResult<S> interior_point(Lanes& k, const Wrench<S>& b, S q_norm, co
     dy = y1c + dtau * y2;
     dkappa = -(d_kappa + kappa * dtau) / tau;
     const Wrench<S> dr = r1c + dtau * r2;
-    const S step = k.correct(y1c, dtau, dy, sigma, sm, gamma_mu, em);
+    const S step = k.correct(y1c, dtau, dy, sigma, sm, root_gamma_mu, em);
     alpha = S(ScalarTraits<S>::interior_step) * limit(step, dtau, dkappa);
     if (!(alpha > S(0))) break;
     y += alpha * dy;

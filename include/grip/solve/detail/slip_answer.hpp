@@ -72,12 +72,11 @@ void least_residual_forces(const GraspT& grasp, const Wrench<typename GraspT::Sc
   lr.soft = true;
   lr.cost_offset = problem.cost_offset(grasp) * delta_n;
   lr.residual_floor = problem.squeeze_scale(grasp);
-  // The run starts at the load's size in the problem's units, |b| = |w_ext|_L / F0 (F0 is the
-  // larger of the load and the largest squeezing force), at most 1 and at least sqrt(eps). Under
+  // The run starts at the load's size in the problem's units (ForceProblem::load_scale). Under
   // a load far below the squeezing forces the problem's data b, and with it the residuals and
   // multipliers, are small: from the cones' centres the method would first spend iterations
   // shrinking its iterate toward that scale.
-  lr.start_scale = std::min(S(1), std::max(problem.b.norm(), std::sqrt(std::numeric_limits<S>::epsilon())));
+  lr.start_scale = problem.load_scale;
   const InteriorPointResult<S> q = interior_point(k, problem.b, problem.q_norm, lr);
   sol.iterations += q.iterations;
   sol.passes += 3 * q.iterations + 1 - 2 * q.backtracks;
