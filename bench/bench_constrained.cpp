@@ -29,7 +29,8 @@
 //                      median, the same of the slipping ones (slip_*), and interior-point
 //                      iterations (median and worst of the slipping ones, worst of all);
 //                      Loads<n, true>: every normal force bounded by 20 N; Loads<n, false,
-//                      true>: loads 1e-6 to 0.1 times the squeezing forces
+//                      true>: loads 1e-6 to 0.1 times the squeezing forces; Loads<n, true,
+//                      true>: both (a haptic device's limits under a light load)
 //   SlipFrames/n       pairs of slipping frames (n = 3, 5): the second solved cold and from
 //                      the first's certificate (see SlipFrames below)
 //   Bound/n            the bound of a solve: 64 grasps the fast path does not answer (many
@@ -525,6 +526,8 @@ BENCHMARK_TEMPLATE(Loads, 2, true)->Iterations(1)->Unit(benchmark::kMillisecond)
 BENCHMARK_TEMPLATE(Loads, 3, true)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(Loads, 3, false, true)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(Loads, 5, false, true)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(Loads, 3, true, true)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(Loads, 5, true, true)->Iterations(1)->Unit(benchmark::kMillisecond);
 GRIP_BENCH_N(3);
 GRIP_BENCH_N(5);
 GRIP_BENCH_N(10);

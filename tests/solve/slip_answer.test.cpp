@@ -47,6 +47,15 @@ Contact<S> upper_sphere_contact(std::mt19937& rng, double squeeze_min) {
   return c;
 }
 
+// A load of 0.1 N over 10^decades (log-uniform) in a random direction, with moments of a few
+// centimetres times it.
+Wrench<double> light_load(std::mt19937& rng, double decades) {
+  std::uniform_real_distribution<double> u01(0, 1), sym(-1, 1);
+  Wrench<double> w;
+  for (int j = 0; j < 6; ++j) w(j) = sym(rng) * (j < 3 ? 1.0 : 0.04);
+  return w * (0.1 * std::pow(10.0, -decades * u01(rng)) / w.head<3>().norm());
+}
+
 }  // namespace
 
 TEST_CASE_TEMPLATE("least-residual forces: three fingers on top, a load pulling down (hand derivation)", S, double,
@@ -163,9 +172,7 @@ TEST_CASE_TEMPLATE("least-residual forces under loads far below the squeezing fo
   for (int k = 0; k < 600; ++k) {
     Grasp<3, HardFinger, S> g;
     for (int i = 0; i < 3; ++i) REQUIRE(g.set(i, upper_sphere_contact<S>(rng, 0.2)) == Status::Ok);
-    Wrench<double> wd;
-    for (int j = 0; j < 6; ++j) wd(j) = sym(rng) * (j < 3 ? 1.0 : 0.04);
-    wd *= 0.1 * std::pow(10.0, -decades * u01(rng)) / wd.head<3>().norm();
+    const Wrench<double> wd = light_load(rng, decades);
     const Wrench<S> w = wd.template cast<S>();
     const auto sol = solve_constrained(g, w);
     if (sol.status != Status::Infeasible || sol.forces.isZero(0)) continue;
@@ -197,4 +204,44 @@ TEST_CASE_TEMPLATE("least-residual forces under loads far below the squeezing fo
   }
   MESSAGE(probed, " slips with forces probed");
   CHECK(probed >= 50);
+}
+
+TEST_CASE_TEMPLATE("least-residual forces under light loads: a device's bound far above them changes nothing", S,
+                   double, float) {
+  // Three hard fingers on the upper half of a 4 cm sphere, squeezing with up to 2 N, under loads
+  // 10 to 10^5 times smaller (float: 10 to 100), solved with every normal force bounded by 20 N
+  // (a haptic device's channel) and without bounds. No force of the least-residual answer comes
+  // near the bound, so both solve the same problem: both slip, the bounded forces keep their
+  // bound, and their objectives P (evaluated in double from the contacts' data) agree to the
+  // interior-point method's tolerance.
+  std::mt19937 rng(1207);
+  const double decades = std::is_same<S, float>::value ? 1.0 : 4.0;
+  const double tol = double(ScalarTraits<S>::interior_tolerance);
+  int compared = 0;
+  for (int k = 0; k < 400; ++k) {
+    Grasp<3, HardFinger, S> free_grasp, bounded;
+    for (int i = 0; i < 3; ++i) {
+      Contact<S> c = upper_sphere_contact<S>(rng, 0.2);
+      REQUIRE(free_grasp.set(i, c) == Status::Ok);
+      c.max_normal_force = S(20);
+      REQUIRE(bounded.set(i, c) == Status::Ok);
+    }
+    const Wrench<double> wd = light_load(rng, decades);
+    const Wrench<S> w = wd.template cast<S>();
+    const auto a = solve_constrained(free_grasp, w);
+    if (a.status != Status::Infeasible || a.forces.isZero(0)) continue;
+    CAPTURE(k);
+    const auto b = solve_constrained(bounded, w);
+    REQUIRE(b.status == Status::Infeasible);
+    const double delta = grip_test::least_residual_delta(free_grasp);
+    const double pa =
+        grip_test::least_residual_objective(free_grasp, wd, a.forces.template cast<double>().eval(), delta);
+    const double pb = grip_test::least_residual_objective(bounded, wd, b.forces.template cast<double>().eval(), delta);
+    CHECK(std::abs(pa - pb) <= 4 * tol * std::max(pa, pb) + 1e-12 * pa);
+    for (int i = 0; i < 3; ++i)
+      CHECK(double(b.forces.template segment<3>(3 * i).dot(bounded.contact(i).normal)) <= 20.0);
+    ++compared;
+  }
+  MESSAGE(compared, " slips compared");
+  CHECK(compared >= 50);
 }

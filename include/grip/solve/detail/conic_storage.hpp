@@ -98,8 +98,11 @@ class ConicStorage : protected ConeBlock<SimdPackFor<S, Cap>, D> {
     }
   }
 
-  /// Every variable at `scale` (> 0) times its cone's centre: u = z = scale e, and
-  /// s = t = scale for a bound.
+  /// Every variable at `scale` (> 0) times its cone's centre: u = z = scale e; a bound's slack
+  /// at what its row leaves at tau = 1, s = c - scale (at least scale), and its dual t = scale^2 / s
+  /// (each pair's product scale^2). A bound far above `scale` (a device's limit under a light load)
+  /// would otherwise start its slack far below its value at the solution, and the method would
+  /// spend its iterations growing it.
   void start(S scale = S(1)) {
     u_.fill(S(0));
     z_.fill(S(0));
@@ -107,7 +110,9 @@ class ConicStorage : protected ConeBlock<SimdPackFor<S, Cap>, D> {
     dz_.fill(S(0));
     for (int i = 0; i < stride; ++i) {
       u_[idx(i)] = z_[idx(i)] = scale;
-      s_[idx(i)] = t_[idx(i)] = scale;
+      const S c = c_[idx(i)];
+      s_[idx(i)] = c < std::numeric_limits<S>::infinity() ? std::max(c - scale, scale) : scale;
+      t_[idx(i)] = scale * (scale / s_[idx(i)]);
       ds_[idx(i)] = dt_[idx(i)] = S(0);
     }
   }
