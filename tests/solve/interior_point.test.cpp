@@ -1,7 +1,8 @@
 // The interior-point method's answer on the boundary of the feasible set
 // (include/grip/solve/detail/interior_point.hpp): a load that the grasp resists only with forces
 // on the boundary of its cones, to within rounding, ends Ok with balanced forces and multipliers
-// in range, within the bound on iterations.
+// in range, within the bound on iterations; and a run resumed after Newton's refinement failed
+// stops where an uninterrupted run does.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -271,4 +272,86 @@ TEST_CASE("solve_constrained: light-load holds that cycled at a cone's boundary 
   check_balanced(g, w, hold.forces);
   // The two answers agree: the balancing forces lie beyond what the default certificate rules out.
   CHECK(hold.forces.norm() * st.certificate_tolerance > load);
+}
+
+namespace {
+
+// Light loads on grasps of make_hard_instance<N>(rng, true) (std::mt19937 rng(5000 + N); draws
+// 847 and 23474 at n = 3, 46242 at n = 5), hexadecimal, exact: holds on the boundary of the
+// feasible set (1e-6 N against squeezing forces of 0.3 N), where the interior-point method's tau
+// collapses and Newton's refinement from its multipliers cannot converge.
+const LightContact resumed3[2][3] = {
+    {{{0x1.49ace346d387ap-10, 0x1.557b92d066da3p-7, -0x1.3c322b14ca601p-5},
+      {-0x1.018f118f5541fp-5, -0x1.0ac88ab2d05a7p-2, 0x1.ee0e63507c362p-1},
+      0x1.0e8f256e8c59fp-1},
+     {{-0x1.4086b895ccb5ap-5, 0x1.d53492d8039c7p-8, -0x1.14ce08adff9ffp-8},
+      {0x1.f4d2806a0fdbcp-1, -0x1.6e9112b8c2d23p-3, 0x1.b081ed8fdf69fp-4},
+      0x1.c0b6826ae9a62p-1},
+     {{0x1.a097838c1fa9p-7, 0x1.312c0c2f48f73p-5, -0x1.d24c2ea011f3p-8},
+      {-0x1.45765ec578bcp-2, -0x1.dcd4d309e2024p-1, 0x1.6c4b846d0e05dp-3},
+      0x1.dca378944596ap-1}},
+    {{{-0x1.03484eae0ec9ap-5, 0x1.50c47d39ec36cp-6, 0x1.b2652c8640152p-7},
+      {0x1.9520faeff71bp-1, -0x1.071981d5408acp-1, -0x1.535f0ac8e2108p-2},
+      0x1.7e60a77ae9c3ep-2},
+     {{0x1.16f4f5fe9ae6ep-9, 0x1.16dda562b4381p-5, 0x1.565e5fbfd85dbp-6},
+      {-0x1.b3dec05dd208bp-5, -0x1.b3ba526a3997ap-1, -0x1.0b79bacde1093p-1},
+      0x1.d2c5daf75154p-1},
+     {{-0x1.9437b73cfd8b2p-6, 0x1.730e73f46ed3fp-6, -0x1.665c2d205aa21p-6},
+      {0x1.3bcb8727a614bp-1, -0x1.21e34a96f6959p-1, 0x1.17f8034146ceap-1},
+      0x1.a87f7028014aep-1}},
+};
+const double resumed3_loads[2][6] = {{0x1.6919aaef0bfc9p-23, 0x1.1b084181709cdp-20, -0x1.235336124cf74p-20,
+                                      -0x1.37c81bc81bc6dp-26, 0x1.6d89f14164e7bp-24, -0x1.1326f6cc4692fp-25},
+                                     {0x1.7dcabf7a3e0dep-20, 0x1.0ce2edd21830cp-18, 0x1.6727842183e5cp-23,
+                                      0x1.e9c319034d6p-25, -0x1.40e0a65d8ca71p-26, -0x1.df7d95381ff48p-24}};
+const LightContact resumed5[5] = {
+    {{0x1.07e3036f6c0d5p-5, -0x1.6a3679bfe7a3bp-8, -0x1.79d344fe78845p-6},
+     {-0x1.9c52b55e18d4dp-1, 0x1.1afa8f1decf7ep-3, 0x1.272d0de6ce276p-1},
+     0x1.b037e56915818p-2},
+    {{0x1.b21efe717d684p-8, 0x1.1b6ac6979e2aap-6, -0x1.226d7456bdc3dp-5},
+     {-0x1.532836c8a9f97p-3, -0x1.bad6d64ce722ap-2, 0x1.c5cb05c78881fp-1},
+     0x1.d9f0a6ba431fep-1},
+    {{-0x1.a570b294e0081p-10, -0x1.3ee0a909024d5p-5, 0x1.2920d15cc6edcp-7},
+     {0x1.49400b844f065p-5, 0x1.f23f081e1398dp-1, -0x1.d0434720f6d37p-3},
+     0x1.d623ec714501p-2},
+    {{0x1.8439964e98a85p-6, -0x1.ddf42acc4d875p-6, -0x1.c0b9572fc5d24p-7},
+     {-0x1.2f4cfd6d67438p-1, 0x1.7566c16f9c91bp-1, 0x1.5e90cc1d528c4p-2},
+     0x1.5235a1e08bbdap-1},
+    {{-0x1.b55928f6e4aadp-6, -0x1.c36edbf29586cp-9, -0x1.e4cee45cac309p-6},
+     {0x1.55ada800e2a57p-1, 0x1.60ae9bd584d14p-4, 0x1.7ac1a2686685fp-1},
+     0x1.e8d538d5271cp-2},
+};
+const double resumed5_load[6] = {0x1.c03bccc4a5bbap-24, 0x1.fbee867b24c2ap-21,  -0x1.010278b2b8659p-21,
+                                 0x1.a58eee48ec5f3p-25, -0x1.d4fd4a9fc1b44p-28, 0x1.82d8847788492p-25};
+
+// With the defaults the interior-point method hands over to Newton at interior_handover, Newton's
+// refinement fails, and the method resumes to its own tolerance; with newton_passes = 0 it runs
+// through. The resumed run goes on from the same iterate with the same history (tau's largest
+// value, for the boundary test), so both stop at the same iteration with the same verdict.
+// Returns whether the instance took that path (on the boundary, rounding decides: another
+// instruction set may end it refined or Infeasible).
+template <int N>
+bool check_resumed(const Grasp<N, HardFinger, double>& g, const Wrench<double>& w) {
+  ConstrainedSettings<double> through;
+  through.newton_passes = 0;
+  const auto a = solve_constrained(g, w);
+  const auto b = solve_constrained(g, w, through);
+  if (a.refined || b.status != Status::Ok) return false;
+  CHECK(a.status == Status::Ok);
+  CHECK(a.iterations == b.iterations);
+  check_balanced(g, w, a.forces);
+  return true;
+}
+
+}  // namespace
+
+TEST_CASE("solve_constrained: a run resumed after Newton's refinement stops where an uninterrupted one does") {
+  int resumed = 0;
+  for (int k = 0; k < 2; ++k) {
+    CAPTURE(k);
+    resumed += check_resumed(light_grasp(resumed3[k]), Wrench<double>(resumed3_loads[k])) ? 1 : 0;
+  }
+  resumed += check_resumed(light_grasp(resumed5), Wrench<double>(resumed5_load)) ? 1 : 0;
+  MESSAGE(resumed, " of 3 instances resumed after a failed refinement");
+  CHECK(resumed >= 1);
 }
