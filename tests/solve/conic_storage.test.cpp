@@ -1,7 +1,8 @@
 // The interior-point method's starting point (include/grip/solve/detail/conic_storage.hpp,
 // ConicStorage::start): every cone variable and its dual at the scale times the cone's centre, and
 // a bound's slack at what its row u_0 + s = c tau leaves at tau = 1, with the pair's product the
-// scale squared, as for every cone pair; derived by hand from the row.
+// scale squared, as for every cone pair; derived by hand from the row. A contact's set() leaves its
+// bound where start(1) would: a fresh run at scale 1 starts there without a call to start().
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -45,4 +46,21 @@ TEST_CASE_TEMPLATE("interior-point start: a bound's slack closes its row, centre
     CHECK(k.bound_slack(2) == scale);
     CHECK(k.bound_dual(2) == scale);
   }
+}
+
+TEST_CASE_TEMPLATE("interior-point start: set() places a bound where start(1) would", S, double, float) {
+  using Lanes = detail::ConicLanes<S, 3, 8>;
+  Lanes k(3);
+  const typename Lanes::Map a = Lanes::Map::Identity();
+  const typename Lanes::ConeVector p = Lanes::ConeVector::Ones(), q = Lanes::ConeVector::Zero();
+  k.set(0, a, p, q, S(5), p);    // s = 5 - 1 = 4 closes u_0 + s = c at u_0 = tau = 1; t = 1 / 4
+  k.set(1, a, p, q, S(0.5), p);  // 0.5 - 1 < 1: s stays at 1, t = 1
+  k.set(2, a, p, q, std::numeric_limits<S>::infinity(), p);
+  CHECK(k.bound_slack(0) == S(4));
+  CHECK(k.bound_dual(0) == S(0.25));
+  CHECK(k.bound_slack(1) == S(1));
+  CHECK(k.bound_dual(1) == S(1));
+  CHECK(k.bound_slack(2) == S(1));
+  CHECK(k.bound_dual(2) == S(1));
+  for (int i = 0; i < 3; ++i) CHECK(k.u(i)(0) == S(1));
 }

@@ -1,11 +1,12 @@
 // The interior-point method's answer on the boundary of the feasible set
 // (include/grip/solve/detail/interior_point.hpp): a load that the grasp resists only with forces
 // on the boundary of its cones, to within rounding, ends Ok with balanced forces and multipliers
-// in range, within the bound on iterations; and a run resumed after Newton's refinement failed
-// stops where an uninterrupted run does.
+// in range, within the bound on iterations; a run resumed after Newton's refinement failed
+// stops where an uninterrupted run does; and a bound far above every force costs no iterations.
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <random>
 
 #include <grip/grip.hpp>
 
@@ -354,4 +355,57 @@ TEST_CASE("solve_constrained: a run resumed after Newton's refinement stops wher
   resumed += check_resumed(light_grasp(resumed5), Wrench<double>(resumed5_load)) ? 1 : 0;
   MESSAGE(resumed, " of 3 instances resumed after a failed refinement");
   CHECK(resumed >= 1);
+}
+
+TEST_CASE_TEMPLATE("solve_constrained: a bound far above every force costs the interior-point method no iterations", S,
+                   double, float) {
+  // Five hard fingers on a 4 cm sphere, loads of 0.5 to 200 N (many slip), decided by the
+  // interior-point method alone (newton_passes = 0), without bounds and with 1 MN on every
+  // finger: no force comes near the bound, so both problems have the same answer. The bound's
+  // pair adds one to the centring's degree, so the iterates differ a little; a bound's slack
+  // started away from its row (u_0 + s = c tau at the start) would first shrink tau toward
+  // 1 / c and cost the run many iterations (up to 18 more here).
+  std::mt19937 rng(77);
+  std::uniform_real_distribution<double> u01(0, 1);
+  std::normal_distribution<double> n01(0, 1);
+  ConstrainedSettings<S> st;
+  st.newton_passes = 0;
+  int solves = 0, free_total = 0, bounded_total = 0;
+  for (int k = 0; k < 300; ++k) {
+    Grasp<5, HardFinger, S> g;
+    for (int i = 0; i < 5; ++i) {
+      const double th = std::acos(1 - 2 * u01(rng)), ph = 6.283185307179586 * u01(rng);
+      const Vector3<double> n(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
+      Contact<S> c;
+      c.position = (0.04 * n).cast<S>();
+      c.normal = (-n).cast<S>();
+      c.friction = S(0.3 + 0.7 * u01(rng));
+      c.squeeze = S(0.3);
+      REQUIRE(g.set(i, c) == Status::Ok);
+    }
+    Wrench<double> wd;
+    for (int j = 0; j < 6; ++j) wd(j) = (j < 3 ? 1.0 : 0.03) * n01(rng);
+    const double size = 0.5 * std::pow(400.0, u01(rng));
+    wd.head<3>() *= size / wd.head<3>().norm();
+    wd.tail<3>() *= size;
+    const Wrench<S> w = wd.cast<S>();
+    const auto a = solve_constrained(g, w, st);
+    if (a.fast_path) continue;
+    CAPTURE(k);
+    Grasp<5, HardFinger, S> h = g;
+    for (int i = 0; i < 5; ++i) {
+      Contact<S> c = h.contact(i);
+      c.max_normal_force = S(1e6);
+      REQUIRE(h.set(i, c) == Status::Ok);
+    }
+    const auto b = solve_constrained(h, w, st);
+    CHECK(b.status == a.status);
+    CHECK(b.iterations <= a.iterations + 4);
+    ++solves;
+    free_total += a.iterations;
+    bounded_total += b.iterations;
+  }
+  MESSAGE(solves, " solves: ", free_total, " iterations without bounds, ", bounded_total, " with");
+  CHECK(solves >= 250);
+  CHECK(bounded_total <= free_total + free_total / 20);
 }

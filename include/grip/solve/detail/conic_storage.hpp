@@ -96,6 +96,7 @@ class ConicStorage : protected ConeBlock<SimdPackFor<S, Cap>, D> {
       ++bound_count_;
       bound_scale_ = std::max(bound_scale_, bound);
     }
+    start_bound(idx(i), S(1));  // where start() puts it: a fresh run at scale 1 starts here
   }
 
   /// Every variable at `scale` (> 0) times its cone's centre: u = z = scale e; a bound's slack
@@ -110,10 +111,7 @@ class ConicStorage : protected ConeBlock<SimdPackFor<S, Cap>, D> {
     dz_.fill(S(0));
     for (int i = 0; i < stride; ++i) {
       u_[idx(i)] = z_[idx(i)] = scale;
-      const S c = c_[idx(i)];
-      s_[idx(i)] = c < std::numeric_limits<S>::infinity() ? std::max(c - scale, scale) : scale;
-      t_[idx(i)] = scale * (scale / s_[idx(i)]);
-      ds_[idx(i)] = dt_[idx(i)] = S(0);
+      start_bound(idx(i), scale);
     }
   }
 
@@ -124,6 +122,13 @@ class ConicStorage : protected ConeBlock<SimdPackFor<S, Cap>, D> {
   S bound_dual(int i) const { return t_[idx(i)]; }
 
  protected:
+  /// Lane j's bound slack and dual at start(scale)'s values (see there), their direction zero.
+  void start_bound(std::size_t j, S scale) {
+    const S c = c_[j];
+    s_[j] = c < std::numeric_limits<S>::infinity() ? std::max(c - scale, scale) : scale;
+    t_[j] = scale * (scale / s_[j]);
+    ds_[j] = dt_[j] = S(0);
+  }
   Bound load_bound(int o) const {
     const P zero = P::set1(S(0)), one = P::set1(S(1));
     Bound b;
