@@ -450,9 +450,11 @@ void Bound(benchmark::State& state) {
 // Pairs of slipping frames (SlipFrames/n): the grasps of Loads/n whose previous frame (contacts
 // moved by 1 mm, load changed by 2 %) also slips, 20,000 draws. Each second frame solved cold
 // and from the previous frame's certificate (ConstrainedWarmStart), least of three each.
-// Counters: pairs, reuse_frac (the old certificate still held: fewer passes), cold_* and
-// warm_* medians and p99 (us), and warm_over_cold (the medians' ratio).
-template <int N>
+// FromHold: the previous frame holds instead, and the second starts from its multipliers.
+// Counters: pairs, reuse_frac (the warm solve made fewer passes than the cold one: the old
+// certificate held, or Newton's multipliers from the warm start, reversed, proved the slip),
+// cold_* and warm_* medians and p99 (us), and warm_over_cold (the medians' ratio).
+template <int N, bool FromHold = false>
 void SlipFrames(benchmark::State& state) {
   using clock = std::chrono::steady_clock;
   const auto least3 = [](const auto& solve) {
@@ -486,12 +488,17 @@ void SlipFrames(benchmark::State& state) {
         (void)before.set(i, c);
       }
       const auto previous = grip::solve_constrained(before, Wrench<double>(in.w_ext * 1.02));
-      if (previous.status != grip::Status::Infeasible) continue;
+      if (previous.status != (FromHold ? grip::Status::Ok : grip::Status::Infeasible)) continue;
       const auto now = grip::solve_constrained(in.grasp, in.w_ext);
       if (now.status != grip::Status::Infeasible) continue;
       grip::ConstrainedWarmStart<double> start;
-      start.certificate = previous.certificate;
-      start.has_certificate = true;
+      if (FromHold) {
+        start.multipliers = previous.multipliers;
+        start.has_multipliers = grip::detail::all_in_range(previous.multipliers);
+      } else {
+        start.certificate = previous.certificate;
+        start.has_certificate = true;
+      }
       reused += grip::solve_constrained(in.grasp, in.w_ext, st, start).passes < now.passes ? 1 : 0;
       cold.push_back(least3([&] { return grip::solve_constrained(in.grasp, in.w_ext, st); }));
       warm.push_back(least3([&] { return grip::solve_constrained(in.grasp, in.w_ext, st, start); }));
@@ -507,6 +514,8 @@ void SlipFrames(benchmark::State& state) {
 }
 BENCHMARK_TEMPLATE(SlipFrames, 3)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(SlipFrames, 5)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(SlipFrames, 3, true)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(SlipFrames, 5, true)->Iterations(1)->Unit(benchmark::kMillisecond);
 
 #define GRIP_BENCH_N(N)                                                              \
   BENCHMARK_TEMPLATE(Constrained, N);                                                \

@@ -7,7 +7,7 @@
 #   3. grasp_step.o (solve_range_space + StabilityMonitor): .text < 16 KiB, worst-case stack
 #      < 2.5 KiB (the deepest call chain from grip_grasp_step, frames summed: -fstack-usage
 #      -fcallgraph-info=su, cmake/stack_depth.py; recursion or a dynamic frame fails);
-#   4. constrained_step.o (solve_constrained + StabilityMonitor): .text < 29 824 B, stack < 6.5 KiB:
+#   4. constrained_step.o (solve_constrained + StabilityMonitor): .text < 29 888 B, stack < 6.5 KiB:
 #      the interior-point method (its passes over the contacts, its driver and the lanes it keeps
 #      on the stack) comes on top of the fast path and Newton's method (docs/testing.md).
 # Usage: bash cmake/check_embedded.sh [build-dir]   (default build/embedded)
@@ -24,7 +24,7 @@ flags+=(-ffunction-sections -fdata-sections -fstack-usage -fcallgraph-info=su
         -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wdouble-promotion -Werror
         -Iinclude -isystem /usr/include/eigen3)
 # Budgets per object: .text and worst-case stack, bytes.
-declare -A code_budget=([grasp_step]=16384 [constrained_step]=29824)
+declare -A code_budget=([grasp_step]=16384 [constrained_step]=29888)
 declare -A stack_budget=([grasp_step]=2560 [constrained_step]=6656)
 passed=0 failed=0
 check() {  # check NAME CONDITION-EXIT-CODE

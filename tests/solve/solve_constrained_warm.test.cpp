@@ -3,13 +3,16 @@
 // changed by 2 %. Where the old certificate still holds, the answer is Infeasible with a
 // certificate that meets its definition (checked from the dual cones, not through the solver's
 // test) and least-residual forces as good as the cold solve's (by the least-residual objective
-// P); where it does not, the answer is the cold solve's, bit for bit. And ConstrainedFrameSolver
-// carries the certificate from frame to frame.
+// P); where it does not, the answer is the cold solve's, bit for bit. A frame that slips just
+// beyond a hold, solved from the hold's multipliers, is decided likewise from Newton's
+// multipliers, reversed. And ConstrainedFrameSolver carries the certificate from frame to frame.
 #include <doctest/doctest.h>
 
 #include <cmath>
 #include <limits>
 #include <random>
+#include <type_traits>
+#include <utility>
 
 #include <grip/pipeline/frame_solver.hpp>
 #include <grip/solve/detail/certificate.hpp>
@@ -99,6 +102,71 @@ TEST_CASE_TEMPLATE("solve_constrained: the previous frame's certificate decides 
   CHECK(reused >= pairs / 2);
   CHECK(fewer_passes == reused);
   CHECK(held_cold <= reused / 100 + 1);
+}
+
+TEST_CASE_TEMPLATE("solve_constrained: a slip just beyond a hold is decided from Newton's multipliers, reversed", S,
+                   double, float) {
+  // A grasp, a load it holds and one under which it slips (loads that hold form a cone, so only
+  // their directions matter); on the segment between them, the last load held, found by
+  // bisection on cold solves. Its multipliers are large along a certificate; a load a quarter of
+  // the segment beyond it slips, solved from them. Where Newton's passes end short on that slip
+  // and their multipliers, reversed, prove it, the solve is the least-residual problem alone:
+  // the iterations of a solve given the answer's own certificate (which step 0 accepts), and
+  // Newton's passes besides. Either way the certificate meets its definition (checked from the
+  // dual cones) and the forces are as good as the cold solve's.
+  std::mt19937 rng(5151);
+  const ConstrainedSettings<S> st;
+  int pairs = 0, reversed = 0;
+  for (int k = 0; k < 1500; ++k) {
+    Grasp<3, HardFinger, S> g, unused;
+    Wrench<S> w0, w1, w_unused;
+    frame_pair(rng, g, w0, unused, w_unused);
+    frame_pair(rng, unused, w1, unused, w_unused);
+    if (solve_constrained(g, w0).status == Status::Infeasible) std::swap(w0, w1);
+    if (solve_constrained(g, w0).status != Status::Ok || solve_constrained(g, w1).status != Status::Infeasible)
+      continue;
+    const Wrench<double> a = w0.template cast<double>(), b = w1.template cast<double>();
+    const auto load = [&](double t) { return Wrench<S>(((1 - t) * a + t * b).cast<S>()); };
+    double lo = 0, hi = 1;
+    for (int step = 0; step < 30; ++step) {
+      const double mid = 0.5 * (lo + hi);
+      (solve_constrained(g, load(mid)).status == Status::Ok ? lo : hi) = mid;
+    }
+    const auto held = solve_constrained(g, load(lo));
+    const Wrench<S> beyond = load(std::min(1.0, hi + 0.25));
+    const auto cold = solve_constrained(g, beyond);
+    // (Multipliers beyond ScalarTraits::max_magnitude are no warm start: ConstrainedFrameSolver
+    // drops them.)
+    if (held.status != Status::Ok || cold.status != Status::Infeasible || !detail::all_in_range(held.multipliers))
+      continue;
+    ++pairs;
+    CAPTURE(k);
+    const auto warm = solve_constrained(g, beyond, st, held.multipliers);
+    REQUIRE(warm.status == Status::Infeasible);
+    grip_test::check_certificate(g, beyond, warm.certificate);
+    ConstrainedWarmStart<S> proven;
+    proven.certificate = warm.certificate;
+    proven.has_certificate = true;
+    const auto alone = solve_constrained(g, beyond, st, proven);
+    REQUIRE(alone.status == Status::Infeasible);
+    CHECK(warm.iterations >= alone.iterations);
+    if (warm.iterations == alone.iterations) {
+      ++reversed;
+      CHECK(warm.passes == st.newton_passes + alone.passes);
+      CHECK(warm.forces == alone.forces);  // the same least-residual run, from the same start
+    }
+    const double delta = grip_test::least_residual_delta(g);
+    const Wrench<double> wd = beyond.template cast<double>();
+    const double p_warm = grip_test::least_residual_objective(g, wd, warm.forces, delta),
+                 p_cold = grip_test::least_residual_objective(g, wd, cold.forces, delta);
+    CHECK(std::abs(p_warm - p_cold) <=
+          2 * double(ScalarTraits<S>::interior_tolerance) * std::max(p_warm, p_cold) +
+              grip_test::roundoff<S>(16, 1, wd.squaredNorm() + cold.forces.template cast<double>().squaredNorm()));
+  }
+  MESSAGE(pairs, " holds with a slip beyond; decided from Newton's multipliers, reversed, in ", reversed);
+  CHECK(pairs >= 40);
+  // In float the multipliers near the boundary carry float's rounding, and fewer prove the slip.
+  CHECK(reversed >= (std::is_same<S, double>::value ? pairs / 2 : 1));
 }
 
 TEST_CASE_TEMPLATE("solve_constrained: a warm certificate that is not finite is InvalidInput", S, double, float) {

@@ -47,9 +47,10 @@ namespace grip {
 /// its cone with f_n > 0 and below its bound it is the answer (status Ok, iterations 0, fast_path
 /// true). Otherwise, given `warm_multipliers` (the previous frame's `multipliers`: a 6-vector, so
 /// the contact count may change between frames), Newton's method on the dual starts from them
-/// for settings.newton_passes passes and answers if it converges. Otherwise the interior-point
-/// method decides: it finds the optimum or a certificate that none exists; short of both (its
-/// bound, or a numerical failure) it leaves its last iterate. Newton refines the optimum, or that
+/// for settings.newton_passes passes and answers if it converges; if not, its multipliers
+/// reversed are tested as a certificate (on a slip they grow along one). Otherwise the
+/// interior-point method decides: it finds the optimum or a certificate that none exists; short
+/// of both (its bound, or a numerical failure) it leaves its last iterate. Newton refines the optimum, or that
 /// iterate, from its multipliers to the tolerance. Wrenches are measured in the equilibrium norm
 /// |(f, m)|_L = |(f, m / L)|, L = max_i |r_i| (1 m if every contact is at the reference point),
 /// so that every verdict is the same in every unit of length; `residual` reports |G x + w_ext|.
@@ -218,6 +219,15 @@ EIGEN_DONT_INLINE void solve_constrained_iterate(const GraspT& grasp, const Wren
     sol.passes = newton.passes();
     if (done) {
       take_newton(newton, sol);
+      return;
+    }
+    // Short of convergence on a grasp that slips, the multipliers have grown along a certificate
+    // (the dual function rises without bound along one): reversed, they may prove the slip
+    // already (one O(n) test, O(1) where -lambda . w_ext <= 0), and the interior-point method's
+    // first run is not needed.
+    if (is_infeasibility_certificate(grasp, w_ext, Wrench<S>(-newton.lambda()), settings.certificate_tolerance,
+                                     y_unit)) {
+      answer_slip(grasp, w_ext, settings, gram_diagonal, y_unit, 0, k, problem, sol);
       return;
     }
   }
