@@ -50,10 +50,11 @@ namespace grip {
 /// for settings.newton_passes passes and answers if it converges; if not, its multipliers
 /// reversed are tested as a certificate (on a slip they grow along one). Otherwise the
 /// interior-point method decides: it finds the optimum or a certificate that none exists; short
-/// of both (its bound, or a numerical failure) it leaves its last iterate. Newton refines the optimum, or that
-/// iterate, from its multipliers to the tolerance. Wrenches are measured in the equilibrium norm
-/// |(f, m)|_L = |(f, m / L)|, L = max_i |r_i| (1 m if every contact is at the reference point),
-/// so that every verdict is the same in every unit of length; `residual` reports |G x + w_ext|.
+/// of both (its bound, or a numerical failure) it leaves its last iterate. Newton refines the
+/// optimum, or that iterate, from its multipliers to the tolerance. Wrenches are measured in the
+/// equilibrium norm |(f, m)|_L = |(f, m / L)|, L = max_i |r_i| (1 m if every contact is at the
+/// reference point), so that every verdict is the same in every unit of length; `residual`
+/// reports |G x + w_ext|.
 ///
 /// Statuses and numbers:
 /// - Ok, refined (the usual case): |G x + w_ext|_L <= tolerance (|w_ext|_L + |x| + max_i s_i) (the
