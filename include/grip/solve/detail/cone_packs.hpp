@@ -151,8 +151,8 @@ GRIP_ALWAYS_INLINE NtFrame<P, D> nt_frame(const ConeVec<P, D>& u, const ConeVec<
     const P tw = cone_tail_norm<P, D>(w);
     k.dp = w[0] + tw;
     const auto turn = tw > P::set1(std::numeric_limits<S>::min());
-    const P r = one / (k.dp * select(turn, tw, one));  // 1 / (d+ |w_1|)
-    k.dm = select(turn, tw * r, one / k.dp);
+    const P r = one / (k.dp * select(turn, tw, one));  // 1 / (d+ |w_1|), or 1 / d+ where |w_1| = 0
+    k.dm = select(turn, tw * r, r);
     const P itw = k.dp * r;
     k.f[0] = zero;
     for (int c = 1; c < D; ++c) k.f[c] = select(turn, w[c] * itw, c == 1 ? one : zero);
@@ -180,8 +180,10 @@ GRIP_ALWAYS_INLINE ConeVec<P, D> jordan_divide(const ConeVec<P, D>& l, P det_l, 
   ConeVec<P, D> out;
   P ld = l[0] * d[0];
   for (int r = 1; r < D; ++r) ld = neg_mul_add(l[r], d[r], ld);
-  out[0] = ld / det_l;
-  const P il0 = P::set1(S(1)) / l[0];
+  // One division for 1 / det_l and 1 / l_0.
+  const P inv = P::set1(S(1)) / (det_l * l[0]);
+  out[0] = ld * (l[0] * inv);
+  const P il0 = det_l * inv;
   for (int r = 1; r < D; ++r) out[r] = neg_mul_add(out[0], l[r], d[r]) * il0;
   return out;
 }
@@ -205,15 +207,14 @@ GRIP_ALWAYS_INLINE P cone_ray_step(const ConeVec<P, D>& u, P det_u, const ConeVe
     const P c = det_u;
     const P disc = b * b - a * c;
     const auto a_zero = (a <= zero) & (!(a < zero));
-    // A == 0: the root -C / (2 B) when B < 0.
-    const P lin = zero - c / (P::set1(S(2)) * select(b < zero, b, zero - one));
-    best = select(a_zero & (b < zero) & (lin < best), lin, best);
-    const auto real = (!a_zero) & (zero <= disc);
+    // A == 0 (disc = B^2): q = -2 B and the one root C / q = -C / (2 B), positive when B < 0.
+    const auto real = zero <= disc;
     const P sq = sqrt(select(real, disc, zero));
     const P q = zero - (b + select(b < zero, zero - sq, sq));
     const auto use = real & ((q < zero) | (q > zero));
-    const P r1 = q / select(use, a, one), r2 = c / select(use, q, one);
-    best = select(use & (r1 > zero) & (r1 < best), r1, best);
+    const auto quadratic = use & !a_zero;
+    const P r1 = q / select(quadratic, a, one), r2 = c / select(use, q, one);
+    best = select(quadratic & (r1 > zero) & (r1 < best), r1, best);
     best = select(use & (r2 > zero) & (r2 < best), r2, best);
   }
   return best;
